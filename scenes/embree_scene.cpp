@@ -1,0 +1,117 @@
+#include "embree_scene.h"
+
+#include <pmmintrin.h>
+#include <tbb/task_scheduler_observer.h>
+#include <xmmintrin.h>
+
+#include <chrono>
+#include <cstring>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+
+namespace aoeval {
+
+namespace {
+
+void set_ftz_daz() {
+  _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+  _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+}
+
+class FtzDazObserver : public tbb::task_scheduler_observer {
+ public:
+  FtzDazObserver() { observe(true); }
+  void on_scheduler_entry(bool) override { set_ftz_daz(); }
+};
+
+std::atomic<long long> g_embree_bytes{0};
+
+bool memory_monitor(void*, ssize_t bytes, bool) {
+  g_embree_bytes += bytes;
+  return true;
+}
+
+// Embree calls this from C code, so it must not throw: it records the message, and
+// check_device() turns it into an exception at a safe point.
+std::mutex g_error_mutex;
+std::string g_last_error;
+
+void error_handler(void*, RTCError code, const char* message) {
+  if (code == RTC_ERROR_NONE) return;
+  std::lock_guard<std::mutex> lock(g_error_mutex);
+  g_last_error = std::string("Embree error ") + std::to_string(static_cast<int>(code)) + ": " +
+                 (message ? message : "");
+}
+
+void check_device(RTCDevice device, const char* during) {
+  if (rtcGetDeviceError(device) == RTC_ERROR_NONE) return;
+  std::lock_guard<std::mutex> lock(g_error_mutex);
+  throw std::runtime_error(std::string(during) + ": " + g_last_error);
+}
+
+}  // namespace
+
+void enable_ftz_daz_everywhere() {
+  static FtzDazObserver observer;  // constructed once, observes for the process's lifetime
+  set_ftz_daz();
+}
+
+RTCDevice embree_device() {
+  static RTCDevice device = [] {
+    enable_ftz_daz_everywhere();
+    RTCDevice d = rtcNewDevice(nullptr);
+    if (!d) throw std::runtime_error("Embree: cannot create a device");
+    rtcSetDeviceErrorFunction(d, error_handler, nullptr);
+    rtcSetDeviceMemoryMonitorFunction(d, memory_monitor, nullptr);
+    return d;
+  }();
+  return device;
+}
+
+long long embree_allocated_bytes() {
+  return g_embree_bytes.load();
+}
+
+EmbreeScene::EmbreeScene(const Scene& scene, BuildQuality quality) : source_(scene) {
+  RTCDevice device = embree_device();
+  enable_ftz_daz_everywhere();
+  const long long bytes_before = embree_allocated_bytes();
+  const auto start = std::chrono::steady_clock::now();
+  scene_ = rtcNewScene(device);
+  // Robust traversal: watertight edges, so rays through shared edges cannot leak between triangles
+  // and bias the reference towards "open".
+  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+  const RTCBuildQuality q = quality == BuildQuality::low      ? RTC_BUILD_QUALITY_LOW
+                            : quality == BuildQuality::medium ? RTC_BUILD_QUALITY_MEDIUM
+                                                              : RTC_BUILD_QUALITY_HIGH;
+  rtcSetSceneBuildQuality(scene_, q);
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    const TriangleMesh& mesh = scene.objects[i].mesh;
+    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetGeometryBuildQuality(geom, q);
+    // Embree reads vertex buffers with 16-byte loads, so it owns padded copies.
+    auto* vertices = static_cast<float*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                3 * sizeof(float), mesh.positions.size()));
+    std::memcpy(vertices, mesh.positions.data(), mesh.positions.size() * 3 * sizeof(float));
+    auto* indices = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                3 * sizeof(unsigned), mesh.triangles.size()));
+    std::memcpy(indices, mesh.triangles.data(), mesh.triangles.size() * 3 * sizeof(unsigned));
+    rtcCommitGeometry(geom);
+    rtcAttachGeometryByID(scene_, geom, static_cast<unsigned>(i));
+    rtcReleaseGeometry(geom);
+  }
+  rtcCommitScene(scene_);
+  check_device(device, "building the Embree scene");
+  build_ms_ =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  memory_bytes_ = embree_allocated_bytes() - bytes_before;
+}
+
+EmbreeScene::~EmbreeScene() {
+  if (scene_) rtcReleaseScene(scene_);
+}
+
+}  // namespace aoeval

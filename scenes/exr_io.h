@@ -1,0 +1,35 @@
+// Image files. OpenEXR (32-bit float, one part) through OpenImageIO for G-buffers, references and
+// estimates (CONTRACT §4); every write is atomic: a temporary file beside the target, then rename,
+// so a failed or interrupted command never leaves a partial file.
+#pragma once
+
+#include <OpenImageIO/imagebuf.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace aoeval {
+
+using Attributes = std::vector<std::pair<std::string, std::string>>;
+
+// Writes `image` as a float OpenEXR with zip compression and `attributes` as string header
+// attributes (names as given, e.g. "aoeval:scene").
+void write_exr(const std::string& path, const OIIO::ImageBuf& image, const Attributes& attributes);
+// Writes any format OIIO knows by the extension of `path` (PNG previews), atomically.
+void write_image(const std::string& path, const OIIO::ImageBuf& image);
+// Writes a text file atomically.
+void write_text(const std::string& path, const std::string& content);
+
+// Reads a whole image into memory as float; InputError naming the file when it cannot.
+OIIO::ImageBuf read_image(const std::string& path);
+// Index of a named channel; InputError naming the file and channel when absent.
+int channel_index(const OIIO::ImageBuf& image, const std::string& name, const std::string& path);
+// A header attribute as a string ("" when absent).
+std::string string_attribute(const OIIO::ImageBuf& image, const std::string& name);
+
+// The temporary path used for an atomic write of `path`, and the rename that commits it.
+std::string temporary_path_for(const std::string& path);
+void commit_temporary(const std::string& temporary, const std::string& path);
+
+}  // namespace aoeval

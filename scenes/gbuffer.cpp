@@ -1,0 +1,183 @@
+#include "gbuffer.h"
+
+#include <tbb/blocked_range2d.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+#include "errors.h"
+#include "version.h"
+
+namespace aoeval {
+
+Camera make_camera(const View& view, int width, int height) {
+  Camera c;
+  c.eye = view.eye;
+  c.forward = glm::normalize(view.target - view.eye);
+  c.right = glm::normalize(glm::cross(c.forward, view.up));
+  c.up = glm::cross(c.right, c.forward);
+  c.tan_half_fov_y = std::tan(0.5f * glm::radians(view.fov_y_deg));
+  c.width = width > 0 ? width : view.width;
+  c.height = height > 0 ? height : view.height;
+  return c;
+}
+
+GBuffer render_gbuffer(const EmbreeScene& es, const Camera& camera) {
+  enable_ftz_daz_everywhere();
+  GBuffer g;
+  g.width = camera.width;
+  g.height = camera.height;
+  g.camera = camera;
+  const size_t n = g.pixel_count();
+  g.coverage.assign(n, 0.0f);
+  g.depth.assign(n, 0.0f);
+  g.position.assign(n, glm::vec3(0.0f));
+  g.normal.assign(n, glm::vec3(0.0f));
+  g.geometric_normal.assign(n, glm::vec3(0.0f));
+  g.object_id.assign(n, -1.0f);
+  const Scene& scene = es.scene();
+
+  tbb::parallel_for(tbb::blocked_range2d<int>(0, g.height, 8, 0, g.width, 8), [&](const auto& r) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    for (int j = r.rows().begin(); j < r.rows().end(); ++j) {
+      for (int i = r.cols().begin(); i < r.cols().end(); ++i) {
+        const glm::vec3 dir = camera.direction(i, j);
+        RTCRayHit rh{};
+        rh.ray.org_x = camera.eye.x;
+        rh.ray.org_y = camera.eye.y;
+        rh.ray.org_z = camera.eye.z;
+        rh.ray.dir_x = dir.x;
+        rh.ray.dir_y = dir.y;
+        rh.ray.dir_z = dir.z;
+        rh.ray.tnear = 0.0f;
+        rh.ray.tfar = std::numeric_limits<float>::infinity();
+        rh.ray.mask = 0xFFFFFFFFu;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(es.handle(), &context, &rh);
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+
+        const TriangleMesh& mesh = scene.objects[rh.hit.geomID].mesh;
+        const glm::uvec3 tri = mesh.triangles[rh.hit.primID];
+        const float u = rh.hit.u, v = rh.hit.v, w = 1.0f - u - v;
+        const glm::vec3 p0 = mesh.positions[tri.x], p1 = mesh.positions[tri.y],
+                        p2 = mesh.positions[tri.z];
+        // Barycentric interpolation puts P on the triangle's plane, more exactly than eye + t*dir.
+        const glm::vec3 p = w * p0 + u * p1 + v * p2;
+        glm::vec3 ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+        glm::vec3 ns = ng;
+        if (!mesh.normals.empty()) {
+          glm::vec3 s = w * mesh.normals[tri.x] + u * mesh.normals[tri.y] + v * mesh.normals[tri.z];
+          float len = glm::length(s);
+          if (len > 1e-12f && std::isfinite(len)) ns = s / len;
+        }
+        if (glm::dot(ng, dir) > 0.0f) {  // two-sided: face the viewer
+          ng = -ng;
+          ns = -ns;
+        }
+        const size_t k = g.index(i, j);
+        g.coverage[k] = 1.0f;
+        g.depth[k] = glm::dot(p - camera.eye, camera.forward);
+        g.position[k] = p;
+        g.normal[k] = ns;
+        g.geometric_normal[k] = ng;
+        g.object_id[k] = static_cast<float>(rh.hit.geomID);
+      }
+    }
+  });
+  return g;
+}
+
+const std::vector<std::string>& gbuffer_channel_names() {
+  static const std::vector<std::string> names = {"A",   "Z",   "P.X",  "P.Y",  "P.Z",  "N.X",
+                                                 "N.Y", "N.Z", "Ng.X", "Ng.Y", "Ng.Z", "objectId"};
+  return names;
+}
+
+OIIO::ImageBuf gbuffer_to_image(const GBuffer& g) {
+  const auto& names = gbuffer_channel_names();
+  OIIO::ImageSpec spec(g.width, g.height, static_cast<int>(names.size()), OIIO::TypeDesc::FLOAT);
+  spec.channelnames = names;
+  OIIO::ImageBuf image(spec);
+  auto* px = static_cast<float*>(image.localpixels());
+  const size_t nc = names.size();
+  for (size_t k = 0; k < g.pixel_count(); ++k) {
+    float* o = px + k * nc;
+    o[0] = g.coverage[k];
+    o[1] = g.depth[k];
+    for (int c = 0; c < 3; ++c) {
+      o[2 + c] = g.position[k][c];
+      o[5 + c] = g.normal[k][c];
+      o[8 + c] = g.geometric_normal[k][c];
+    }
+    o[11] = g.object_id[k];
+  }
+  return image;
+}
+
+std::string camera_to_json(const Camera& c) {
+  auto v = [](const glm::vec3& x) { return nlohmann::json::array({x.x, x.y, x.z}); };
+  nlohmann::json j = {{"eye", v(c.eye)},
+                      {"forward", v(c.forward)},
+                      {"right", v(c.right)},
+                      {"up", v(c.up)},
+                      {"fov_y_deg", glm::degrees(2.0f * std::atan(c.tan_half_fov_y))},
+                      {"width", c.width},
+                      {"height", c.height}};
+  return j.dump();
+}
+
+Attributes gbuffer_attributes(const Scene& scene, const View& view, const Camera& camera) {
+  return {{"aoeval:scene", scene.name},
+          {"aoeval:view", view.name},
+          {"aoeval:scene_hash", hash_hex(scene.content_hash())},
+          {"aoeval:camera", camera_to_json(camera)},
+          {"aoeval:version", kAoevalVersion}};
+}
+
+GBuffer read_gbuffer(const std::string& path) {
+  OIIO::ImageBuf image = read_image(path);
+  GBuffer g;
+  g.width = image.spec().width;
+  g.height = image.spec().height;
+  std::vector<int> idx;
+  for (const auto& name : gbuffer_channel_names()) idx.push_back(channel_index(image, name, path));
+  const std::string cam = string_attribute(image, "aoeval:camera");
+  if (cam.empty()) throw InputError(path + ": header attribute 'aoeval:camera' is missing");
+  try {
+    auto j = nlohmann::json::parse(cam);
+    auto v = [&](const char* k) { return glm::vec3(j[k][0], j[k][1], j[k][2]); };
+    g.camera.eye = v("eye");
+    g.camera.forward = v("forward");
+    g.camera.right = v("right");
+    g.camera.up = v("up");
+    g.camera.tan_half_fov_y = std::tan(0.5f * glm::radians(j["fov_y_deg"].get<float>()));
+    g.camera.width = g.width;
+    g.camera.height = g.height;
+  } catch (const nlohmann::json::exception&) {
+    throw InputError(path + ": header attribute 'aoeval:camera' is not valid camera JSON");
+  }
+  const size_t n = g.pixel_count();
+  g.coverage.resize(n);
+  g.depth.resize(n);
+  g.position.resize(n);
+  g.normal.resize(n);
+  g.geometric_normal.resize(n);
+  g.object_id.resize(n);
+  const auto* px = static_cast<const float*>(image.localpixels());
+  const int nc = image.spec().nchannels;
+  for (size_t k = 0; k < n; ++k) {
+    const float* s = px + k * nc;
+    g.coverage[k] = s[idx[0]];
+    g.depth[k] = s[idx[1]];
+    g.position[k] = {s[idx[2]], s[idx[3]], s[idx[4]]};
+    g.normal[k] = {s[idx[5]], s[idx[6]], s[idx[7]]};
+    g.geometric_normal[k] = {s[idx[8]], s[idx[9]], s[idx[10]]};
+    g.object_id[k] = s[idx[11]];
+  }
+  return g;
+}
+
+}  // namespace aoeval

@@ -1,0 +1,27 @@
+#include "generators.h"
+
+namespace aoeval {
+
+const std::vector<GeneratorInfo>& generator_registry() {
+  static const std::vector<GeneratorInfo> registry = {
+      {"sphere-uniform", "small random triangles uniformly filling a ball (Hegeman et al. Fig. 2)",
+       generate_sphere_uniform},
+      {"tree", "a tree: trunk, recursive branches and leaves; style apple or poplar",
+       generate_tree},
+      {"grass", "a field of grass blades of known height (Hegeman et al. eq. 9)", generate_grass},
+      {"plane", "a rectangle in the y = 0 plane, facing +Y", generate_plane},
+      {"box", "an axis-aligned box, optionally facing inward and with open faces", generate_box},
+      {"disk", "a disk in the y = 0 plane, facing -Y or +Y", generate_disk},
+      {"sphere", "a geodesic sphere", generate_sphere},
+      {"cylinder", "a capped cylinder along +Y", generate_cylinder},
+  };
+  return registry;
+}
+
+const GeneratorInfo* find_generator(const std::string& name) {
+  for (const auto& g : generator_registry())
+    if (name == g.name) return &g;
+  return nullptr;
+}
+
+}  // namespace aoeval

@@ -1,0 +1,275 @@
+#include "scene.h"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/mat4x4.hpp>
+
+#include "generators/generators.h"
+#include "json_reader.h"
+#include "mesh_io.h"
+
+namespace aoeval {
+
+namespace fs = std::filesystem;
+
+const char* role_name(Role role) {
+  switch (role) {
+    case Role::solid:
+      return "solid";
+    case Role::ground:
+      return "ground";
+    case Role::tree:
+      return "tree";
+    case Role::grass:
+      return "grass";
+  }
+  return "solid";
+}
+
+size_t Scene::triangle_count() const {
+  size_t n = 0;
+  for (const auto& o : objects) n += o.mesh.triangle_count();
+  return n;
+}
+
+Bounds Scene::bounds() const {
+  Bounds b;
+  for (const auto& o : objects) b.extend(o.mesh.bounds());
+  return b;
+}
+
+uint64_t Scene::content_hash() const {
+  uint64_t h = 0x84222325cbf29ce4ull;
+  for (const auto& o : objects) {
+    h = (h ^ aoeval::content_hash(o.mesh)) * 0x100000001b3ull;
+    h = (h ^ static_cast<uint64_t>(o.role)) * 0x100000001b3ull;
+  }
+  return h;
+}
+
+const View& Scene::view(const std::string& view_name) const {
+  if (view_name.empty()) return views.front();
+  std::string known;
+  for (const auto& v : views) {
+    if (v.name == view_name) return v;
+    known += (known.empty() ? "" : ", ") + v.name;
+  }
+  throw InputError(file + ": views: no view named '" + view_name + "' (views: " + known + ")");
+}
+
+std::string data_cache_dir() {
+  if (const char* c = std::getenv("AOEVAL_CACHE"); c && *c) return c;
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::string(x) + "/aoeval";
+  if (const char* h = std::getenv("HOME"); h && *h) return std::string(h) + "/.cache/aoeval";
+  return ".aoeval-cache";
+}
+
+namespace {
+
+// The object's placement: optional "fit" (uniform scale to a size, resting on y = 0 or centred at
+// the origin) applied first, then scale, rotation (X, then Y, then Z, degrees) and translation.
+struct Placement {
+  glm::mat4 matrix{1.0f};
+  glm::mat3 normal_matrix{1.0f};
+};
+
+Placement read_placement(JsonReader& object, const Bounds& local_bounds) {
+  glm::mat4 fit(1.0f);
+  if (auto f = object.optional_object("fit")) {
+    float size = static_cast<float>(f->number("size", 1e-6, 1e6));
+    bool on_ground = f->boolean("on_ground", true);
+    f->finish();
+    glm::vec3 ext = local_bounds.extent();
+    float largest = std::max(ext.x, std::max(ext.y, ext.z));
+    if (!(largest > 0.0f)) object.fail("fit", "cannot fit a mesh of zero extent");
+    glm::vec3 anchor = local_bounds.center();
+    if (on_ground) anchor.y = local_bounds.lower.y;
+    fit = glm::scale(glm::mat4(1.0f), glm::vec3(size / largest)) *
+          glm::translate(glm::mat4(1.0f), -anchor);
+  }
+  glm::vec3 t(0.0f), r(0.0f), s(1.0f);
+  if (auto tr = object.optional_object("transform")) {
+    t = tr->vec3("translate", t);
+    r = tr->vec3("rotate_deg", r);
+    s = tr->vec3("scale", s);
+    for (int i = 0; i < 3; ++i)
+      if (s[i] == 0.0f) tr->fail("scale", "scale components must be non-zero");
+    tr->finish();
+  }
+  glm::mat4 m = glm::translate(glm::mat4(1.0f), t);
+  m = glm::rotate(m, glm::radians(r.z), glm::vec3(0, 0, 1));
+  m = glm::rotate(m, glm::radians(r.y), glm::vec3(0, 1, 0));
+  m = glm::rotate(m, glm::radians(r.x), glm::vec3(1, 0, 0));
+  m = glm::scale(m, s);
+  Placement p;
+  p.matrix = m * fit;
+  p.normal_matrix = glm::transpose(glm::inverse(glm::mat3(p.matrix)));
+  return p;
+}
+
+void apply(const Placement& p, TriangleMesh& mesh) {
+  for (auto& v : mesh.positions) v = glm::vec3(p.matrix * glm::vec4(v, 1.0f));
+  for (auto& n : mesh.normals) n = glm::normalize(p.normal_matrix * n);
+  // A mirroring transform flips the winding; restore counter-clockwise = front.
+  if (glm::determinant(glm::mat3(p.matrix)) < 0.0f)
+    for (auto& t : mesh.triangles) std::swap(t.y, t.z);
+}
+
+Ellipsoid read_ellipsoid(JsonReader& r, bool sphere) {
+  Ellipsoid e;
+  e.center = r.vec3("center");
+  if (sphere) {
+    e.radii = glm::vec3(static_cast<float>(r.number("radius", 1e-6, 1e6)));
+  } else {
+    e.radii = r.vec3("radii");
+    for (int i = 0; i < 3; ++i)
+      if (!(e.radii[i] > 0.0f)) r.fail("radii", "radii must be positive");
+  }
+  r.finish();
+  return e;
+}
+
+TreeProxy read_proxy(JsonReader r) {
+  TreeProxy proxy;
+  proxy.type = r.choice("type", "sphere", {"sphere", "ellipsoid", "shells"});
+  if (proxy.type == "shells") {
+    for (auto& s : r.array_of_objects("shells", 1)) proxy.shapes.push_back(read_ellipsoid(s, true));
+    r.finish();
+  } else {
+    proxy.shapes.push_back(read_ellipsoid(r, proxy.type == "sphere"));
+  }
+  return proxy;
+}
+
+void place_proxy(const Placement& p, TreeProxy& proxy) {
+  glm::mat3 linear(p.matrix);
+  for (auto& e : proxy.shapes) {
+    e.center = glm::vec3(p.matrix * glm::vec4(e.center, 1.0f));
+    for (int a = 0; a < 3; ++a) {
+      glm::vec3 axis = linear * (e.axes[a] * e.radii[a]);
+      e.radii[a] = glm::length(axis);
+      e.axes[a] = axis / e.radii[a];
+    }
+  }
+}
+
+// Reads one object; `reader` is consumed. Runs on a worker thread.
+SceneObject load_object(JsonReader reader, const fs::path& scene_dir) {
+  SceneObject obj;
+  obj.name = reader.string("name");
+  std::string role = reader.choice("role", "solid", {"solid", "ground", "tree", "grass"});
+  obj.role = role == "ground"  ? Role::ground
+             : role == "tree"  ? Role::tree
+             : role == "grass" ? Role::grass
+                               : Role::solid;
+  const bool has_mesh = reader.has("mesh"), has_gen = reader.has("generator");
+  if (has_mesh == has_gen)
+    reader.fail("", "an object needs exactly one of \"mesh\" or \"generator\"");
+  if (has_mesh) {
+    std::string rel = reader.string("mesh");
+    fs::path path =
+        rel.rfind("cache:", 0) == 0 ? fs::path(data_cache_dir()) / rel.substr(6) : scene_dir / rel;
+    obj.source = "mesh " + path.string();
+    try {
+      obj.mesh = load_mesh(path.string());
+    } catch (const InputError& e) {
+      reader.fail("mesh", e.what());
+    }
+  } else {
+    std::string gen = reader.string("generator");
+    const GeneratorInfo* info = find_generator(gen);
+    if (!info) {
+      std::string known;
+      for (const auto& g : generator_registry())
+        known += (known.empty() ? "" : ", ") + std::string(g.name);
+      reader.fail("generator", "unknown generator '" + gen + "' (known: " + known + ")");
+    }
+    auto seed = static_cast<uint64_t>(reader.integer("seed", 1, 0, INT64_MAX));
+    obj.source = "generator " + gen + " seed " + std::to_string(seed);
+    nlohmann::json empty = nlohmann::json::object();
+    JsonReader params = reader.has("params")
+                            ? reader.object("params")
+                            : JsonReader(empty, reader.file(), reader.where("params"));
+    GeneratedGeometry g = info->function(seed, params);
+    params.finish();
+    validate_mesh(g.mesh, reader.file() + ": " + reader.where("generator"));
+    obj.mesh = std::move(g.mesh);
+    obj.facts = std::move(g.facts);
+  }
+  Placement placement = read_placement(reader, obj.mesh.bounds());
+  apply(placement, obj.mesh);
+  if (auto p = reader.optional_object("proxy")) {
+    if (obj.role != Role::tree)
+      reader.fail("proxy", "only objects with role \"tree\" take a proxy");
+    obj.proxy = read_proxy(*p);
+    place_proxy(placement, *obj.proxy);
+  }
+  if (reader.has("density")) {
+    if (obj.role != Role::tree)
+      reader.fail("density", "only objects with role \"tree\" take a density");
+    obj.density = reader.number("density", 1e-9, 1e12);
+  }
+  reader.finish();
+  return obj;
+}
+
+View read_view(JsonReader r) {
+  View v;
+  v.name = r.string("name");
+  v.eye = r.vec3("eye");
+  v.target = r.vec3("target");
+  v.up = r.vec3("up", v.up);
+  v.fov_y_deg = static_cast<float>(r.number("fov_y_deg", 45.0, 1.0, 170.0));
+  v.width = static_cast<int>(r.integer("width", 320, 1, 16384));
+  v.height = static_cast<int>(r.integer("height", 240, 1, 16384));
+  glm::vec3 fwd = v.target - v.eye;
+  if (glm::length(fwd) == 0.0f) r.fail("target", "eye and target coincide");
+  if (glm::length(glm::cross(fwd, v.up)) < 1e-6f * glm::length(fwd) * glm::length(v.up))
+    r.fail("up", "up is parallel to the viewing direction (or zero)");
+  r.finish();
+  return v;
+}
+
+}  // namespace
+
+Scene load_scene_file(const std::string& path) {
+  nlohmann::json doc = parse_json_file(path);
+  JsonReader root(doc, path);
+  Scene scene;
+  scene.file = path;
+  scene.name = fs::path(path).stem().string();
+  auto object_readers = root.array_of_objects("objects", 1);
+  for (auto& v : root.array_of_objects("views", 1)) scene.views.push_back(read_view(v));
+  root.finish();
+  for (size_t i = 0; i < scene.views.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (scene.views[i].name == scene.views[j].name)
+        throw InputError(path + ": views[" + std::to_string(i) + "].name: duplicate view name '" +
+                         scene.views[i].name + "'");
+
+  const fs::path dir = fs::path(path).parent_path();
+  scene.objects.resize(object_readers.size());
+  std::vector<std::exception_ptr> errors(object_readers.size());
+  tbb::parallel_for(size_t(0), object_readers.size(), [&](size_t i) {
+    try {
+      scene.objects[i] = load_object(object_readers[i], dir);
+    } catch (...) {
+      errors[i] = std::current_exception();
+    }
+  });
+  for (const auto& e : errors)  // report the first failing object, in file order
+    if (e) std::rethrow_exception(e);
+  for (size_t i = 0; i < scene.objects.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (scene.objects[i].name == scene.objects[j].name)
+        throw InputError(path + ": objects[" + std::to_string(i) +
+                         "].name: duplicate object name '" + scene.objects[i].name + "'");
+  return scene;
+}
+
+}  // namespace aoeval

@@ -1,0 +1,76 @@
+// Scenes: the JSON scene format of CONTRACT §4, loaded into world-space triangle meshes with roles,
+// tree proxies and named views.
+#pragma once
+
+#include <glm/mat3x3.hpp>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mesh.h"
+
+namespace aoeval {
+
+enum class Role { solid, ground, tree, grass };
+const char* role_name(Role role);
+
+// An ellipsoid in world space: centre + `axes` (columns, unit length) scaled by `radii`. A sphere
+// has equal radii.
+struct Ellipsoid {
+  glm::vec3 center{0.0f};
+  glm::vec3 radii{1.0f};
+  glm::mat3 axes{1.0f};
+};
+
+// A tree's envelope, as the Hegeman et al. estimators use it: one sphere, one ellipsoid, or several
+// spherical shells (their §5).
+struct TreeProxy {
+  std::string type;  // "sphere", "ellipsoid" or "shells"
+  std::vector<Ellipsoid> shapes;
+};
+
+struct SceneObject {
+  std::string name;
+  Role role = Role::solid;
+  std::string source;  // "mesh <path>" or "generator <name> seed <k>", for humans
+  TriangleMesh mesh;   // world space
+  nlohmann::json facts = nlohmann::json::object();  // generator facts, world space where spatial
+  std::optional<TreeProxy> proxy;                   // from the scene file, world space
+  std::optional<double> density;                    // from the scene file
+};
+
+struct View {
+  std::string name;
+  glm::vec3 eye{0.0f, 1.0f, 3.0f};
+  glm::vec3 target{0.0f};
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+  float fov_y_deg = 45.0f;
+  int width = 320;
+  int height = 240;
+};
+
+struct Scene {
+  std::string name;  // corpus name, or the file's stem
+  std::string file;  // path of the scene file
+  std::vector<SceneObject> objects;
+  std::vector<View> views;
+
+  size_t triangle_count() const;
+  Bounds bounds() const;
+  // Hash of the world-space geometry and roles: the key of every cache built on this scene.
+  uint64_t content_hash() const;
+  // The named view, or the first when `name` is empty; InputError naming the known views otherwise.
+  const View& view(const std::string& name) const;
+};
+
+// Loads a scene file. Mesh paths are relative to the file; a path starting with "cache:" is
+// relative to the data cache (see data_cache_dir()). Every error is an InputError naming the file
+// and the field. Objects are loaded in parallel; the result does not depend on the thread count.
+Scene load_scene_file(const std::string& path);
+
+// Where extracted third-party meshes live: $AOEVAL_CACHE, else $XDG_CACHE_HOME/aoeval, else
+// ~/.cache/aoeval.
+std::string data_cache_dir();
+
+}  // namespace aoeval

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# Shared set-up for run.sh and test.sh (CONTRACT §1): installs what is missing from Debian, extracts
+# the scanned meshes of libcgal-demo into the data cache, and builds Release into build/.
+# Idempotent: a second run installs nothing, extracts nothing and rebuilds only what changed.
+set -euo pipefail
+
+repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+
+# Debian packages aoeval needs. Everything comes from apt; nothing is downloaded from elsewhere.
+packages=(
+  build-essential cmake ninja-build pkg-config clang-format
+  libembree-dev libtbb-dev libglm-dev
+  libopenimageio-dev openimageio-tools libopenexr-dev
+  libassimp-dev assimp-testmodels libcgal-demo
+  nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3
+  libgtest-dev libgmock-dev libbenchmark-dev
+  libvulkan-dev mesa-vulkan-drivers vulkan-tools glslang-tools glslang-dev spirv-tools
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if ((${#missing[@]})); then
+  echo "bootstrap: installing ${missing[*]}" >&2
+  sudo_cmd=()
+  if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+  "${sudo_cmd[@]}" apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends \
+    "${missing[@]}" >&2
+fi
+
+# Scanned meshes (CONTRACT §6): extracted once from libcgal-demo's data tarball into the cache that
+# scene files address as "cache:meshes/...".
+cache_dir="${AOEVAL_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/aoeval}"
+meshes=(bunny00.off ChineseDragon-10kv.off armadillo.off elephant.off)
+need_extract=0
+for m in "${meshes[@]}"; do [ -s "$cache_dir/meshes/$m" ] || need_extract=1; done
+if ((need_extract)); then
+  tarball=/usr/share/doc/libcgal-demo/data.tar.gz
+  [ -f "$tarball" ] || { echo "bootstrap: $tarball is missing (package libcgal-demo)" >&2; exit 1; }
+  mkdir -p "$cache_dir/meshes"
+  tmp="$(mktemp -d)"
+  tar -xzf "$tarball" -C "$tmp" "${meshes[@]/#/data/meshes/}"
+  for m in "${meshes[@]}"; do mv "$tmp/data/meshes/$m" "$cache_dir/meshes/$m.tmp" && mv "$cache_dir/meshes/$m.tmp" "$cache_dir/meshes/$m"; done
+  rm -rf "$tmp"
+  echo "bootstrap: extracted ${#meshes[@]} meshes into $cache_dir/meshes" >&2
+fi
+
+# Release build into build/. Configure once; later runs only rebuild what changed.
+generator=()
+command -v ninja >/dev/null && generator=(-G Ninja)
+if [ ! -f "$repo_root/build/CMakeCache.txt" ]; then
+  cmake -S "$repo_root" -B "$repo_root/build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release >&2
+fi
+cmake --build "$repo_root/build" --parallel "$(nproc)" >&2
