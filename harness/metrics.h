@@ -1,0 +1,74 @@
+// Image-comparison metrics of `aoeval compare` and of every results row (CONTRACT §3-4), computed
+// over the *compared pixels*: those where both images have coverage A = 1 and, optionally, a
+// further mask holds. The caller builds that mask; this file scores two float AO images under it.
+//
+// Definitions (n = number of compared pixels, d = est - ref per compared pixel, in double):
+//   pixels          n
+//   rmse            sqrt(mean d^2)
+//   mae             mean |d|
+//   bias            mean d
+//   max_abs         max |d|
+//   p95_abs         95th percentile of |d| by nearest rank: the k-th smallest |d| with
+//                   k = ceil(0.95 n) (1-based), so always one of the observed values
+//   psnr            peak 1: 10 log10(1 / mean d^2); +infinity when mean d^2 = 0, written as JSON
+//                   null (JSON has no infinity)
+//   ssim            Wang, Bovik, Sheikh, Simoncelli, "Image Quality Assessment: From Error
+//                   Visibility to Structural Similarity", IEEE TIP 13(4), 2004: eq. 13 (SSIM with
+//                   C1 = (0.01 L)^2, C2 = (0.03 L)^2, L = 1), local statistics under the 11x11
+//                   circular-symmetric Gaussian window with sigma 1.5 (eq. 14-16), pooled by the
+//                   mean of the SSIM map (eq. 17). Masked: each window's Gaussian weights are
+//                   renormalised over the compared pixels inside it (pixels outside the image count
+//                   as not compared) and the map is averaged over compared pixels. No dynamic-
+//                   range clamping: AO values enter as they are.
+//   flip_mean       mean over compared pixels of the LDR-FLIP map (Andersson et al. 2020) of the
+//                   AO images seen as grey, AO = linear luminance; see flip.h/flip.cpp
+//   ref_stderr_rms  sqrt(mean ref_stderr^2) (0 when the reference has no stderr channel)
+//   rmse_excess     sqrt(max(0, rmse^2 - mean ref_stderr^2)): the error left once the
+//                   reference's own Monte Carlo noise is accounted for
+// Every sum is accumulated in double per image row, and the rows are added in order, so the
+// results do not depend on thread scheduling.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <nlohmann/json_fwd.hpp>
+#include <string>
+#include <vector>
+
+namespace aoeval {
+
+struct Metrics {
+  size_t pixels;
+  double rmse, mae, bias, max_abs, p95_abs, psnr, ssim, flip_mean, ref_stderr_rms, rmse_excess;
+};
+
+// A plain float image, row-major, width * height values; row 0 is the top, pixel (i, j) is column
+// i of row j.
+struct ImageView {
+  int width, height;
+  const float* data;
+};
+
+// Scores `est` against `ref` over the pixels where `mask` is nonzero (`mask` empty: every pixel).
+// `ref_stderr` is the reference's per-pixel standard error, or empty (treated as 0).
+// Throws InputError (scenes/errors.h) when the sizes differ (naming both), when the mask or the
+// stderr has the wrong size, when no pixel is compared ("no pixel is covered in both images"),
+// and when a compared pixel of either image (or of ref_stderr) is NaN or infinite (naming the
+// image and the pixel (i, j)).
+Metrics compare_images(ImageView ref, ImageView est, const std::vector<uint8_t>& mask,
+                       const std::vector<float>& ref_stderr);
+
+// The metrics as a JSON object, keys exactly metric_keys() with `prefix` before each (e.g.
+// "true_"). `pixels` is an integer; psnr (or any other non-finite value) is null.
+nlohmann::json to_json(const Metrics& m, const std::string& prefix = "");
+
+// The fixed order of the keys: pixels, rmse, mae, bias, max_abs, p95_abs, psnr, ssim, flip_mean,
+// ref_stderr_rms, rmse_excess.
+std::vector<std::string> metric_keys();
+
+// The per-pixel maps behind ssim and flip_mean (width * height, 0 at pixels not compared). Same
+// checks and errors as compare_images.
+std::vector<float> ssim_map(ImageView ref, ImageView est, const std::vector<uint8_t>& mask);
+std::vector<float> flip_map(ImageView ref, ImageView est, const std::vector<uint8_t>& mask);
+
+}  // namespace aoeval

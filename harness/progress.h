@@ -1,0 +1,28 @@
+// Progress on stderr for long work (CONTRACT §2): a one-line bar when stderr is a terminal, nothing
+// at all otherwise, so logs and pipes stay free of control characters.
+#pragma once
+
+#include <chrono>
+#include <mutex>
+#include <string>
+
+namespace aoeval {
+
+class Progress {
+ public:
+  Progress(std::string task, size_t total);
+  ~Progress();
+  // Marks one more unit done; `what` names the unit just finished (shown on the bar).
+  void step(const std::string& what = "");
+
+ private:
+  void draw(const std::string& what);
+  std::string task_;
+  size_t total_;
+  size_t done_ = 0;
+  bool enabled_;
+  std::mutex mutex_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace aoeval

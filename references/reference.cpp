@@ -1,0 +1,264 @@
+#include "reference.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "errors.h"
+
+namespace aoeval {
+
+int replicate_count(SamplerKind sampler, int spp) {
+  if (sampler == SamplerKind::random) return 1;  // i.i.d. samples: the sample variance is honest
+  for (int r : {8, 4, 2})
+    if (spp % r == 0 && spp / r >= 1) return r;
+  return 1;
+}
+
+float origin_offset(const glm::vec3& p, float scene_extent) {
+  const float magnitude = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+  // 2^-14 relative: ~500 ulps of the position, far above barycentric rounding (a few ulps of the
+  // vertices' magnitude, bounded by the scene extent) and far below any modelled feature.
+  return std::ldexp(std::max(magnitude, 0.01f * scene_extent), -14);
+}
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+struct PixelInput {
+  glm::vec3 position, normal, geometric_normal;
+  float offset;
+};
+
+// Visits every direction of one replicate of one pixel: `visit(direction, above_surface)`.
+template <class Visit>
+void for_each_direction(const ReferenceSettings& s, uint64_t pixel, uint32_t replicate, uint32_t m,
+                        const PixelInput& in, const Frame& frame, std::vector<glm::vec2>& square,
+                        Visit&& visit) {
+  square.resize(m);
+  sample_square(s.sampler, s.seed, pixel, replicate, m, square.data());
+  const bool cosine = s.definition.weighting == Weighting::cosine;
+  for (uint32_t i = 0; i < m; ++i) {
+    const glm::vec3 local =
+        cosine ? square_to_cosine_hemisphere(square[i]) : square_to_uniform_hemisphere(square[i]);
+    const glm::vec3 w = frame.to_world(local);
+    visit(w, glm::dot(w, in.geometric_normal) > 0.0f);
+  }
+}
+
+PixelInput pixel_input(const GBuffer& g, size_t k, const ReferenceSettings& s, float extent) {
+  PixelInput in;
+  in.position = g.position[k];
+  in.geometric_normal = g.geometric_normal[k];
+  in.normal = s.normal == NormalMode::shading ? g.normal[k] : g.geometric_normal[k];
+  in.offset = origin_offset(in.position, extent);
+  return in;
+}
+
+float scene_extent_of(const EmbreeScene& es) {
+  const glm::vec3 e = es.scene().bounds().extent();
+  return std::max({e.x, e.y, e.z});
+}
+
+// Traces one direction and returns its accessibility value (AoDefinition::ray_value).
+float trace(RTCScene scene, RTCIntersectContext& context, const AoDefinition& def,
+            const PixelInput& in, const glm::vec3& w, uint64_t& traced) {
+  ++traced;
+  const glm::vec3 o = in.position + in.geometric_normal * in.offset;
+  const float tfar = def.bounded() ? static_cast<float>(def.dmax) : kInf;
+  if (def.falloff == Falloff::none) {
+    RTCRay ray{};
+    ray.org_x = o.x, ray.org_y = o.y, ray.org_z = o.z;
+    ray.dir_x = w.x, ray.dir_y = w.y, ray.dir_z = w.z;
+    ray.tnear = 0.0f;
+    ray.tfar = tfar;
+    ray.mask = 0xFFFFFFFFu;
+    rtcOccluded1(scene, &context, &ray);
+    return ray.tfar < 0.0f ? 0.0f : 1.0f;  // Embree sets tfar = -inf on a hit
+  }
+  RTCRayHit rh{};
+  rh.ray.org_x = o.x, rh.ray.org_y = o.y, rh.ray.org_z = o.z;
+  rh.ray.dir_x = w.x, rh.ray.dir_y = w.y, rh.ray.dir_z = w.z;
+  rh.ray.tnear = 0.0f;
+  rh.ray.tfar = tfar;
+  rh.ray.mask = 0xFFFFFFFFu;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene, &context, &rh);
+  return rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? 1.0f : def.ray_value(rh.ray.tfar);
+}
+
+// Running statistics of one pixel: over samples (random) or over replicate means (the others).
+struct Accumulator {
+  double sum = 0.0, sum_sq = 0.0;
+  long count = 0;
+  void add(double x) {
+    sum += x;
+    sum_sq += x * x;
+    ++count;
+  }
+  double mean() const { return count ? sum / static_cast<double>(count) : 0.0; }
+  // Standard error of the mean; with no degree of freedom, the bound 0.5 / sqrt(n) of a [0, 1]
+  // quantity (the largest possible standard deviation is 0.5).
+  double standard_error() const {
+    if (count < 2) return 0.5 / std::sqrt(std::max<double>(1.0, static_cast<double>(count)));
+    const double n = static_cast<double>(count);
+    const double var = std::max(0.0, (sum_sq - sum * sum / n) / (n - 1.0));
+    return std::sqrt(var / n);
+  }
+};
+
+}  // namespace
+
+ReferenceImage compute_reference(const EmbreeScene& es, const GBuffer& g,
+                                 const ReferenceSettings& s) {
+  if (s.spp < 1) throw InputError("--spp: must be at least 1");
+  if (s.target_stderr > 0.0 && s.max_spp < s.spp)
+    throw InputError("--max-spp: must be at least --spp (" + std::to_string(s.spp) + ")");
+  validate_definition(s.definition);
+  enable_ftz_daz_everywhere();
+  const auto start = std::chrono::steady_clock::now();
+  ReferenceImage r;
+  r.width = g.width;
+  r.height = g.height;
+  const size_t n = g.pixel_count();
+  r.ao.assign(n, 0.0f);
+  r.stderr_ao.assign(n, 0.0f);
+  r.bent.assign(n, glm::vec3(0.0f));
+  r.coverage = g.coverage;
+  r.spp.assign(n, 0.0f);
+  const float extent = scene_extent_of(es);
+  const int replicates = replicate_count(s.sampler, s.spp);
+  const auto m = static_cast<uint32_t>(s.spp / replicates);
+  const bool replicated = s.sampler != SamplerKind::random;
+  std::atomic<uint64_t> total_traced{0}, total_samples{0};
+
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, g.height, 1), [&](const tbb::blocked_range<int>& rows) {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        std::vector<glm::vec2> square;
+        uint64_t traced = 0, samples = 0;
+        for (int j = rows.begin(); j < rows.end(); ++j) {
+          for (int i = 0; i < g.width; ++i) {
+            const size_t k = g.index(i, j);
+            if (!g.covered(k)) continue;
+            const PixelInput in = pixel_input(g, k, s, extent);
+            const Frame frame = make_frame(in.normal);
+            Accumulator acc;
+            glm::dvec3 bent(0.0);
+            long used = 0;
+            for (uint32_t batch = 0;; ++batch) {
+              for (int rep = 0; rep < replicates; ++rep) {
+                double rep_sum = 0.0;
+                const auto replicate = static_cast<uint32_t>(batch * replicates + rep);
+                for_each_direction(
+                    s, k, replicate, m, in, frame, square, [&](const glm::vec3& w, bool above) {
+                      const float v =
+                          above ? trace(es.handle(), context, s.definition, in, w, traced) : 0.0f;
+                      rep_sum += v;
+                      bent += glm::dvec3(w) * static_cast<double>(v);
+                      if (!replicated) acc.add(v);
+                    });
+                if (replicated) acc.add(rep_sum / m);
+                used += m;
+              }
+              if (s.target_stderr <= 0.0 || acc.standard_error() <= s.target_stderr ||
+                  used + s.spp > s.max_spp)
+                break;
+            }
+            samples += static_cast<uint64_t>(used);
+            r.ao[k] = static_cast<float>(acc.mean());
+            r.stderr_ao[k] = static_cast<float>(acc.standard_error());
+            const double len = glm::length(bent);
+            r.bent[k] = len > 0.0 ? glm::vec3(bent / len) : glm::vec3(0.0f);
+            r.spp[k] = static_cast<float>(used);
+          }
+        }
+        total_traced += traced;
+        total_samples += samples;
+      });
+  r.rays_traced = total_traced;
+  r.samples = total_samples;
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return r;
+}
+
+std::vector<BareRay> generate_reference_rays(const GBuffer& g, const ReferenceSettings& s,
+                                             float scene_extent) {
+  std::vector<BareRay> rays;
+  std::vector<glm::vec2> square;
+  const int replicates = replicate_count(s.sampler, s.spp);
+  const auto m = static_cast<uint32_t>(s.spp / replicates);
+  const float tfar = s.definition.bounded() ? static_cast<float>(s.definition.dmax) : kInf;
+  for (size_t k = 0; k < g.pixel_count(); ++k) {
+    if (!g.covered(k)) continue;
+    const PixelInput in = pixel_input(g, k, s, scene_extent);
+    const Frame frame = make_frame(in.normal);
+    for (int rep = 0; rep < replicates; ++rep)
+      for_each_direction(
+          s, k, static_cast<uint32_t>(rep), m, in, frame, square,
+          [&](const glm::vec3& w, bool above) {
+            if (above) rays.push_back({in.position + in.geometric_normal * in.offset, w, tfar});
+          });
+  }
+  return rays;
+}
+
+OIIO::ImageBuf reference_to_image(const ReferenceImage& r, bool with_spp) {
+  std::vector<std::string> names = {"AO", "AO_stderr", "bent.X", "bent.Y", "bent.Z", "A"};
+  if (with_spp) names.push_back("spp");
+  OIIO::ImageSpec spec(r.width, r.height, static_cast<int>(names.size()), OIIO::TypeDesc::FLOAT);
+  spec.channelnames = names;
+  OIIO::ImageBuf image(spec);
+  auto* px = static_cast<float*>(image.localpixels());
+  const size_t nc = names.size();
+  for (size_t k = 0; k < r.ao.size(); ++k) {
+    float* o = px + k * nc;
+    o[0] = r.ao[k];
+    o[1] = r.stderr_ao[k];
+    o[2] = r.bent[k].x;
+    o[3] = r.bent[k].y;
+    o[4] = r.bent[k].z;
+    o[5] = r.coverage[k];
+    if (with_spp) o[6] = r.spp[k];
+  }
+  return image;
+}
+
+nlohmann::json reference_params(const ReferenceSettings& s) {
+  nlohmann::json j = {{"spp", s.spp},
+                      {"definition", s.definition.to_json()},
+                      {"sampler", sampler_name(s.sampler)},
+                      {"seed", s.seed},
+                      {"normal", s.normal == NormalMode::shading ? "shading" : "geometric"},
+                      {"replicates", replicate_count(s.sampler, s.spp)}};
+  if (s.target_stderr > 0.0) {
+    j["target_stderr"] = s.target_stderr;
+    j["max_spp"] = s.max_spp;
+  }
+  return j;
+}
+
+void parse_reference_options(ReferenceSettings& s, const std::string& weighting,
+                             const std::string& dmax, const std::string& falloff,
+                             const std::string& sampler, const std::string& normal) {
+  s.definition.weighting = parse_weighting(weighting);
+  s.definition.dmax = parse_dmax(dmax);
+  s.definition.falloff = parse_falloff(falloff);
+  validate_definition(s.definition);
+  s.sampler = parse_sampler(sampler);
+  if (normal == "shading")
+    s.normal = NormalMode::shading;
+  else if (normal == "geometric")
+    s.normal = NormalMode::geometric;
+  else
+    throw InputError("--normal: '" + normal + "' is not one of: shading, geometric");
+}
+
+}  // namespace aoeval

@@ -1,0 +1,77 @@
+// The Embree reference generator: per-pixel ground-truth AO at the shared G-buffer's surface
+// points, with its own per-pixel standard error, so that comparisons can tell noise from error (in
+// the spirit of Mitsuba 3's statistical render tests).
+//
+// Estimator (CONTRACT §3): AO(P) = E[value(w)] with w drawn with pdf cos(theta)/pi (cosine
+// weighting) or 1/(2 pi) (uniform weighting) around the normal, and value(w) = 1 - the weight of
+// the first occluder along w (AoDefinition::ray_value). Directions below the geometric surface (w .
+// Ng <= 0) are occluded at distance 0. The bent normal is the value-weighted mean direction (GPU
+// Gems ch. 17, "bent normals").
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "ao_definition.h"
+#include "embree_scene.h"
+#include "gbuffer.h"
+#include "references/samplers.h"
+
+namespace aoeval {
+
+enum class NormalMode { shading, geometric };
+
+struct ReferenceSettings {
+  int spp = 256;  // rays per pixel (the minimum, when target_stderr is set)
+  AoDefinition definition;
+  SamplerKind sampler = SamplerKind::random;
+  uint64_t seed = 1;
+  NormalMode normal = NormalMode::shading;  // which normal orients the hemisphere
+  double target_stderr = 0.0;               // > 0: keep sampling until stderr <= this ...
+  int max_spp = 16384;                      // ... or this many rays
+};
+
+// Independent replicates used for the standard error of the stratified and sobol samplers (their
+// sample variance overestimates the error, so it is measured across independent randomisations).
+int replicate_count(SamplerKind sampler, int spp);
+
+struct ReferenceImage {
+  int width = 0, height = 0;
+  std::vector<float> ao;         // AO, in [0, 1]; 0 where not covered
+  std::vector<float> stderr_ao;  // standard error of the per-pixel mean
+  std::vector<glm::vec3> bent;   // unit mean unoccluded direction; zero if fully occluded
+  std::vector<float> coverage;   // A, copied from the G-buffer
+  std::vector<float> spp;        // rays actually used per pixel
+  uint64_t rays_traced = 0;      // rays sent to Embree (below-surface directions are not traced)
+  uint64_t samples = 0;          // directions evaluated, traced or not
+  double seconds = 0.0;
+};
+
+// Deterministic: the same settings give the same bits whatever the thread count (each pixel draws
+// from its own stream and sums in a fixed order).
+ReferenceImage compute_reference(const EmbreeScene& scene, const GBuffer& gbuffer,
+                                 const ReferenceSettings& settings);
+
+// The offset of a ray origin along Ng: large enough to clear the G-buffer position's rounding error
+// (barycentric interpolation: a few ulps of the coordinates' magnitude), small against any feature.
+float origin_offset(const glm::vec3& position, float scene_extent);
+
+// The reference as an EXR image (channels AO, AO_stderr, bent.X/Y/Z, A, and spp when adaptive).
+OIIO::ImageBuf reference_to_image(const ReferenceImage& r, bool with_spp);
+// The effective settings as JSON (the aoeval:params attribute).
+nlohmann::json reference_params(const ReferenceSettings& s);
+void parse_reference_options(ReferenceSettings& s, const std::string& weighting,
+                             const std::string& dmax, const std::string& falloff,
+                             const std::string& sampler, const std::string& normal);
+
+// Fills `rays` with every traced occlusion ray of the reference (same directions, same origins),
+// for the throughput benchmark's bare Embree loop. Random sampler only.
+struct BareRay {
+  glm::vec3 origin, direction;
+  float tfar;
+};
+std::vector<BareRay> generate_reference_rays(const GBuffer& gbuffer, const ReferenceSettings& s,
+                                             float scene_extent);
+
+}  // namespace aoeval

@@ -1,0 +1,23 @@
+// A content-addressed cache of reference images: the key hashes everything the image depends on
+// (scene geometry, camera and resolution, definition, spp, sampler, seed, normal mode, adaptive
+// target, generator version), so asking twice computes once and any change recomputes.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "camera.h"
+#include "references/reference.h"
+#include "scene.h"
+
+namespace aoeval {
+
+// Bump when the reference's output for the same inputs changes.
+inline constexpr const char* kReferenceGeneratorVersion = "reference-1";
+
+std::string reference_cache_key(const Scene& scene, const Camera& camera,
+                                const ReferenceSettings& settings);
+// <data cache>/references/<key>.exr
+std::string reference_cache_path(const std::string& key);
+
+}  // namespace aoeval

@@ -1,0 +1,289 @@
+// The reference against closed forms (CONTRACT §3), with tolerances from the sample count: every
+// analytic check pools many independent pixels and allows 4 standard errors of the pooled mean
+// (a false alarm about once in 16,000 runs), computed from the reference's own reported stderr.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+
+#include "generators/generators.h"
+#include "references/reference.h"
+
+namespace aoeval {
+namespace {
+
+SceneObject generated(const std::string& name, const std::string& generator, nlohmann::json params,
+                      glm::vec3 translate = glm::vec3(0.0f)) {
+  JsonReader reader(params, "test");
+  SceneObject o;
+  o.name = name;
+  o.mesh = find_generator(generator)->function(1, reader).mesh;
+  reader.finish();
+  for (auto& p : o.mesh.positions) p += translate;
+  return o;
+}
+
+Scene scene_of(std::vector<SceneObject> objects) {
+  Scene s;
+  s.name = "analytic";
+  s.objects = std::move(objects);
+  s.views.push_back(View{});
+  return s;
+}
+
+// A G-buffer of `count` pixels, all at surface point p with normal n (a "probe").
+GBuffer probe(glm::vec3 p, glm::vec3 n, int count) {
+  GBuffer g;
+  g.width = count;
+  g.height = 1;
+  g.coverage.assign(count, 1.0f);
+  g.depth.assign(count, 1.0f);
+  g.position.assign(count, p);
+  g.normal.assign(count, n);
+  g.geometric_normal.assign(count, n);
+  g.object_id.assign(count, 0.0f);
+  return g;
+}
+
+struct Pooled {
+  double mean, stderr_of_mean;
+};
+
+Pooled pooled(const ReferenceImage& r) {
+  double sum = 0.0, se2 = 0.0;
+  for (size_t k = 0; k < r.ao.size(); ++k) {
+    sum += r.ao[k];
+    se2 += static_cast<double>(r.stderr_ao[k]) * r.stderr_ao[k];
+  }
+  const double n = static_cast<double>(r.ao.size());
+  return {sum / n, std::sqrt(se2) / n};
+}
+
+ReferenceSettings settings(Weighting w, SamplerKind sampler, int spp = 256) {
+  ReferenceSettings s;
+  s.spp = spp;
+  s.definition.weighting = w;
+  s.sampler = sampler;
+  return s;
+}
+
+const SamplerKind kSamplers[] = {SamplerKind::random, SamplerKind::stratified, SamplerKind::sobol};
+const Weighting kWeightings[] = {Weighting::cosine, Weighting::uniform};
+
+TEST(Reference, OpenPlaneIsFullyOpen) {
+  Scene s = scene_of({generated("floor", "plane", {{"size", {100, 100}}})});
+  EmbreeScene es(s);
+  const GBuffer g = probe({0.3f, 0.0f, -0.2f}, {0, 1, 0}, 16);
+  for (auto w : kWeightings)
+    for (auto k : kSamplers) {
+      const ReferenceImage r = compute_reference(es, g, settings(w, k, 64));
+      for (size_t i = 0; i < r.ao.size(); ++i) {
+        EXPECT_EQ(r.ao[i], 1.0f);
+        EXPECT_EQ(r.stderr_ao[i], 0.0f);
+        EXPECT_NEAR(r.bent[i].y, w == Weighting::cosine ? 1.0f : 1.0f, 0.1f);
+      }
+    }
+}
+
+TEST(Reference, InsideAClosedBoxIsFullyOccluded) {
+  Scene s = scene_of({generated("box", "box", {{"size", {2, 2, 2}}, {"inward", true}})});
+  EmbreeScene es(s);
+  const GBuffer g = probe({0.1f, 0.0f, 0.2f}, {0, 1, 0}, 16);
+  for (auto w : kWeightings)
+    for (auto k : kSamplers) {
+      const ReferenceImage r = compute_reference(es, g, settings(w, k, 64));
+      for (size_t i = 0; i < r.ao.size(); ++i) {
+        EXPECT_EQ(r.ao[i], 0.0f);
+        EXPECT_EQ(r.bent[i], glm::vec3(0.0f));
+      }
+    }
+}
+
+// A floor and a parallel disk of radius a at height h above the probe (a 4096-gon: its solid angle
+// differs from the circle's by < 1e-6 relative).
+class DiskAbovePlane : public ::testing::Test {
+ protected:
+  static constexpr double a = 1.0, h = 0.5;
+  DiskAbovePlane()
+      : scene_(scene_of(
+            {generated("floor", "plane", {{"size", {20, 20}}}),
+             generated("disk", "disk", {{"radius", a}, {"segments", 4096}, {"facing", "down"}},
+                       {0.0f, static_cast<float>(h), 0.0f})})),
+        es_(scene_) {}
+  void expect(const ReferenceSettings& s, double exact) {
+    const GBuffer g = probe({0, 0, 0}, {0, 1, 0}, 256);
+    const Pooled p = pooled(compute_reference(es_, g, s));
+    EXPECT_NEAR(p.mean, exact, 4.0 * p.stderr_of_mean + 1e-6)
+        << s.definition.label() << " " << sampler_name(s.sampler);
+  }
+  Scene scene_;
+  EmbreeScene es_;
+};
+
+TEST_F(DiskAbovePlane, BothWeightingsMatchTheSolidAngleClosedForms) {
+  // cosine: the disk covers a cone of half-angle alpha, tan(alpha) = a / h, whose projected solid
+  // angle is pi sin^2(alpha): AO = 1 - sin^2(alpha) = h^2 / (a^2 + h^2).
+  // uniform: its solid angle is 2 pi (1 - cos(alpha)): AO = cos(alpha) = h / sqrt(a^2 + h^2).
+  for (auto k : kSamplers) {
+    expect(settings(Weighting::cosine, k), h * h / (a * a + h * h));
+    expect(settings(Weighting::uniform, k), h / std::sqrt(a * a + h * h));
+  }
+}
+
+TEST_F(DiskAbovePlane, DmaxCuttingTheRimMatchesItsClosedForms) {
+  // With h < dmax < sqrt(a^2 + h^2), the disk counts only where h / cos(theta) < dmax, a cone with
+  // cos(theta_D) = h / dmax: cosine AO = h^2 / dmax^2, uniform AO = h / dmax.
+  const double d = 0.85;  // not a dyadic cut: nets would integrate it exactly
+  for (auto k : kSamplers) {
+    ReferenceSettings c = settings(Weighting::cosine, k), u = settings(Weighting::uniform, k);
+    c.definition.dmax = u.definition.dmax = d;
+    expect(c, h * h / (d * d));
+    expect(u, h / d);
+    // Linear falloff: a ray hitting at h / cos(theta) < dmax is worth h / (dmax cos(theta)):
+    // AO = (2h/dmax)(1 - h/dmax) + h^2/dmax^2 = 2h/dmax - h^2/dmax^2.
+    c.definition.falloff = Falloff::linear;
+    expect(c, 2 * h / d - h * h / (d * d));
+  }
+}
+
+TEST(Reference, ConvexObjectsOutsideIsOpenEverywhere) {
+  // Every covered pixel of a convex object, with the geometric hemisphere, sees no occluder: AO is
+  // exactly 1. This also pins the origin offset: one self-intersection would show as AO < 1.
+  for (const char* gen : {"box", "sphere"}) {
+    Scene s =
+        scene_of({generated("convex", gen, nlohmann::json::object(), {37.0f, 11.0f, -23.0f})});
+    EmbreeScene es(s);
+    View v;
+    v.eye = {39.5f, 12.8f, -20.0f};
+    v.target = {37.0f, 11.3f, -23.0f};
+    const GBuffer g = render_gbuffer(es, make_camera(v, 48, 36));
+    ReferenceSettings st = settings(Weighting::cosine, SamplerKind::random, 64);
+    st.normal = NormalMode::geometric;
+    const ReferenceImage r = compute_reference(es, g, st);
+    size_t covered = 0;
+    for (size_t k = 0; k < r.ao.size(); ++k) {
+      if (!g.covered(k)) continue;
+      ++covered;
+      ASSERT_EQ(r.ao[k], 1.0f) << gen << " pixel " << k;
+    }
+    EXPECT_GT(covered, 150u) << gen;
+  }
+}
+
+TEST(Reference, GrazingViewOfAFarPlaneHasNoSelfIntersection) {
+  // Large coordinates and grazing primary rays: the hardest case for origin offsets.
+  Scene s =
+      scene_of({generated("floor", "plane", {{"size", {400, 400}}}, {1000.0f, 50.0f, -700.0f})});
+  EmbreeScene es(s);
+  View v;
+  v.eye = {1000.0f, 50.5f, -560.0f};
+  v.target = {1000.0f, 50.0f, -700.0f};
+  const GBuffer g = render_gbuffer(es, make_camera(v, 64, 48));
+  const ReferenceImage r =
+      compute_reference(es, g, settings(Weighting::cosine, SamplerKind::random, 64));
+  for (size_t k = 0; k < r.ao.size(); ++k)
+    if (g.covered(k)) {
+      ASSERT_EQ(r.ao[k], 1.0f) << "pixel " << k;
+    }
+}
+
+TEST(Reference, StandardErrorIsCalibratedForEverySampler) {
+  // Over many seeds, the spread of each pixel's value must match the stderr it reports (RMS over
+  // seeds) within 20%. With 400 seeds the empirical std itself is known to about 3.5%.
+  Scene s =
+      scene_of({generated("floor", "plane", {{"size", {20, 20}}}),
+                generated("disk", "disk", {{"radius", 1.0}, {"segments", 256}, {"facing", "down"}},
+                          {0.0f, 0.5f, 0.0f})});
+  EmbreeScene es(s);
+  GBuffer g = probe({0, 0, 0}, {0, 1, 0}, 4);
+  for (int i = 0; i < 4; ++i) g.position[i] = {0.35f * i, 0.0f, 0.0f};  // AO from ~0.2 to ~0.6
+  const int seeds = 400;
+  for (auto k : kSamplers) {
+    std::vector<double> sum(4, 0.0), sum_sq(4, 0.0), se2(4, 0.0);
+    for (int seed = 1; seed <= seeds; ++seed) {
+      ReferenceSettings st = settings(Weighting::cosine, k, 64);
+      st.seed = static_cast<uint64_t>(seed);
+      const ReferenceImage r = compute_reference(es, g, st);
+      for (int i = 0; i < 4; ++i) {
+        sum[i] += r.ao[i];
+        sum_sq[i] += static_cast<double>(r.ao[i]) * r.ao[i];
+        se2[i] += static_cast<double>(r.stderr_ao[i]) * r.stderr_ao[i];
+      }
+    }
+    for (int i = 0; i < 4; ++i) {
+      const double mean = sum[i] / seeds;
+      const double spread = std::sqrt((sum_sq[i] - seeds * mean * mean) / (seeds - 1));
+      const double reported = std::sqrt(se2[i] / seeds);
+      EXPECT_NEAR(reported / spread, 1.0, 0.2) << sampler_name(k) << " pixel " << i << ": spread "
+                                               << spread << ", reported " << reported;
+    }
+  }
+}
+
+TEST(Reference, DeterministicWhateverTheThreadCount) {
+  Scene s = scene_of({generated("floor", "plane", {{"size", {20, 20}}}),
+                      generated("ball", "sphere", {{"radius", 0.5}}, {0.0f, 0.5f, 0.0f})});
+  EmbreeScene es(s);
+  View v;
+  v.eye = {0.0f, 1.5f, 2.5f};
+  v.target = {0.0f, 0.3f, 0.0f};
+  const GBuffer g = render_gbuffer(es, make_camera(v, 40, 30));
+  for (auto k : kSamplers) {
+    ReferenceSettings st = settings(Weighting::cosine, k, 32);
+    st.seed = 42;
+    const ReferenceImage many = compute_reference(es, g, st);
+    ReferenceImage one;
+    {
+      tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+      one = compute_reference(es, g, st);
+    }
+    EXPECT_EQ(many.ao, one.ao) << sampler_name(k);
+    EXPECT_EQ(many.stderr_ao, one.stderr_ao) << sampler_name(k);
+    st.seed = 43;
+    EXPECT_NE(compute_reference(es, g, st).ao, many.ao) << sampler_name(k);
+  }
+}
+
+TEST(Reference, TargetStderrKeepsSamplingUntilMet) {
+  Scene s =
+      scene_of({generated("floor", "plane", {{"size", {20, 20}}}),
+                generated("disk", "disk", {{"radius", 1.0}, {"segments", 256}, {"facing", "down"}},
+                          {0.0f, 0.5f, 0.0f})});
+  EmbreeScene es(s);
+  const GBuffer g = probe({0, 0, 0}, {0, 1, 0}, 8);
+  for (auto k : kSamplers) {
+    ReferenceSettings st = settings(Weighting::cosine, k, 64);
+    st.target_stderr = 0.01;
+    st.max_spp = 1 << 16;
+    const ReferenceImage r = compute_reference(es, g, st);
+    for (size_t i = 0; i < r.ao.size(); ++i) {
+      EXPECT_LE(r.stderr_ao[i], 0.01f) << sampler_name(k);
+      EXPECT_GT(r.spp[i], 64.0f) << sampler_name(k);  // 64 rays alone give ~0.05
+    }
+    st.max_spp = 128;  // the cap wins over the target
+    const ReferenceImage capped = compute_reference(es, g, st);
+    for (size_t i = 0; i < capped.ao.size(); ++i) EXPECT_EQ(capped.spp[i], 128.0f);
+  }
+}
+
+TEST(AoDefinition, RayValuesAtTheEnds) {
+  AoDefinition d;
+  d.dmax = 2.0;
+  for (Falloff f : {Falloff::none, Falloff::linear, Falloff::sqrt, Falloff::exp}) {
+    d.falloff = f;
+    EXPECT_EQ(d.ray_value(0.0f), 0.0f) << falloff_name(f);
+    EXPECT_EQ(d.ray_value(2.0f), 1.0f) << falloff_name(f);
+    EXPECT_EQ(d.ray_value(INFINITY), 1.0f) << falloff_name(f);
+    EXPECT_NEAR(d.ray_value(1.9999f), f == Falloff::none ? 0.0f : 1.0f, 2e-4) << falloff_name(f);
+  }
+  d.falloff = Falloff::linear;
+  EXPECT_FLOAT_EQ(d.ray_value(0.5f), 0.25f);
+  d.falloff = Falloff::sqrt;
+  EXPECT_FLOAT_EQ(d.ray_value(0.5f), 0.5f);
+  AoDefinition unbounded;
+  unbounded.falloff = Falloff::linear;
+  EXPECT_THROW(validate_definition(unbounded), InputError);
+}
+
+}  // namespace
+}  // namespace aoeval

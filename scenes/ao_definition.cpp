@@ -1,0 +1,71 @@
+#include "ao_definition.h"
+
+#include <cstdlib>
+#include <sstream>
+
+#include "errors.h"
+
+namespace aoeval {
+
+const char* weighting_name(Weighting w) {
+  return w == Weighting::cosine ? "cosine" : "uniform";
+}
+
+const char* falloff_name(Falloff f) {
+  switch (f) {
+    case Falloff::none:
+      return "none";
+    case Falloff::linear:
+      return "linear";
+    case Falloff::sqrt:
+      return "sqrt";
+    case Falloff::exp:
+      return "exp";
+  }
+  return "none";
+}
+
+Weighting parse_weighting(const std::string& text, const std::string& option) {
+  if (text == "cosine") return Weighting::cosine;
+  if (text == "uniform") return Weighting::uniform;
+  throw InputError(option + ": '" + text + "' is not one of: cosine, uniform");
+}
+
+Falloff parse_falloff(const std::string& text, const std::string& option) {
+  for (Falloff f : {Falloff::none, Falloff::linear, Falloff::sqrt, Falloff::exp})
+    if (text == falloff_name(f)) return f;
+  throw InputError(option + ": '" + text + "' is not one of: none, linear, sqrt, exp");
+}
+
+double parse_dmax(const std::string& text, const std::string& option) {
+  if (text.empty() || text == "inf" || text == "none")
+    return std::numeric_limits<double>::infinity();
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size() || !std::isfinite(v) || v <= 0.0)
+    throw InputError(option + ": expected a positive distance or 'inf', got '" + text + "'");
+  return v;
+}
+
+void validate_definition(const AoDefinition& d) {
+  if (!(d.dmax > 0.0)) throw InputError("--dmax: must be positive");
+  if (d.falloff != Falloff::none && !d.bounded())
+    throw InputError(std::string("--falloff ") + falloff_name(d.falloff) +
+                     " needs a finite --dmax (the falloff is a function of d / dmax)");
+}
+
+nlohmann::json AoDefinition::to_json() const {
+  return {{"weighting", weighting_name(weighting)},
+          {"dmax", bounded() ? nlohmann::json(dmax) : nlohmann::json(nullptr)},
+          {"falloff", falloff_name(falloff)}};
+}
+
+std::string AoDefinition::label() const {
+  std::ostringstream os;
+  os << weighting_name(weighting);
+  if (bounded()) os << "/dmax:" << dmax;
+  if (falloff != Falloff::none) os << "/" << falloff_name(falloff);
+  return os.str();
+}
+
+}  // namespace aoeval

@@ -1,0 +1,75 @@
+// What an AO value means (CONTRACT §3): the weighting of directions, the range dmax and the falloff
+// of an occluder's weight with distance. The reference computes a definition; every estimator
+// declares the one it estimates; the harness scores each estimator against the reference of its own
+// definition ("matched") and against unbounded cosine AO ("true AO").
+#pragma once
+
+#include <cmath>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace aoeval {
+
+enum class Weighting {
+  cosine,   // (1/pi) Int V(w) cos(theta) dw: Dimitrov et al. 2008 eq. 1, Mendez et al. obscurances
+  uniform,  // (1/2pi) Int V(w) dw: Hegeman et al. 2006 eq. 3, GPU Gems ch. 17 "accessibility"
+};
+
+enum class Falloff {
+  none,    // an occluder closer than dmax counts fully, beyond it not at all
+  linear,  // rho(x) = x: the linear attenuation of Dimitrov et al. 2008 §3.5, W(r) = 1 - r/R
+  sqrt,    // rho(x) = sqrt(x): the square-root obscurance function of Mendez et al. 2003 §3
+  exp,     // rho(x) = (1 - e^(-4x)) / (1 - e^(-4)): Mendez et al.'s exponential shape, normalised
+           // so that rho(1) = 1 (continuous at dmax)
+};
+
+struct AoDefinition {
+  Weighting weighting = Weighting::cosine;
+  double dmax = std::numeric_limits<double>::infinity();  // scene units
+  Falloff falloff = Falloff::none;
+
+  bool bounded() const { return std::isfinite(dmax); }
+
+  // The accessibility one ray contributes when its first hit is at distance d (infinity = no hit):
+  // 1 - occluder weight, where the weight is 1 - rho(d / dmax) for d < dmax and 0 beyond. With
+  // falloff none that is 0 for d < dmax and 1 otherwise.
+  float ray_value(float d) const {
+    if (!(d < dmax)) return 1.0f;
+    const float x = static_cast<float>(d / dmax);
+    switch (falloff) {
+      case Falloff::none:
+        return 0.0f;
+      case Falloff::linear:
+        return x;
+      case Falloff::sqrt:
+        return std::sqrt(x);
+      case Falloff::exp:
+        return (1.0f - std::exp(-4.0f * x)) / (1.0f - std::exp(-4.0f));
+    }
+    return 0.0f;
+  }
+
+  // {"weighting": "cosine", "dmax": null (unbounded) or a number, "falloff": "none"}
+  nlohmann::json to_json() const;
+  // Short stable text for run names and cache keys, e.g. "cosine", "uniform/dmax:0.5/linear".
+  std::string label() const;
+  bool operator==(const AoDefinition&) const = default;
+};
+
+const char* weighting_name(Weighting w);
+const char* falloff_name(Falloff f);
+// Parse the command-line words; InputError naming `option` and the choices otherwise.
+Weighting parse_weighting(const std::string& text, const std::string& option = "--weighting");
+Falloff parse_falloff(const std::string& text, const std::string& option = "--falloff");
+// "inf", "none" or "" -> unbounded; otherwise a positive finite number.
+double parse_dmax(const std::string& text, const std::string& option = "--dmax");
+// Checks the combination (a falloff needs a finite dmax); InputError naming the options.
+void validate_definition(const AoDefinition& d);
+
+// Unbounded cosine-weighted AO: what "true AO" means in every results row.
+inline AoDefinition true_ao_definition() {
+  return AoDefinition{};
+}
+
+}  // namespace aoeval
