@@ -1,6 +1,7 @@
 // `aoeval bench ...`: timing tables and throughput figures. Benchmarks measure; tests never time.
 #include "bench_reference.h"
 #include "commands.h"
+#include "harness/bench_estimators.h"
 
 namespace aoeval {
 
@@ -21,6 +22,20 @@ void add_bench_command(CLI::App& app) {
       ->check(CLI::Range(1, 1 << 24));
   reference->add_flag("--skip-accuracy", ref.skip_accuracy, "throughput only");
   reference->callback([] { bench_reference(ref); });
+
+  static EstimatorBenchOptions est;
+  auto* estimators =
+      cmd->add_subcommand("estimators", "timing table: median/min/max ms and Mpixel/s");
+  estimators->add_option("--scene", est.scenes, "scenes (repeatable)");
+  estimators->add_option("--estimator", est.estimators, "estimators (repeatable; default all)");
+  estimators->add_option("--set", est.sets, "KEY=VALUE for estimators that have the key");
+  estimators->add_option("--res", est.res, "resolution WIDTHxHEIGHT");
+  estimators->add_option("--warmup", est.warmup, "untimed runs first")->check(CLI::Range(0, 1000));
+  estimators->add_option("--repetitions", est.repetitions, "timed runs")
+      ->check(CLI::Range(1, 10000));
+  estimators->add_option("--out", est.out_dir, "output folder (bench.csv, bench.md, results.*)");
+  estimators->add_option("--db", est.database, "SQLite results store");
+  estimators->callback([] { bench_estimators(est); });
 }
 
 }  // namespace aoeval

@@ -13,6 +13,10 @@ void add_scenes_command(CLI::App& app);
 void add_gbuffer_command(CLI::App& app);
 void add_run_command(CLI::App& app);
 void add_reference_command(CLI::App& app);
+void add_estimators_command(CLI::App& app);
+void add_estimate_command(CLI::App& app);
+void add_compare_command(CLI::App& app);
+void add_sweep_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
 
 // "640x480" -> {640, 480}; {0, 0} for "". InputError naming `option` otherwise.

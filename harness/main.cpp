@@ -13,7 +13,11 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "aoeval " + std::string(AOEVAL_VERSION));
   aoeval::add_scenes_command(app);
   aoeval::add_gbuffer_command(app);
+  aoeval::add_estimators_command(app);
   aoeval::add_reference_command(app);
+  aoeval::add_estimate_command(app);
+  aoeval::add_compare_command(app);
+  aoeval::add_sweep_command(app);
   aoeval::add_bench_command(app);
   aoeval::add_run_command(app);
   try {
@@ -27,6 +31,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "aoeval: error: %s (see --help)\n", e.what());
     return 2;
+  } catch (const aoeval::ExitStatus& e) {
+    return e.code;
   } catch (const aoeval::InputError& e) {
     std::fprintf(stderr, "aoeval: error: %s\n", e.what());
     return 2;

@@ -75,3 +75,8 @@ std::vector<BareRay> generate_reference_rays(const GBuffer& gbuffer, const Refer
                                              float scene_extent);
 
 }  // namespace aoeval
+
+namespace aoeval {
+// Reads a reference EXR written by reference_to_image (bent normals and spp optional).
+ReferenceImage read_reference_image(const std::string& path);
+}  // namespace aoeval

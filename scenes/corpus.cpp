@@ -60,4 +60,8 @@ Scene load_scene(const std::string& name_or_path) {
   return load_scene_file(resolve_scene_path(name_or_path));
 }
 
+std::string scene_display_name(const std::string& name_or_path) {
+  return fs::path(resolve_scene_path(name_or_path)).stem().string();
+}
+
 }  // namespace aoeval

@@ -18,5 +18,7 @@ std::vector<std::string> corpus_names();
 // for corpus scenes. Unknown names are an InputError listing the corpus.
 std::string resolve_scene_path(const std::string& name_or_path);
 Scene load_scene(const std::string& name_or_path);
+// The scene's name as results use it: the corpus name, or the file's stem.
+std::string scene_display_name(const std::string& name_or_path);
 
 }  // namespace aoeval

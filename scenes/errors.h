@@ -14,4 +14,9 @@ class InputError : public std::runtime_error {
   explicit InputError(const std::string& message) : std::runtime_error(message) {}
 };
 
+// A command that stops early on purpose (e.g. a sweep interrupted by SIGINT) with this exit status.
+struct ExitStatus {
+  int code;
+};
+
 }  // namespace aoeval

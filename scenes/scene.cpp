@@ -237,6 +237,15 @@ View read_view(JsonReader r) {
 
 }  // namespace
 
+std::vector<View> load_scene_views(const std::string& path) {
+  nlohmann::json doc = parse_json_file(path);
+  JsonReader root(doc, path);
+  root.raw("objects");
+  std::vector<View> views;
+  for (auto& v : root.array_of_objects("views", 1)) views.push_back(read_view(v));
+  return views;
+}
+
 Scene load_scene_file(const std::string& path) {
   nlohmann::json doc = parse_json_file(path);
   JsonReader root(doc, path);

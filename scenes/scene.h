@@ -69,6 +69,9 @@ struct Scene {
 // and the field. Objects are loaded in parallel; the result does not depend on the thread count.
 Scene load_scene_file(const std::string& path);
 
+// The views of a scene file alone, without loading its geometry (for planning sweeps).
+std::vector<View> load_scene_views(const std::string& path);
+
 // Where extracted third-party meshes live: $AOEVAL_CACHE, else $XDG_CACHE_HOME/aoeval, else
 // ~/.cache/aoeval.
 std::string data_cache_dir();

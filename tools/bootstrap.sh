@@ -8,7 +8,7 @@ repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
 # Debian packages aoeval needs. Everything comes from apt; nothing is downloaded from elsewhere.
 packages=(
-  build-essential cmake ninja-build pkg-config clang-format
+  build-essential cmake ninja-build pkg-config clang-format fonts-dejavu-core
   libembree-dev libtbb-dev libglm-dev
   libopenimageio-dev openimageio-tools libopenexr-dev
   libassimp-dev assimp-testmodels libcgal-demo

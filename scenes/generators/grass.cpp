@@ -18,6 +18,7 @@
 // has 2 S + 1 vertices (pairs from root up, then the tip) and 2 S - 1 triangles, stored blade after
 // blade. No vertex normals (surfaces are two-sided). Randomness: SplitMix64 only; directions are
 // rejection-sampled, so no transcendental function touches a random number.
+
 // Same bits on every platform: no fused multiply-add contraction (GCC and Clang contract a * b + c
 // by default wherever the CPU has FMA, e.g. on every ARM64), even where the build lacks
 // -ffp-contract=off. It precedes the includes so that the inlined glm code is covered too.
@@ -55,10 +56,14 @@ std::array<double, 2> read_pair(JsonReader& params, const std::string& key,
   return v;
 }
 
+// Every draw is its own statement: the evaluation order of function arguments is unspecified (GCC
+// goes right to left, Clang left to right), and the bits must not depend on the compiler.
 // A uniform direction in the XZ plane (rejection in the unit square).
 glm::vec2 unit_vector_2d(SplitMix64& rng) {
   for (;;) {
-    glm::vec2 p(rng.uniform(-1.0f, 1.0f), rng.uniform(-1.0f, 1.0f));
+    const float x = rng.uniform(-1.0f, 1.0f);
+    const float y = rng.uniform(-1.0f, 1.0f);
+    const glm::vec2 p(x, y);
     const float d = glm::dot(p, p);
     if (d <= 1.0f && d > 1e-4f) return p / std::sqrt(d);
   }
@@ -92,8 +97,9 @@ GeneratedGeometry generate_grass(uint64_t seed, JsonReader& params) {
   m.triangles.reserve(blades * tris_per_blade);
   double area = 0.0;
   for (int64_t i = 0; i < blades; ++i) {
-    const glm::vec3 root(sx * (rng.uniform_float() - 0.5f), 0.0f,
-                         sz * (rng.uniform_float() - 0.5f));
+    const float rx = sx * (rng.uniform_float() - 0.5f);
+    const float rz = sz * (rng.uniform_float() - 0.5f);
+    const glm::vec3 root(rx, 0.0f, rz);
     const glm::vec2 d = unit_vector_2d(rng);
     const float tip_offset = static_cast<float>(lean) * rng.uniform_float() * h;
     const glm::vec3 dir(d.x, 0.0f, d.y), side(-d.y, 0.0f, d.x);

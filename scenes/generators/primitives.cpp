@@ -14,8 +14,10 @@
 //   sphere    centred at the origin
 //   cylinder  axis along +Y from y = 0 to y = height, centred on the Y axis
 // Flat shapes carry no vertex normals (geometric normals are exact); the sphere and the cylinder
-// carry smooth analytic ones. Trigonometry is evaluated in double and rounded to float, so the bits
-// do not hinge on the last ulp of the platform's libm.
+// carry smooth analytic ones. Trigonometry is evaluated in double and rounded to float, so a
+// last-ulp difference between two platforms' libm changes a float only in the rare case where it
+// straddles a rounding boundary.
+
 // Same bits on every platform: no fused multiply-add contraction (GCC and Clang contract a * b + c
 // by default wherever the CPU has FMA, e.g. on every ARM64), even where the build lacks
 // -ffp-contract=off. It precedes the includes so that the inlined glm code is covered too.

@@ -13,6 +13,7 @@
 // Centres lie within `radius`, so every vertex lies within radius + triangle_size / sqrt(3).
 // Facts: envelope (the ball), leaf_count, leaf_area (exact sum of the triangle areas), leaf
 // density.
+
 // Same bits on every platform: no fused multiply-add contraction (GCC and Clang contract a * b + c
 // by default wherever the CPU has FMA, e.g. on every ARM64), even where the build lacks
 // -ffp-contract=off. It precedes the includes so that the inlined glm code is covered too.
@@ -32,10 +33,15 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+// Every draw is its own statement: the evaluation order of function arguments is unspecified (GCC
+// goes right to left, Clang left to right), and the bits must not depend on the compiler.
 // A uniform point in the unit ball.
 glm::vec3 in_unit_ball(SplitMix64& rng) {
   for (;;) {
-    glm::vec3 p(rng.uniform(-1.0f, 1.0f), rng.uniform(-1.0f, 1.0f), rng.uniform(-1.0f, 1.0f));
+    const float x = rng.uniform(-1.0f, 1.0f);
+    const float y = rng.uniform(-1.0f, 1.0f);
+    const float z = rng.uniform(-1.0f, 1.0f);
+    const glm::vec3 p(x, y, z);
     if (glm::dot(p, p) <= 1.0f) return p;
   }
 }
@@ -43,7 +49,10 @@ glm::vec3 in_unit_ball(SplitMix64& rng) {
 // A uniform direction.
 glm::vec3 unit_vector(SplitMix64& rng) {
   for (;;) {
-    glm::vec3 p(rng.uniform(-1.0f, 1.0f), rng.uniform(-1.0f, 1.0f), rng.uniform(-1.0f, 1.0f));
+    const float x = rng.uniform(-1.0f, 1.0f);
+    const float y = rng.uniform(-1.0f, 1.0f);
+    const float z = rng.uniform(-1.0f, 1.0f);
+    const glm::vec3 p(x, y, z);
     const float d = glm::dot(p, p);
     if (d <= 1.0f && d > 1e-4f) return p / std::sqrt(d);
   }

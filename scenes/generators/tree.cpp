@@ -33,6 +33,7 @@
 // Determinism: SplitMix64 only; directions are rejection-sampled and the golden-angle rotation is a
 // constant, so the only libm calls are cos/sin of the parameter angles and of the tube sides,
 // evaluated in double and rounded to float.
+
 // Same bits on every platform: no fused multiply-add contraction (GCC and Clang contract a * b + c
 // by default wherever the CPU has FMA, e.g. on every ARM64), even where the build lacks
 // -ffp-contract=off. It precedes the includes so that the inlined glm code is covered too.
@@ -64,9 +65,14 @@ struct TreeParams {
   double leaf_size, leaf_width, leaf_spread;
 };
 
+// Every draw is its own statement: the evaluation order of function arguments is unspecified (GCC
+// goes right to left, Clang left to right), and the bits must not depend on the compiler.
 glm::vec3 unit_vector(SplitMix64& rng) {
   for (;;) {
-    glm::vec3 p(rng.uniform(-1.0f, 1.0f), rng.uniform(-1.0f, 1.0f), rng.uniform(-1.0f, 1.0f));
+    const float x = rng.uniform(-1.0f, 1.0f);
+    const float y = rng.uniform(-1.0f, 1.0f);
+    const float z = rng.uniform(-1.0f, 1.0f);
+    const glm::vec3 p(x, y, z);
     const float d = glm::dot(p, p);
     if (d <= 1.0f && d > 1e-4f) return p / std::sqrt(d);
   }
@@ -74,7 +80,10 @@ glm::vec3 unit_vector(SplitMix64& rng) {
 
 glm::vec3 in_unit_ball(SplitMix64& rng) {
   for (;;) {
-    glm::vec3 p(rng.uniform(-1.0f, 1.0f), rng.uniform(-1.0f, 1.0f), rng.uniform(-1.0f, 1.0f));
+    const float x = rng.uniform(-1.0f, 1.0f);
+    const float y = rng.uniform(-1.0f, 1.0f);
+    const float z = rng.uniform(-1.0f, 1.0f);
+    const glm::vec3 p(x, y, z);
     if (glm::dot(p, p) <= 1.0f) return p;
   }
 }
@@ -250,7 +259,9 @@ class TreeBuilder {
 
   glm::vec2 random_direction_2d() {
     for (;;) {
-      glm::vec2 q(rng_.uniform(-1.0f, 1.0f), rng_.uniform(-1.0f, 1.0f));
+      const float x = rng_.uniform(-1.0f, 1.0f);
+      const float y = rng_.uniform(-1.0f, 1.0f);
+      const glm::vec2 q(x, y);
       const float d = glm::dot(q, q);
       if (d <= 1.0f && d > 1e-4f) return q / std::sqrt(d);
     }
@@ -401,7 +412,7 @@ GeneratedGeometry generate_tree(uint64_t seed, JsonReader& params) {
       {"twig_count", builder.twigs},
       {"wood_triangles", wood_triangles},
       {"crown",
-       {{"center", json3(crown.center)},
+       {{"center", {0.0, p.height - 0.5 * p.crown_height, 0.0}},
         {"radii", {p.crown_radius, 0.5 * p.crown_height, p.crown_radius}}}},
       {"crown_volume", volume},
       {"leaf_area_density", builder.leaf_area / volume},

@@ -1,0 +1,179 @@
+#include "estimators/estimator.h"
+
+#include <charconv>
+#include <cmath>
+#include <sstream>
+
+#include "errors.h"
+
+namespace aoeval {
+
+const char* param_type_name(ParamType t) {
+  switch (t) {
+    case ParamType::real:
+      return "real";
+    case ParamType::integer:
+      return "integer";
+    case ParamType::boolean:
+      return "bool";
+    case ParamType::choice:
+      return "choice";
+  }
+  return "real";
+}
+
+const char* backend_name(Backend b) {
+  switch (b) {
+    case Backend::cpu:
+      return "cpu";
+    case Backend::embree:
+      return "embree";
+    case Backend::vulkan:
+      return "vulkan";
+  }
+  return "cpu";
+}
+
+const char* input_name(EstimatorInput i) {
+  switch (i) {
+    case EstimatorInput::gbuffer:
+      return "gbuffer";
+    case EstimatorInput::scene_geometry:
+      return "scene geometry";
+    case EstimatorInput::tree_proxies:
+      return "tree proxies";
+  }
+  return "gbuffer";
+}
+
+const ParamSpec* EstimatorInfo::find_param(const std::string& param) const {
+  for (const auto& p : params)
+    if (p.name == param) return &p;
+  return nullptr;
+}
+
+double ParamSet::real(const std::string& name) const {
+  return values_.at(name).get<double>();
+}
+int64_t ParamSet::integer(const std::string& name) const {
+  return values_.at(name).get<int64_t>();
+}
+bool ParamSet::boolean(const std::string& name) const {
+  return values_.at(name).get<bool>();
+}
+std::string ParamSet::choice(const std::string& name) const {
+  return values_.at(name).get<std::string>();
+}
+
+std::string format_param_value(const nlohmann::json& v) {
+  if (v.is_string()) return v.get<std::string>();
+  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
+  if (v.is_number_integer()) return std::to_string(v.get<int64_t>());
+  if (v.is_number()) {  // shortest text that reads back as the same double: 0.2, not 0.200000
+    char buf[64];
+    auto r = std::to_chars(buf, buf + sizeof(buf), v.get<double>());
+    return std::string(buf, r.ptr);
+  }
+  return v.dump();
+}
+
+namespace {
+
+std::string range_text(const ParamSpec& p) {
+  std::ostringstream os;
+  if (p.type == ParamType::choice) {
+    os << "one of: ";
+    for (size_t i = 0; i < p.choices.size(); ++i) os << (i ? ", " : "") << p.choices[i];
+  } else if (p.type == ParamType::boolean) {
+    os << "true or false";
+  } else {
+    os << "[" << format_param_value(p.min) << ", " << format_param_value(p.max) << "]";
+    if (!p.unit.empty()) os << " " << p.unit;
+  }
+  return os.str();
+}
+
+nlohmann::json coerce(const ParamSpec& p, const nlohmann::json& given, const std::string& where) {
+  auto fail = [&](const std::string& why) -> nlohmann::json {
+    throw InputError(where + ": " + p.name + "=" + format_param_value(given) + ": " + why +
+                     " (allowed: " + range_text(p) + ")");
+  };
+  switch (p.type) {
+    case ParamType::boolean: {
+      if (given.is_boolean()) return given;
+      if (given.is_string()) {
+        const auto s = given.get<std::string>();
+        if (s == "true" || s == "1" || s == "on") return true;
+        if (s == "false" || s == "0" || s == "off") return false;
+      }
+      return fail("expected true or false");
+    }
+    case ParamType::choice: {
+      if (!given.is_string()) return fail("expected a string");
+      for (const auto& c : p.choices)
+        if (c == given.get<std::string>()) return given;
+      return fail("unknown choice");
+    }
+    case ParamType::integer:
+    case ParamType::real: {
+      double v = 0.0;
+      if (given.is_number()) {
+        v = given.get<double>();
+      } else if (given.is_string()) {
+        const auto s = given.get<std::string>();
+        const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+        if (r.ec != std::errc() || r.ptr != s.data() + s.size()) return fail("expected a number");
+      } else {
+        return fail("expected a number");
+      }
+      if (!std::isfinite(v)) return fail("expected a finite number");
+      if (p.type == ParamType::integer) {
+        if (v != std::floor(v)) return fail("expected an integer");
+        if (v < p.min || v > p.max) return fail("out of range");
+        return static_cast<int64_t>(v);
+      }
+      if (v < p.min || v > p.max) return fail("out of range");
+      return v;
+    }
+  }
+  return given;
+}
+
+}  // namespace
+
+ParamSet resolve_params(const std::string& estimator, const std::vector<ParamSpec>& specs,
+                        const nlohmann::json& overrides, const std::string& where) {
+  nlohmann::json values = nlohmann::json::object();
+  for (const auto& p : specs) values[p.name] = p.default_value;
+  if (!overrides.is_null()) {
+    if (!overrides.is_object()) throw InputError(where + ": expected an object of parameters");
+    for (auto it = overrides.begin(); it != overrides.end(); ++it) {
+      const ParamSpec* spec = nullptr;
+      for (const auto& p : specs)
+        if (p.name == it.key()) spec = &p;
+      if (!spec) {
+        std::string known;
+        for (const auto& p : specs) known += (known.empty() ? "" : ", ") + p.name;
+        throw InputError(where + ": unknown parameter '" + it.key() + "' for estimator " +
+                         estimator + " (parameters: " + (known.empty() ? "none" : known) + ")");
+      }
+      values[spec->name] = coerce(*spec, it.value(), where);
+    }
+  }
+  return ParamSet(values);
+}
+
+nlohmann::json parse_set_arguments(const std::vector<std::string>& assignments) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& a : assignments) {
+    const auto eq = a.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw InputError("--set: expected KEY=VALUE, got '" + a + "'");
+    const std::string key = a.substr(0, eq);
+    if (out.contains(key)) throw InputError("--set: '" + key + "' is given twice");
+    out[key] = a.substr(eq + 1);
+  }
+  return out;
+}
+
+}  // namespace aoeval

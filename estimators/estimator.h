@@ -1,0 +1,107 @@
+// The estimator module interface. Each estimator lives in its own folder and declares, once: its
+// parameters (name, type, default, range, unit, meaning), the AO definition it estimates (possibly
+// from its parameters, e.g. dmax = R), its backend and its inputs. The command line (--set),
+// sweeps, JSON, EXR headers, results columns and reports all read that one declaration.
+// Estimators know scenes and G-buffers, never the harness.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "ao_definition.h"
+#include "embree_scene.h"
+#include "gbuffer.h"
+#include "scene.h"
+
+namespace aoeval {
+
+enum class ParamType { real, integer, boolean, choice };
+const char* param_type_name(ParamType t);
+
+// One parameter, declared once (XeGTAO's settings, pbrt's parameter dictionaries).
+struct ParamSpec {
+  std::string name;  // the --set key and the results column
+  ParamType type = ParamType::real;
+  nlohmann::json default_value;      // number, bool or string
+  double min = 0.0, max = 0.0;       // inclusive range (real and integer)
+  bool log_scale = false;            // how sweeps and plots should space it
+  std::string unit;                  // "scene units", "rays", "directions", "" ...
+  std::string meaning;               // one line, citing the paper's equation or section
+  std::vector<std::string> choices;  // for ParamType::choice
+};
+
+// A complete, validated set of parameter values: every declared parameter, defaults filled in.
+class ParamSet {
+ public:
+  ParamSet() = default;
+  explicit ParamSet(nlohmann::json values) : values_(std::move(values)) {}
+  double real(const std::string& name) const;
+  int64_t integer(const std::string& name) const;
+  bool boolean(const std::string& name) const;
+  std::string choice(const std::string& name) const;
+  const nlohmann::json& json() const { return values_; }
+
+ private:
+  nlohmann::json values_ = nlohmann::json::object();
+};
+
+// Builds the ParamSet from overrides. `overrides` holds JSON values (numbers, bools, strings; a
+// string for a number parameter is parsed, as --set values arrive as text). Unknown keys, wrong
+// types and out-of-range values are InputErrors naming `where`, the key and the allowed range.
+ParamSet resolve_params(const std::string& estimator, const std::vector<ParamSpec>& specs,
+                        const nlohmann::json& overrides, const std::string& where);
+// "KEY=VALUE" strings from --set into an overrides object (values kept as text).
+nlohmann::json parse_set_arguments(const std::vector<std::string>& assignments);
+// The stable name fragment of a parameter value: 0.2, 8, true, cosine.
+std::string format_param_value(const nlohmann::json& value);
+
+enum class Backend { cpu, embree, vulkan };
+const char* backend_name(Backend b);
+
+enum class EstimatorInput { gbuffer, scene_geometry, tree_proxies };
+const char* input_name(EstimatorInput i);
+
+// What an estimator sees when it runs.
+struct EstimateContext {
+  const Scene& scene;
+  const EmbreeScene& embree;
+  const GBuffer& gbuffer;
+};
+
+struct EstimateResult {
+  std::vector<float> ao;  // per pixel, in [0, 1]; ignored where the G-buffer has A = 0
+  std::map<std::string, std::vector<float>> extra_channels;  // documented by the estimator
+  // Per-pass times in ms (e.g. "horizon_ms") for backends that time themselves (GPU timestamps);
+  // when "total_ms" is present the harness uses it as the estimator's time instead of wall time.
+  std::map<std::string, double> pass_ms;
+};
+
+class Estimator {
+ public:
+  virtual ~Estimator() = default;
+  // Work done once per scene and view before frames (baking, BVH, uploads): timed separately as
+  // precompute_ms.
+  virtual void prepare(const EstimateContext& context) {}
+  // One frame. Must be repeatable: the harness calls it warmup + repetitions times.
+  virtual EstimateResult run(const EstimateContext& context) = 0;
+};
+
+struct EstimatorInfo {
+  std::string name;     // "raytraced", "hbao-split", ...
+  std::string summary;  // one line
+  std::string paper;    // authors, year, title, and the equations implemented
+  Backend backend = Backend::cpu;
+  std::vector<EstimatorInput> inputs;
+  std::vector<ParamSpec> params;
+  std::string definition_doc;  // how the AO definition follows from the parameters
+  std::function<AoDefinition(const ParamSet&)> definition;
+  std::function<std::unique_ptr<Estimator>(const ParamSet&)> create;
+
+  const ParamSpec* find_param(const std::string& name) const;
+};
+
+}  // namespace aoeval

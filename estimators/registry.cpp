@@ -1,0 +1,28 @@
+#include "estimators/registry.h"
+
+#include "errors.h"
+#include "estimators/constant/constant.h"
+#include "estimators/raytraced/raytraced.h"
+
+namespace aoeval {
+
+const std::vector<EstimatorInfo>& estimator_registry() {
+  // One line per estimator. The calls reference each folder's symbols directly, so the linker
+  // keeps them all.
+  static const std::vector<EstimatorInfo> registry = {
+      constant_estimator(),
+      raytraced_estimator(),
+  };
+  return registry;
+}
+
+const EstimatorInfo& find_estimator(const std::string& name) {
+  std::string known;
+  for (const auto& e : estimator_registry()) {
+    if (e.name == name) return e;
+    known += (known.empty() ? "" : ", ") + e.name;
+  }
+  throw InputError("--estimator: unknown estimator '" + name + "' (estimators: " + known + ")");
+}
+
+}  // namespace aoeval

@@ -1,0 +1,23 @@
+// `aoeval bench estimators`: a timing table (median/min/max ms and Mpixel/s) of estimators on
+// scenes, on the console and as CSV and Markdown; the rows also go to results.csv/json and SQLite.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace aoeval {
+
+struct EstimatorBenchOptions {
+  std::vector<std::string> scenes{"bunny"};
+  std::vector<std::string> estimators;  // empty = all
+  std::vector<std::string> sets;        // KEY=VALUE, applied to estimators that have the key
+  std::string res = "640x480";
+  int warmup = 1;
+  int repetitions = 5;
+  std::string out_dir = "out/bench";
+  std::string database = "out/results.sqlite";
+};
+
+void bench_estimators(const EstimatorBenchOptions& options);
+
+}  // namespace aoeval
