@@ -1,7 +1,15 @@
 // The command line as users and scripts see it (CONTRACT §2): exit codes, one-line errors that name
 // the file and the field, no partial outputs, and the corpus listing.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
 #include <sys/wait.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+#include <set>
+#include <thread>
 
 #include <OpenImageIO/imagebuf.h>
 
@@ -186,6 +194,149 @@ TEST(Cli, ReferenceBadOptionsExitTwo) {
     EXPECT_EQ(lines(r.err), 1u) << bad << ": " << r.err;
   }
   EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(Cli, UnknownSetKeyExitsTwoNamingTheKey) {
+  const fs::path out = temp_dir() / "e.exr";
+  Result r = run("estimate --estimator raytraced --scene cornell-box --res 16x16 --set rayz=4 -o " +
+                 out.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("rayz"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("rays"), std::string::npos) << "lists the known keys: " << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  r = run("estimate --estimator raytraced --scene cornell-box --res 16x16 --set rays=0 -o " +
+          out.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("[1, 65536]"), std::string::npos) << r.err;
+  EXPECT_EQ(run("estimate --estimator nope --scene cornell-box -o " + out.string()).code, 2);
+  EXPECT_EQ(run("estimators show nope").code, 2);
+}
+
+TEST(Cli, EstimateCompareAndMaps) {
+  const fs::path d = temp_dir();
+  const std::string env = "AOEVAL_CACHE=" + (d / "cache").string() + " ";
+  ASSERT_EQ(run_with_env(env, "reference --scene cornell-box --res 48x48 --spp 64 -o " +
+                                  (d / "ref.exr").string())
+                .code,
+            0);
+  Result e = run("estimate --estimator raytraced --scene cornell-box --res 48x48 --set rays=4 -o " +
+                 (d / "est.exr").string());
+  ASSERT_EQ(e.code, 0) << e.err;
+  Result c = run("compare " + (d / "ref.exr").string() + " " + (d / "est.exr").string() +
+                 " --errmap " + (d / "abs.png").string() + " --signed " +
+                 (d / "signed.png").string() + " --mosaic " + (d / "mosaic.png").string());
+  ASSERT_EQ(c.code, 0) << c.err;
+  const auto metrics = nlohmann::json::parse(c.out);
+  for (const char* k : {"pixels", "rmse", "mae", "bias", "max_abs", "p95_abs", "psnr", "ssim",
+                        "flip_mean", "ref_stderr_rms", "rmse_excess"})
+    EXPECT_TRUE(metrics.contains(k)) << k;
+  EXPECT_GT(metrics["rmse"].get<double>(), metrics["ref_stderr_rms"].get<double>())
+      << "4 rays are noisier than the 64-spp reference";
+  for (const char* f : {"abs.png", "signed.png", "mosaic.png"}) EXPECT_TRUE(fs::exists(d / f)) << f;
+  // Comparing a reference with itself: zero error, ssim 1.
+  Result same = run("compare " + (d / "ref.exr").string() + " " + (d / "ref.exr").string());
+  const auto z = nlohmann::json::parse(same.out);
+  EXPECT_EQ(z["rmse"].get<double>(), 0.0);
+  EXPECT_EQ(z["ssim"].get<double>(), 1.0);
+  EXPECT_EQ(run("compare " + (d / "ref.exr").string() + " " + (d / "missing.exr").string()).code,
+            2);
+}
+
+// A sweep of 16 points on a slow-to-trace scene, so that SIGINT lands in the middle of it.
+std::string write_sweep_spec(const fs::path& d) {
+  const nlohmann::json spec = {
+      {"name", "cli-sweep"},
+      {"scenes", {"tree-apple"}},
+      {"res", {40, 40}},
+      {"reference", {{"spp", 32}, {"sampler", "sobol"}}},
+      {"runs",
+       {{{"estimator", "raytraced"},
+         {"grid", {{"rays", {1, 2, 3, 4, 5, 6, 7, 8}}, {"sampler", {"random", "stratified"}}}}}}},
+      {"timing", {{"warmup", 0}, {"repetitions", 8}}}};
+  std::ofstream(d / "spec.json") << spec.dump(2);
+  return (d / "spec.json").string();
+}
+
+std::vector<nlohmann::json> csv_rows(const fs::path& csv) {
+  // results.json holds the same rows as results.csv; read it for simplicity.
+  const auto j = nlohmann::json::parse(slurp(csv.parent_path() / "results.json"));
+  return j["rows"].get<std::vector<nlohmann::json>>();
+}
+
+size_t csv_line_count(const fs::path& csv) {
+  std::ifstream in(csv);
+  std::string line;
+  size_t n = 0;
+  while (std::getline(in, line)) ++n;
+  return n;
+}
+
+TEST(Cli, SweepInterruptedBySigintResumesWithOneRowPerPoint) {
+  const fs::path d = temp_dir();
+  fs::remove_all(d / "out");
+  const std::string spec = write_sweep_spec(d);
+  const std::string out = (d / "out").string(), db = (d / "r.sqlite").string();
+  std::vector<std::string> args = {AOEVAL_BINARY, "sweep", spec, "--out", out, "--db", db};
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, (d / "sweep.out").c_str(),
+                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&actions, 2, (d / "sweep.err").c_str(),
+                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  pid_t pid = 0;
+  ASSERT_EQ(posix_spawn(&pid, AOEVAL_BINARY, &actions, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&actions);
+  // Wait for the second row, then interrupt.
+  const fs::path csv = fs::path(out) / "results.csv";
+  for (int i = 0; i < 6000 && !(fs::exists(csv) && csv_line_count(csv) >= 3); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  const int code = WEXITSTATUS(status);
+  const size_t after_interrupt = csv_rows(csv).size();
+  EXPECT_EQ(code, 130) << slurp(d / "sweep.err");
+  EXPECT_LT(after_interrupt, 16u) << "the interrupt came after the sweep finished";
+  EXPECT_GE(after_interrupt, 2u);
+
+  Result again = run("sweep " + spec + " --out " + out + " --db " + db);
+  EXPECT_EQ(again.code, 2) << "an existing folder needs --resume";
+  Result resumed = run("sweep " + spec + " --out " + out + " --db " + db + " --resume");
+  ASSERT_EQ(resumed.code, 0) << resumed.err;
+  const auto rows = csv_rows(csv);
+  std::set<std::string> names;
+  for (const auto& r : rows) names.insert(r["run_name"].get<std::string>());
+  EXPECT_EQ(rows.size(), 16u);
+  EXPECT_EQ(names.size(), 16u);
+  EXPECT_EQ(csv_line_count(csv), 17u);
+}
+
+TEST(Cli, TwoShardsEqualTheUnshardedSweep) {
+  const fs::path d = temp_dir();
+  fs::remove_all(d / "all");
+  fs::remove_all(d / "s0");
+  fs::remove_all(d / "s1");
+  const std::string spec = write_sweep_spec(d), db = (d / "r.sqlite").string();
+  ASSERT_EQ(run("sweep " + spec + " --out " + (d / "all").string() + " --db " + db).code, 0);
+  ASSERT_EQ(run("sweep " + spec + " --shard 0/2 --out " + (d / "s0").string() + " --db " + db).code,
+            0);
+  ASSERT_EQ(run("sweep " + spec + " --shard 1/2 --out " + (d / "s1").string() + " --db " + db).code,
+            0);
+  std::map<std::string, double> all, shards;
+  for (const auto& r : csv_rows(d / "all" / "results.csv"))
+    all[r["run_name"]] = r["rmse"].get<double>();
+  for (const char* s : {"s0", "s1"})
+    for (const auto& r : csv_rows(d / s / "results.csv")) {
+      EXPECT_FALSE(shards.count(r["run_name"])) << "shards overlap";
+      shards[r["run_name"]] = r["rmse"].get<double>();
+    }
+  EXPECT_EQ(all.size(), 16u);
+  EXPECT_EQ(shards, all) << "same points and, being deterministic, the same errors";
 }
 
 }  // namespace

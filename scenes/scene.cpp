@@ -209,6 +209,9 @@ SceneObject load_object(JsonReader reader, const fs::path& scene_dir) {
     obj.proxy = read_proxy(*p);
     place_proxy(placement, *obj.proxy);
   }
+  obj.albedo = reader.vec3("albedo", obj.albedo);
+  for (int c = 0; c < 3; ++c)
+    if (obj.albedo[c] < 0.0f || obj.albedo[c] > 1.0f) reader.fail("albedo", "components must be in [0, 1]");
   if (reader.has("density")) {
     if (obj.role != Role::tree)
       reader.fail("density", "only objects with role \"tree\" take a density");

@@ -38,6 +38,9 @@ struct SceneObject {
   nlohmann::json facts = nlohmann::json::object();  // generator facts, world space where spatial
   std::optional<TreeProxy> proxy;                   // from the scene file, world space
   std::optional<double> density;                    // from the scene file
+  // Diffuse reflectivity (linear RGB), an aoeval extension for the colour-bleeding obscurances of
+  // Mendez et al. (their eq. 5-6). Default 0.7 grey.
+  glm::vec3 albedo{0.7f};
 };
 
 struct View {
