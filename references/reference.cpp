@@ -66,31 +66,79 @@ float scene_extent_of(const EmbreeScene& es) {
   return std::max({e.x, e.y, e.z});
 }
 
-// Traces one direction and returns its accessibility value (AoDefinition::ray_value).
-float trace(RTCScene scene, RTCIntersectContext& context, const AoDefinition& def,
-            const PixelInput& in, const glm::vec3& w, uint64_t& traced) {
-  ++traced;
+// Traces up to 16 directions of one pixel at once: they share an origin, so a packet traverses
+// the top of the BVH together. Fills values[k] for the `count` directions in `dirs`.
+void trace_packet(RTCScene scene, RTCIntersectContext& context, const AoDefinition& def,
+                  const PixelInput& in, const glm::vec3* dirs, int count, float* values,
+                  uint64_t& traced) {
+  alignas(64) int valid[16];
   const glm::vec3 o = in.position + in.geometric_normal * in.offset;
   const float tfar = def.bounded() ? static_cast<float>(def.dmax) : kInf;
+  traced += static_cast<uint64_t>(count);
   if (def.falloff == Falloff::none) {
-    RTCRay ray{};
-    ray.org_x = o.x, ray.org_y = o.y, ray.org_z = o.z;
-    ray.dir_x = w.x, ray.dir_y = w.y, ray.dir_z = w.z;
-    ray.tnear = 0.0f;
-    ray.tfar = tfar;
-    ray.mask = 0xFFFFFFFFu;
-    rtcOccluded1(scene, &context, &ray);
-    return ray.tfar < 0.0f ? 0.0f : 1.0f;  // Embree sets tfar = -inf on a hit
+    alignas(64) RTCRay16 ray;
+    for (int k = 0; k < 16; ++k) {
+      const bool on = k < count;
+      valid[k] = on ? -1 : 0;
+      const glm::vec3 w = on ? dirs[k] : glm::vec3(0.0f, 0.0f, 1.0f);
+      ray.org_x[k] = o.x, ray.org_y[k] = o.y, ray.org_z[k] = o.z;
+      ray.dir_x[k] = w.x, ray.dir_y[k] = w.y, ray.dir_z[k] = w.z;
+      ray.tnear[k] = 0.0f;
+      ray.tfar[k] = tfar;
+      ray.time[k] = 0.0f;
+      ray.mask[k] = 0xFFFFFFFFu;
+      ray.id[k] = static_cast<unsigned>(k);
+      ray.flags[k] = 0;
+    }
+    rtcOccluded16(valid, scene, &context, &ray);
+    for (int k = 0; k < count; ++k) values[k] = ray.tfar[k] < 0.0f ? 0.0f : 1.0f;
+    return;
   }
-  RTCRayHit rh{};
-  rh.ray.org_x = o.x, rh.ray.org_y = o.y, rh.ray.org_z = o.z;
-  rh.ray.dir_x = w.x, rh.ray.dir_y = w.y, rh.ray.dir_z = w.z;
-  rh.ray.tnear = 0.0f;
-  rh.ray.tfar = tfar;
-  rh.ray.mask = 0xFFFFFFFFu;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(scene, &context, &rh);
-  return rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? 1.0f : def.ray_value(rh.ray.tfar);
+  alignas(64) RTCRayHit16 rh;
+  for (int k = 0; k < 16; ++k) {
+    const bool on = k < count;
+    valid[k] = on ? -1 : 0;
+    const glm::vec3 w = on ? dirs[k] : glm::vec3(0.0f, 0.0f, 1.0f);
+    rh.ray.org_x[k] = o.x, rh.ray.org_y[k] = o.y, rh.ray.org_z[k] = o.z;
+    rh.ray.dir_x[k] = w.x, rh.ray.dir_y[k] = w.y, rh.ray.dir_z[k] = w.z;
+    rh.ray.tnear[k] = 0.0f;
+    rh.ray.tfar[k] = tfar;
+    rh.ray.time[k] = 0.0f;
+    rh.ray.mask[k] = 0xFFFFFFFFu;
+    rh.ray.id[k] = static_cast<unsigned>(k);
+    rh.ray.flags[k] = 0;
+    rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+  }
+  rtcIntersect16(valid, scene, &context, &rh);
+  for (int k = 0; k < count; ++k)
+    values[k] = rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID ? 1.0f : def.ray_value(rh.ray.tfar[k]);
+}
+
+// One replicate of one pixel: m directions, traced in packets, values in sample order.
+void evaluate_replicate(RTCScene scene, RTCIntersectContext& context, const ReferenceSettings& s,
+                        uint64_t pixel, uint32_t replicate, uint32_t m, const PixelInput& in,
+                        const Frame& frame, std::vector<glm::vec2>& square,
+                        std::vector<glm::vec3>& dirs, std::vector<float>& values,
+                        uint64_t& traced) {
+  dirs.resize(m);
+  values.resize(m);
+  std::vector<uint32_t> above;  // indices of directions above the geometric surface
+  above.reserve(m);
+  for_each_direction(s, pixel, replicate, m, in, frame, square,
+                     [&, i = 0u](const glm::vec3& w, bool is_above) mutable {
+                       dirs[i] = w;
+                       values[i] = 0.0f;  // below the surface: occluded at distance 0
+                       if (is_above) above.push_back(i);
+                       ++i;
+                     });
+  alignas(64) glm::vec3 batch[16];
+  float out[16];
+  for (size_t start = 0; start < above.size(); start += 16) {
+    const int count = static_cast<int>(std::min<size_t>(16, above.size() - start));
+    for (int k = 0; k < count; ++k) batch[k] = dirs[above[start + k]];
+    trace_packet(scene, context, s.definition, in, batch, count, out, traced);
+    for (int k = 0; k < count; ++k) values[above[start + k]] = out[k];
+  }
 }
 
 // Running statistics of one pixel: over samples (random) or over replicate means (the others).
@@ -143,6 +191,8 @@ ReferenceImage compute_reference(const EmbreeScene& es, const GBuffer& g,
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
         std::vector<glm::vec2> square;
+        std::vector<glm::vec3> dirs;
+        std::vector<float> values;
         uint64_t traced = 0, samples = 0;
         for (int j = rows.begin(); j < rows.end(); ++j) {
           for (int i = 0; i < g.width; ++i) {
@@ -157,14 +207,15 @@ ReferenceImage compute_reference(const EmbreeScene& es, const GBuffer& g,
               for (int rep = 0; rep < replicates; ++rep) {
                 double rep_sum = 0.0;
                 const auto replicate = static_cast<uint32_t>(batch * replicates + rep);
-                for_each_direction(
-                    s, k, replicate, m, in, frame, square, [&](const glm::vec3& w, bool above) {
-                      const float v =
-                          above ? trace(es.handle(), context, s.definition, in, w, traced) : 0.0f;
-                      rep_sum += v;
-                      bent += glm::dvec3(w) * static_cast<double>(v);
-                      if (!replicated) acc.add(v);
-                    });
+                evaluate_replicate(es.handle(), context, s, k, replicate, m, in, frame, square,
+                                   dirs, values, traced);
+                for (uint32_t d = 0; d < m;
+                     ++d) {  // in sample order: same bits whatever the packets
+                  const float v = values[d];
+                  rep_sum += v;
+                  bent += glm::dvec3(dirs[d]) * static_cast<double>(v);
+                  if (!replicated) acc.add(v);
+                }
                 if (replicated) acc.add(rep_sum / m);
                 used += m;
               }

@@ -39,8 +39,12 @@ std::string html_escape(const std::string& s) {
 }
 
 std::string with_commas(size_t n) {
-  std::string s = std::to_string(n);
-  for (int i = static_cast<int>(s.size()) - 3; i > 0; i -= 3) s.insert(static_cast<size_t>(i), ",");
+  const std::string digits = std::to_string(n);
+  std::string s;
+  for (size_t i = 0; i < digits.size(); ++i) {
+    if (i > 0 && (digits.size() - i) % 3 == 0) s.push_back(',');
+    s.push_back(digits[i]);
+  }
   return s;
 }
 }  // namespace
@@ -75,16 +79,16 @@ void write_gbuffer_previews(const std::string& gbuffer_exr, const std::string& n
       np[k * 3 + c] = covered ? px[k * nc + nx + c] * 0.5f + 0.5f : kBackground;
     dp[k] = covered ? 1.0f - (px[k * nc + z] - zmin) / zrange : 0.0f;
   }
-  // OIIO's colour map, then the background painted over where A = 0.
-  OIIO::ImageBuf coloured = OIIO::ImageBufAlgo::color_map(depth, 0, "inferno");
-  OIIO::ImageBuf grey(OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::FLOAT));
-  OIIO::ImageBufAlgo::fill(grey, {kBackground, kBackground, kBackground});
-  OIIO::ImageBuf mask3 = OIIO::ImageBufAlgo::channels(mask, 3, {0, 0, 0});
-  OIIO::ImageBuf depth_rgb =
-      OIIO::ImageBufAlgo::add(OIIO::ImageBufAlgo::mul(coloured, mask3),
-                              OIIO::ImageBufAlgo::mul(grey, OIIO::ImageBufAlgo::sub(1.0f, mask3)));
+  // OIIO's colour map gives linear values; PNG holds sRGB-encoded ones. Then the background is
+  // painted where A = 0.
+  OIIO::ImageBuf coloured = OIIO::ImageBufAlgo::colorconvert(
+      OIIO::ImageBufAlgo::color_map(depth, 0, "inferno"), "linear", "sRGB");
+  auto* cp = static_cast<float*>(coloured.localpixels());
+  for (long k = 0; k < static_cast<long>(w) * h; ++k)
+    if (mp[k] < 0.5f)
+      for (int c = 0; c < 3; ++c) cp[k * 3 + c] = kBackground;
   write_image(normals_png, normals);
-  write_image(depth_png, depth_rgb);
+  write_image(depth_png, coloured);
 }
 
 std::string write_gbuffer_gallery(const std::string& out_dir, const std::string& suite,
