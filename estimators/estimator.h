@@ -88,6 +88,10 @@ class Estimator {
   virtual void prepare(const EstimateContext& context) {}
   // One frame. Must be repeatable: the harness calls it warmup + repetitions times.
   virtual EstimateResult run(const EstimateContext& context) = 0;
+  // What prepare() derived from the scene instead of taking it from a parameter (tree proxies,
+  // alpha*rho, ...): the harness writes it into the results' params and the EXR's aoeval:params
+  // under "derived", so every row says exactly what was used.
+  virtual nlohmann::json derived() const { return nlohmann::json::object(); }
 };
 
 struct EstimatorInfo {

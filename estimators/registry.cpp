@@ -3,6 +3,9 @@
 #include "errors.h"
 #include "estimators/constant/constant.h"
 #include "estimators/raytraced/raytraced.h"
+#include "estimators/obscurances/obscurances.h"
+#include "estimators/reeves_blau/reeves_blau.h"
+#include "estimators/tree_hegeman/tree_hegeman.h"
 
 namespace aoeval {
 
@@ -12,6 +15,9 @@ const std::vector<EstimatorInfo>& estimator_registry() {
   static const std::vector<EstimatorInfo> registry = {
       constant_estimator(),
       raytraced_estimator(),
+      obscurances_estimator(),
+      tree_sphere_estimator(), tree_ellipsoid_estimator(), tree_shells_estimator(),
+      reeves_blau_estimator(),
   };
   return registry;
 }

@@ -36,7 +36,7 @@ void add_estimate_command(CLI::App& app) {
     estimator->prepare(context);
     const EstimateResult r = estimator->run(context);
     write_exr(o.output, estimate_to_image(g, r),
-              estimate_attributes(scene, view, camera, e, params));
+              estimate_attributes(scene, view, camera, e, params, estimator->derived()));
   });
 }
 

@@ -31,10 +31,13 @@ std::string run_name(const EstimatorInfo& e, const ParamSet& params,
 }
 
 Attributes estimate_attributes(const Scene& scene, const View& view, const Camera& camera,
-                               const EstimatorInfo& e, const ParamSet& params) {
+                               const EstimatorInfo& e, const ParamSet& params,
+                               const nlohmann::json& derived) {
   Attributes a = gbuffer_attributes(scene, view, camera);
   a.emplace_back("aoeval:estimator", e.name);
-  a.emplace_back("aoeval:params", params.json().dump());
+  nlohmann::json all = params.json();
+  if (!derived.empty()) all["derived"] = derived;
+  a.emplace_back("aoeval:params", all.dump());
   a.emplace_back("aoeval:definition", e.definition(params).to_json().dump());
   return a;
 }
@@ -175,6 +178,8 @@ ResultRow EvaluationSession::evaluate(const EvaluationRequest& req,
   const auto t_pre = std::chrono::steady_clock::now();
   estimator->prepare(context);
   row.precompute_ms = ms_since(t_pre);
+  const nlohmann::json derived = estimator->derived();
+  if (!derived.empty()) row.params["derived"] = derived;
   EstimateResult result;
   for (int i = 0; i < timing_.warmup; ++i) result = estimator->run(context);
   std::vector<double> times;
@@ -204,7 +209,7 @@ ResultRow EvaluationSession::evaluate(const EvaluationRequest& req,
       score(g, reference(req.scene, view, w, h, true_ao_definition()), result.ao, "");
   if (!estimate_path.empty()) {
     write_exr(estimate_path, estimate_to_image(g, result),
-              estimate_attributes(s.scene, view, make_camera(view, w, h), e, params));
+              estimate_attributes(s.scene, view, make_camera(view, w, h), e, params, derived));
   }
   last_estimate_ = std::move(result.ao);
   return row;

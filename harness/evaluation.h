@@ -74,8 +74,10 @@ class EvaluationSession {
 };
 
 // Header attributes of an estimate EXR.
+// `derived` (Estimator::derived()) is recorded under "derived" in aoeval:params when not empty.
 Attributes estimate_attributes(const Scene& scene, const View& view, const Camera& camera,
-                               const EstimatorInfo& e, const ParamSet& params);
+                               const EstimatorInfo& e, const ParamSet& params,
+                               const nlohmann::json& derived = nlohmann::json::object());
 // The estimate as an image: AO, A and the estimator's extra channels.
 OIIO::ImageBuf estimate_to_image(const GBuffer& g, const EstimateResult& r);
 

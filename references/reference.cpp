@@ -122,8 +122,8 @@ void evaluate_replicate(RTCScene scene, RTCIntersectContext& context, const Refe
                         uint64_t& traced) {
   dirs.resize(m);
   values.resize(m);
-  std::vector<uint32_t> above;  // indices of directions above the geometric surface
-  above.reserve(m);
+  thread_local std::vector<uint32_t> above;  // indices of directions above the geometric surface
+  above.clear();
   for_each_direction(s, pixel, replicate, m, in, frame, square,
                      [&, i = 0u](const glm::vec3& w, bool is_above) mutable {
                        dirs[i] = w;

@@ -188,11 +188,21 @@ glm::vec3 square_to_cosine_hemisphere(glm::vec2 u) {
   const bool wide = std::abs(a) > std::abs(b);
   const float r = wide ? a : b;
   const float q = (wide ? b : a) / r;
-  const float phi = wide ? (kPi / 4.0f) * q : (kPi / 2.0f) - (kPi / 4.0f) * q;
-  const float x = r * std::cos(phi), y = r * std::sin(phi);
+  // phi = (pi/4) q on the wide wedges, pi/2 - (pi/4) q on the others: both need only the sine
+  // and cosine of x = (pi/4) q in [-pi/4, pi/4], where short Taylor polynomials are exact to
+  // float precision (truncation < 2e-9). Faster than libm's sincosf, and the same bits on every
+  // platform's libm.
+  const float x = (kPi / 4.0f) * q, x2 = x * x;
+  const float sin_x =
+      x *
+      (1.0f + x2 * (-1.0f / 6 + x2 * (1.0f / 120 + x2 * (-1.0f / 5040 + x2 * (1.0f / 362880)))));
+  const float cos_x =
+      1.0f + x2 * (-0.5f + x2 * (1.0f / 24 + x2 * (-1.0f / 720 + x2 * (1.0f / 40320))));
+  const float cos_phi = wide ? cos_x : sin_x, sin_phi = wide ? sin_x : cos_x;
+  const float x_disk = r * cos_phi, y_disk = r * sin_phi;
   // Malley's method: lifting a uniform disk point to the hemisphere gives pdf cos(theta) / pi.
-  const float z = std::sqrt(std::max(0.0f, 1.0f - x * x - y * y));
-  return glm::vec3(x, y, z);
+  const float z = std::sqrt(std::max(0.0f, 1.0f - x_disk * x_disk - y_disk * y_disk));
+  return glm::vec3(x_disk, y_disk, z);
 }
 
 glm::vec3 square_to_uniform_hemisphere(glm::vec2 u) {

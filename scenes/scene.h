@@ -35,7 +35,8 @@ struct SceneObject {
   Role role = Role::solid;
   std::string source;  // "mesh <path>" or "generator <name> seed <k>", for humans
   TriangleMesh mesh;   // world space
-  nlohmann::json facts = nlohmann::json::object();  // generator facts, world space where spatial
+  nlohmann::json facts = nlohmann::json::object();  // generator facts, in the generator's own
+                                                    // space (before fit and transform)
   std::optional<TreeProxy> proxy;                   // from the scene file, world space
   std::optional<double> density;                    // from the scene file
   // Diffuse reflectivity (linear RGB), an aoeval extension for the colour-bleeding obscurances of
