@@ -4,6 +4,7 @@
 #include "estimators/constant/constant.h"
 #include "estimators/raytraced/raytraced.h"
 #include "estimators/obscurances/obscurances.h"
+#include "estimators/vertex_baked/vertex_baked.h"
 #include "estimators/reeves_blau/reeves_blau.h"
 #include "estimators/tree_hegeman/tree_hegeman.h"
 
@@ -16,6 +17,7 @@ const std::vector<EstimatorInfo>& estimator_registry() {
       constant_estimator(),
       raytraced_estimator(),
       obscurances_estimator(),
+      vertex_baked_estimator(),
       tree_sphere_estimator(), tree_ellipsoid_estimator(), tree_shells_estimator(),
       reeves_blau_estimator(),
   };
