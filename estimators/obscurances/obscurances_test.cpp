@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "analytic_scenes.h"
 #include "errors.h"
 #include "estimators/obscurances/obscurances.h"
 #include "estimators/registry.h"
@@ -15,42 +16,6 @@
 
 namespace aoeval {
 namespace {
-
-SceneObject generated(const std::string& name, const std::string& generator, nlohmann::json params,
-                      glm::vec3 translate = glm::vec3(0.0f), glm::vec3 albedo = glm::vec3(0.7f)) {
-  JsonReader reader(params, "test");
-  SceneObject o;
-  o.name = name;
-  const GeneratedGeometry geometry = find_generator(generator)->function(1, reader);
-  reader.finish();
-  o.mesh = geometry.mesh;
-  o.facts = geometry.facts;
-  o.albedo = albedo;
-  for (auto& p : o.mesh.positions) p += translate;
-  return o;
-}
-
-Scene scene_of(std::vector<SceneObject> objects) {
-  Scene s;
-  s.name = "analytic";
-  s.objects = std::move(objects);
-  s.views.push_back(View{});
-  return s;
-}
-
-// A G-buffer of `count` pixels, all at surface point p with normal n: independent replicates.
-GBuffer probe(glm::vec3 p, glm::vec3 n, int count) {
-  GBuffer g;
-  g.width = count;
-  g.height = 1;
-  g.coverage.assign(count, 1.0f);
-  g.depth.assign(count, 1.0f);
-  g.position.assign(count, p);
-  g.normal.assign(count, n);
-  g.geometric_normal.assign(count, n);
-  g.object_id.assign(count, 0.0f);
-  return g;
-}
 
 // Mean and standard error of the mean of i.i.d. values (the probe's pixels).
 struct Pooled {

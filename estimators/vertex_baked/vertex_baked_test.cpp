@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "analytic_scenes.h"
 #include "errors.h"
 #include "estimators/registry.h"
 #include "estimators/vertex_baked/vertex_bake.h"
@@ -15,25 +16,6 @@
 
 namespace aoeval {
 namespace {
-
-SceneObject generated(const std::string& name, const std::string& generator, nlohmann::json params,
-                      glm::vec3 translate = glm::vec3(0.0f)) {
-  JsonReader reader(params, "test");
-  SceneObject o;
-  o.name = name;
-  o.mesh = find_generator(generator)->function(1, reader).mesh;
-  reader.finish();
-  for (auto& p : o.mesh.positions) p += translate;
-  return o;
-}
-
-Scene scene_of(std::vector<SceneObject> objects) {
-  Scene s;
-  s.name = "analytic";
-  s.objects = std::move(objects);
-  s.views.push_back(View{});
-  return s;
-}
 
 GBuffer gbuffer_of(const EmbreeScene& es, glm::vec3 eye, glm::vec3 target, glm::vec3 up, int w,
                    int h, float fov = 45.0f) {
