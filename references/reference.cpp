@@ -42,12 +42,15 @@ void for_each_direction(const ReferenceSettings& s, uint64_t pixel, uint32_t rep
                         const PixelInput& in, const Frame& frame, std::vector<glm::vec2>& square,
                         Visit&& visit) {
   square.resize(m);
+  thread_local std::vector<glm::vec3> local;
+  local.resize(m);
   sample_square(s.sampler, s.seed, pixel, replicate, m, square.data());
-  const bool cosine = s.definition.weighting == Weighting::cosine;
+  if (s.definition.weighting == Weighting::cosine)
+    square_to_cosine_hemisphere(square.data(), m, local.data());
+  else
+    square_to_uniform_hemisphere(square.data(), m, local.data());
   for (uint32_t i = 0; i < m; ++i) {
-    const glm::vec3 local =
-        cosine ? square_to_cosine_hemisphere(square[i]) : square_to_uniform_hemisphere(square[i]);
-    const glm::vec3 w = frame.to_world(local);
+    const glm::vec3 w = frame.to_world(local[i]);
     visit(w, glm::dot(w, in.geometric_normal) > 0.0f);
   }
 }
@@ -66,53 +69,69 @@ float scene_extent_of(const EmbreeScene& es) {
   return std::max({e.x, e.y, e.z});
 }
 
-// Traces up to 16 directions of one pixel at once: they share an origin, so a packet traverses
-// the top of the BVH together. Fills values[k] for the `count` directions in `dirs`.
-void trace_packet(RTCScene scene, RTCIntersectContext& context, const AoDefinition& def,
-                  const PixelInput& in, const glm::vec3* dirs, int count, float* values,
-                  uint64_t& traced) {
-  alignas(64) int valid[16];
-  const glm::vec3 o = in.position + in.geometric_normal * in.offset;
-  const float tfar = def.bounded() ? static_cast<float>(def.dmax) : kInf;
-  traced += static_cast<uint64_t>(count);
-  if (def.falloff == Falloff::none) {
-    alignas(64) RTCRay16 ray;
+// Traces one pixel's directions in packets of 16: they share an origin, so a packet traverses the
+// top of the BVH together. Directions are written straight into the packet's lanes as they are
+// generated; the origin, range and mask are written once per pixel.
+class PacketTracer {
+ public:
+  PacketTracer(RTCScene scene, RTCIntersectContext& context, const AoDefinition& def,
+               const PixelInput& in)
+      : scene_(scene), context_(context), def_(def), occlusion_only_(def.falloff == Falloff::none) {
+    const glm::vec3 o = in.position + in.geometric_normal * in.offset;
+    tfar_ = def.bounded() ? static_cast<float>(def.dmax) : kInf;
+    RTCRay16& r = occlusion_only_ ? ray_ : hit_.ray;
     for (int k = 0; k < 16; ++k) {
-      const bool on = k < count;
-      valid[k] = on ? -1 : 0;
-      const glm::vec3 w = on ? dirs[k] : glm::vec3(0.0f, 0.0f, 1.0f);
-      ray.org_x[k] = o.x, ray.org_y[k] = o.y, ray.org_z[k] = o.z;
-      ray.dir_x[k] = w.x, ray.dir_y[k] = w.y, ray.dir_z[k] = w.z;
-      ray.tnear[k] = 0.0f;
-      ray.tfar[k] = tfar;
-      ray.time[k] = 0.0f;
-      ray.mask[k] = 0xFFFFFFFFu;
-      ray.id[k] = static_cast<unsigned>(k);
-      ray.flags[k] = 0;
+      r.org_x[k] = o.x, r.org_y[k] = o.y, r.org_z[k] = o.z;
+      r.dir_x[k] = 0.0f, r.dir_y[k] = 0.0f, r.dir_z[k] = 1.0f;
+      r.tnear[k] = 0.0f;
+      r.time[k] = 0.0f;
+      r.mask[k] = 0xFFFFFFFFu;
+      r.id[k] = static_cast<unsigned>(k);
+      r.flags[k] = 0;
     }
-    rtcOccluded16(valid, scene, &context, &ray);
-    for (int k = 0; k < count; ++k) values[k] = ray.tfar[k] < 0.0f ? 0.0f : 1.0f;
-    return;
   }
-  alignas(64) RTCRayHit16 rh;
-  for (int k = 0; k < 16; ++k) {
-    const bool on = k < count;
-    valid[k] = on ? -1 : 0;
-    const glm::vec3 w = on ? dirs[k] : glm::vec3(0.0f, 0.0f, 1.0f);
-    rh.ray.org_x[k] = o.x, rh.ray.org_y[k] = o.y, rh.ray.org_z[k] = o.z;
-    rh.ray.dir_x[k] = w.x, rh.ray.dir_y[k] = w.y, rh.ray.dir_z[k] = w.z;
-    rh.ray.tnear[k] = 0.0f;
-    rh.ray.tfar[k] = tfar;
-    rh.ray.time[k] = 0.0f;
-    rh.ray.mask[k] = 0xFFFFFFFFu;
-    rh.ray.id[k] = static_cast<unsigned>(k);
-    rh.ray.flags[k] = 0;
-    rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+
+  // Queues direction w, whose value goes to values[index] when the packet is traced.
+  void add(const glm::vec3& w, uint32_t index, float* values, uint64_t& traced) {
+    RTCRay16& r = occlusion_only_ ? ray_ : hit_.ray;
+    r.dir_x[lanes_] = w.x, r.dir_y[lanes_] = w.y, r.dir_z[lanes_] = w.z;
+    index_[lanes_++] = index;
+    if (lanes_ == 16) flush(values, traced);
   }
-  rtcIntersect16(valid, scene, &context, &rh);
-  for (int k = 0; k < count; ++k)
-    values[k] = rh.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID ? 1.0f : def.ray_value(rh.ray.tfar[k]);
-}
+
+  void flush(float* values, uint64_t& traced) {
+    if (lanes_ == 0) return;
+    alignas(64) int valid[16];
+    for (int k = 0; k < 16; ++k) valid[k] = k < lanes_ ? -1 : 0;
+    traced += static_cast<uint64_t>(lanes_);
+    if (occlusion_only_) {
+      for (int k = 0; k < 16; ++k) ray_.tfar[k] = tfar_;
+      rtcOccluded16(valid, scene_, &context_, &ray_);
+      for (int k = 0; k < lanes_; ++k) values[index_[k]] = ray_.tfar[k] < 0.0f ? 0.0f : 1.0f;
+    } else {
+      for (int k = 0; k < 16; ++k) {
+        hit_.ray.tfar[k] = tfar_;
+        hit_.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      }
+      rtcIntersect16(valid, scene_, &context_, &hit_);
+      for (int k = 0; k < lanes_; ++k)
+        values[index_[k]] =
+            hit_.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID ? 1.0f : def_.ray_value(hit_.ray.tfar[k]);
+    }
+    lanes_ = 0;
+  }
+
+ private:
+  RTCScene scene_;
+  RTCIntersectContext& context_;
+  const AoDefinition& def_;
+  bool occlusion_only_;
+  float tfar_ = kInf;
+  alignas(64) RTCRay16 ray_;
+  alignas(64) RTCRayHit16 hit_;
+  uint32_t index_[16];
+  int lanes_ = 0;
+};
 
 // One replicate of one pixel: m directions, traced in packets, values in sample order.
 void evaluate_replicate(RTCScene scene, RTCIntersectContext& context, const ReferenceSettings& s,
@@ -122,23 +141,15 @@ void evaluate_replicate(RTCScene scene, RTCIntersectContext& context, const Refe
                         uint64_t& traced) {
   dirs.resize(m);
   values.resize(m);
-  thread_local std::vector<uint32_t> above;  // indices of directions above the geometric surface
-  above.clear();
+  PacketTracer tracer(scene, context, s.definition, in);
   for_each_direction(s, pixel, replicate, m, in, frame, square,
                      [&, i = 0u](const glm::vec3& w, bool is_above) mutable {
                        dirs[i] = w;
                        values[i] = 0.0f;  // below the surface: occluded at distance 0
-                       if (is_above) above.push_back(i);
+                       if (is_above) tracer.add(w, i, values.data(), traced);
                        ++i;
                      });
-  alignas(64) glm::vec3 batch[16];
-  float out[16];
-  for (size_t start = 0; start < above.size(); start += 16) {
-    const int count = static_cast<int>(std::min<size_t>(16, above.size() - start));
-    for (int k = 0; k < count; ++k) batch[k] = dirs[above[start + k]];
-    trace_packet(scene, context, s.definition, in, batch, count, out, traced);
-    for (int k = 0; k < count; ++k) values[above[start + k]] = out[k];
-  }
+  tracer.flush(values.data(), traced);
 }
 
 // Running statistics of one pixel: over samples (random) or over replicate means (the others).

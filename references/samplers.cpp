@@ -212,6 +212,14 @@ glm::vec3 square_to_uniform_hemisphere(glm::vec2 u) {
   return glm::vec3(s * std::cos(phi), s * std::sin(phi), z);
 }
 
+void square_to_cosine_hemisphere(const glm::vec2* in, uint32_t m, glm::vec3* out) {
+  for (uint32_t i = 0; i < m; ++i) out[i] = square_to_cosine_hemisphere(in[i]);
+}
+
+void square_to_uniform_hemisphere(const glm::vec2* in, uint32_t m, glm::vec3* out) {
+  for (uint32_t i = 0; i < m; ++i) out[i] = square_to_uniform_hemisphere(in[i]);
+}
+
 Frame make_frame(const glm::vec3& n) {
   // Duff et al. 2017 (the revised Frisvad construction): no singularity at n = -Z; the basis
   // jumps only where n.z changes sign.
