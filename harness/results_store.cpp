@@ -259,7 +259,8 @@ std::string results_csv(const std::vector<ResultRow>& rows) {
   const std::vector<std::string> columns = result_columns(rows);
   std::string out;
   for (size_t i = 0; i < columns.size(); ++i) {
-    out += (i ? "," : "") + csv_cell(columns[i], "");
+    if (i) out += ',';  // appends, not "," + string: GCC 12 warns falsely (-Wrestrict, PR 105329)
+    out += csv_cell(columns[i], "");
   }
   out += "\n";
   for (const ResultRow& row : rows) {
@@ -309,13 +310,13 @@ std::string markdown_table(const std::vector<ResultRow>& rows,
     return e;
   };
   std::string out = "|";
-  for (const auto& h : t.header) out += " " + escape(h) + " |";
+  for (const auto& h : t.header) out.append(" ").append(escape(h)).append(" |");
   out += "\n|";
   for (size_t i = 0; i < t.header.size(); ++i) out += t.numeric[i] ? "---:|" : "---|";
   out += "\n";
   for (const auto& line : t.cells) {
     out += "|";
-    for (const auto& cell : line) out += " " + escape(cell) + " |";
+    for (const auto& cell : line) out.append(" ").append(escape(cell)).append(" |");
     out += "\n";
   }
   return out;
