@@ -235,7 +235,7 @@ void SqliteStore::add(const ResultRow& row) {
     insert.bind_json(static_cast<int>(i + 1), flat[names[i]], names[i]);
   }
   insert.step();
-  // A placeholder run entry, so run_ids() lists runs whose context was never added.
+  // A minimal runs entry (id only), so run_ids() also lists runs whose context was never added.
   Statement run(db_, path_,
                 "INSERT OR IGNORE INTO runs (run_id, command, machine, device, git_commit, "
                 "started, context) VALUES (?, '', ?, ?, ?, ?, '{}')");

@@ -72,18 +72,18 @@ int run_sweep(const SweepOptions& o) {
   SqliteStore store(o.database);
   store.add_run(context);
 
-  std::vector<const SweepPoint*> todo;
+  std::vector<const SweepPoint*> pending;
   for (const auto& p : points)
-    if (!done.count(p.name)) todo.push_back(&p);
+    if (!done.count(p.name)) pending.push_back(&p);
   std::fprintf(stderr, "sweep %s: %zu points (%zu in this shard), %zu already done, %zu to run\n",
-               spec.name.c_str(), total, points.size(), points.size() - todo.size(), todo.size());
+               spec.name.c_str(), total, points.size(), points.size() - pending.size(), pending.size());
 
   g_interrupted = false;
   auto previous = std::signal(SIGINT, on_sigint);
   EvaluationSession session(spec.reference, spec.timing);
-  Progress progress("sweep " + spec.name, todo.size());
+  Progress progress("sweep " + spec.name, pending.size());
   size_t finished = 0;
-  for (const SweepPoint* p : todo) {
+  for (const SweepPoint* p : pending) {
     if (g_interrupted) break;
     EvaluationRequest req;
     req.estimator = p->estimator;
@@ -106,9 +106,9 @@ int run_sweep(const SweepOptions& o) {
     progress.step(p->name);
   }
   std::signal(SIGINT, previous == SIG_ERR ? SIG_DFL : previous);
-  if (g_interrupted && finished < todo.size()) {
+  if (g_interrupted && finished < pending.size()) {
     std::fprintf(stderr, "sweep %s: interrupted after %zu of %zu points; rerun with --resume\n",
-                 spec.name.c_str(), finished, todo.size());
+                 spec.name.c_str(), finished, pending.size());
     return 130;
   }
   std::printf("%s", console_table(folder.rows(), {"run_name", "rmse", "rmse_excess", "ssim",
