@@ -14,8 +14,15 @@ packages=(
   libassimp-dev assimp-testmodels libcgal-demo
   nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3
   libgtest-dev libgmock-dev libbenchmark-dev
-  libvulkan-dev mesa-vulkan-drivers vulkan-tools glslang-tools glslang-dev spirv-tools
+  libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-tools glslang-dev
+  spirv-tools python3-matplotlib ccache
 )
+# test.sh also drives Debian's chromium headless for the browser test of the reports (node comes
+# from the machine, or Debian's nodejs + npm where it has none).
+if [ "${1:-}" = "--test" ]; then
+  packages+=(chromium)
+  command -v node >/dev/null && command -v npm >/dev/null || packages+=(nodejs npm)
+fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -52,6 +59,8 @@ fi
 # Release build into build/. Configure once; later runs only rebuild what changed.
 generator=()
 command -v ninja >/dev/null && generator=(-G Ninja)
+# ccache (Debian) makes a rebuild in a fresh clone cheap; the build is the same without it.
+command -v ccache >/dev/null && generator+=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 if [ ! -f "$repo_root/build/CMakeCache.txt" ]; then
   cmake -S "$repo_root" -B "$repo_root/build" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release >&2
 fi

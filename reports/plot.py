@@ -1,0 +1,92 @@
+#!/usr/bin/env python3
+"""Draws one aoeval plot: plot.py SPEC.json OUT.png|OUT.svg (see reports/plot.h).
+
+matplotlib is the plotting library (Debian python3-matplotlib): proper axes, log scales, legends,
+error bars and vector output. The C++ side decides what to plot; this file only draws it.
+"""
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")  # headless: no display on CI
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def draw(spec, out_path):
+    fig, ax = plt.subplots(figsize=(spec.get("width_in", 7.0), spec.get("height_in", 4.5)))
+    series = spec.get("series", [])
+    bars = [s for s in series if s.get("kind") == "bar"]
+    bar_width = 0.8 / max(1, len(bars))
+    bar_index = 0
+    for s in series:
+        kind = s.get("kind", "line")
+        x, y = s["x"], s["y"]
+        style = {}
+        if s.get("colour"):
+            style["color"] = s["colour"]
+        label = s.get("label") or None
+        err = s.get("y_error")
+        if kind == "bar":
+            offset = (bar_index - (len(bars) - 1) / 2.0) * bar_width
+            bar_index += 1
+            ax.bar([v + offset for v in x], y, bar_width, yerr=err, label=label, capsize=3, **style)
+            continue
+        marker = s.get("marker") or ("o" if kind == "scatter" else ".")
+        linestyle = "none" if kind == "scatter" else ("--" if s.get("dashed") else "-")
+        if kind == "step":
+            ax.step(x, y, where="post", label=label, linestyle=linestyle, **style)
+        elif err:
+            ax.errorbar(x, y, yerr=err, label=label, marker=marker, linestyle=linestyle,
+                        capsize=3, **style)
+        else:
+            ax.plot(x, y, label=label, marker=marker, linestyle=linestyle, **style)
+        highlight = s.get("highlight")
+        if highlight:
+            hx = [a for a, h in zip(x, highlight) if h]
+            hy = [b for b, h in zip(y, highlight) if h]
+            order = sorted(range(len(hx)), key=lambda i: hx[i])
+            ax.plot([hx[i] for i in order], [hy[i] for i in order], color="black",
+                    linestyle=":", marker="D", markerfacecolor="none", markersize=9,
+                    label=(label + " (Pareto front)") if label else "Pareto front")
+        for xi, yi, text in zip(x, y, s.get("point_labels") or []):
+            if text:
+                ax.annotate(text, (xi, yi), textcoords="offset points", xytext=(4, 4), fontsize=7)
+    categories = spec.get("categories") or []
+    if categories:
+        ax.set_xticks(range(len(categories)))
+        ax.set_xticklabels(categories, rotation=20 if len(categories) > 4 else 0, ha="right"
+                           if len(categories) > 4 else "center")
+    if spec.get("log_x"):
+        ax.set_xscale("log")
+    if spec.get("log_y"):
+        ax.set_yscale("log")
+    ax.set_title(spec.get("title", ""))
+    ax.set_xlabel(spec.get("x_label", ""))
+    ax.set_ylabel(spec.get("y_label", ""))
+    ax.grid(True, which="both", alpha=0.3)
+    if any(s.get("label") for s in series):
+        ax.legend(fontsize=8)
+    notes = spec.get("notes") or []
+    if notes:
+        ax.text(0.01, 0.01, "\n".join(notes), transform=ax.transAxes, fontsize=7,
+                va="bottom", ha="left", bbox=dict(facecolor="white", alpha=0.8, linewidth=0))
+    fig.tight_layout()
+    root, ext = os.path.splitext(out_path)
+    tmp = root + ".tmp" + str(os.getpid()) + ext
+    fig.savefig(tmp, dpi=spec.get("dpi", 110))
+    plt.close(fig)
+    os.replace(tmp, out_path)
+
+
+def main():
+    if len(sys.argv) != 3:
+        sys.exit("usage: plot.py SPEC.json OUT.png|OUT.svg")
+    with open(sys.argv[1], encoding="utf-8") as f:
+        spec = json.load(f)
+    draw(spec, sys.argv[2])
+
+
+if __name__ == "__main__":
+    main()
