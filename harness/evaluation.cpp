@@ -200,6 +200,7 @@ ResultRow EvaluationSession::evaluate(const EvaluationRequest& req,
   row.time_ms_min = *std::min_element(times.begin(), times.end());
   row.time_ms_max = *std::max_element(times.begin(), times.end());
   row.repetitions = static_cast<int>(times.size());
+  row.time_ms_samples = times;
   for (const auto& [pass, values] : passes)
     if (pass != "total_ms") row.pass_ms[pass] = median(values);
   row.timestamp = utc_now();

@@ -5,7 +5,8 @@
 //   one column per parameter, named after it; a parameter named like a fixed column gets the
 //                          prefix "param_" (e.g. a parameter "scene" -> column "param_scene")
 //   measured_columns():    the metric keys, the same keys prefixed "true_", time_ms_median,
-//                          time_ms_min, time_ms_max, repetitions, precompute_ms, reference (JSON
+//                          time_ms_min, time_ms_max, repetitions, time_ms_samples (JSON
+//                          array string), precompute_ms, reference (JSON
 //                          string), machine, device, git_commit, aoeval_version, timestamp,
 //                          estimate_file
 //   one column per pass, named by its pass_ms key as given (e.g. "horizon_ms")
@@ -84,9 +85,9 @@ std::vector<std::string> identifying_columns() {
 std::vector<std::string> measured_columns() {
   std::vector<std::string> columns = metric_names();
   for (const auto& k : metric_names()) columns.push_back("true_" + k);
-  for (const char* c :
-       {"time_ms_median", "time_ms_min", "time_ms_max", "repetitions", "precompute_ms", "reference",
-        "machine", "device", "git_commit", "aoeval_version", "timestamp", "estimate_file"}) {
+  for (const char* c : {"time_ms_median", "time_ms_min", "time_ms_max", "repetitions",
+                        "time_ms_samples", "precompute_ms", "reference", "machine", "device",
+                        "git_commit", "aoeval_version", "timestamp", "estimate_file"}) {
     columns.emplace_back(c);
   }
   return columns;
@@ -129,6 +130,7 @@ nlohmann::json flatten(const ResultRow& row) {
   flat["time_ms_min"] = row.time_ms_min;
   flat["time_ms_max"] = row.time_ms_max;
   flat["repetitions"] = row.repetitions;
+  flat["time_ms_samples"] = nlohmann::json(row.time_ms_samples).dump();
   flat["precompute_ms"] = row.precompute_ms;
   flat["reference"] = (row.reference.is_null() ? nlohmann::json::object() : row.reference).dump();
   flat["machine"] = row.machine;
@@ -177,6 +179,12 @@ ResultRow unflatten(const nlohmann::json& flat) {
   row.time_ms_min = number_of<double>(flat, "time_ms_min");
   row.time_ms_max = number_of<double>(flat, "time_ms_max");
   row.repetitions = number_of<int>(flat, "repetitions");
+  {
+    const nlohmann::json samples = json_of(flat, "time_ms_samples");
+    if (samples.is_array())
+      for (const auto& v : samples)
+        if (v.is_number()) row.time_ms_samples.push_back(v.get<double>());
+  }
   row.precompute_ms = number_of<double>(flat, "precompute_ms");
   row.reference = json_of(flat, "reference");
   row.machine = string_of(flat, "machine");

@@ -26,6 +26,9 @@ struct ResultRow {
   nlohmann::json true_metrics = nlohmann::json::object();  // the same keys against true AO
   double time_ms_median = 0.0, time_ms_min = 0.0, time_ms_max = 0.0;
   int repetitions = 0;
+  // Every timed repetition in ms, in order (what the dashboard's rank test compares); the
+  // "time_ms_samples" column holds them as a JSON array.
+  std::vector<double> time_ms_samples;
   std::map<std::string, double> pass_ms;  // per-pass GPU/CPU times, column names end in "_ms"
   double precompute_ms = 0.0;
   std::string backend;  // cpu, embree, vulkan

@@ -113,13 +113,14 @@ nlohmann::json to_json(const RunContext& c) {
           {"embree_version", c.embree_version},
           {"git_commit", c.git_commit},
           {"aoeval_version", c.aoeval_version},
-          {"started", c.started}};
+          {"started", c.started},
+          {"output_dir", c.output_dir}};
 }
 
 RunContext run_context_from_json(const nlohmann::json& j) {
   auto s = [&](const char* key) { return j.is_object() ? j.value(key, std::string()) : ""; };
-  return {s("run_id"),         s("command"),    s("machine"),        s("device"),
-          s("embree_version"), s("git_commit"), s("aoeval_version"), s("started")};
+  return {s("run_id"),     s("command"),        s("machine"), s("device"),    s("embree_version"),
+          s("git_commit"), s("aoeval_version"), s("started"), s("output_dir")};
 }
 
 // ---------------------------------------------------------------- columns and cells
@@ -286,7 +287,8 @@ std::string results_json(const std::vector<ResultRow>& rows, const RunContext& c
                     {"embree_version", context.embree_version},
                     {"git_commit", context.git_commit},
                     {"aoeval_version", context.aoeval_version},
-                    {"started", context.started}};
+                    {"started", context.started},
+                    {"output_dir", context.output_dir}};
   out["rows"] = nlohmann::ordered_json::array();
   for (const ResultRow& row : rows) {
     const nlohmann::json flat = flatten(row);

@@ -21,7 +21,8 @@ struct RunContext {
   std::string embree_version;  // RTC_VERSION_STRING, "unknown" where Embree's header is absent
   std::string git_commit;      // `git rev-parse HEAD` of the source tree, or "unknown"
   std::string aoeval_version;
-  std::string started;  // ISO 8601 UTC: "2024-05-01T12:34:56Z"
+  std::string started;     // ISO 8601 UTC: "2024-05-01T12:34:56Z"
+  std::string output_dir;  // absolute path of the output folder (images, EXRs); "" if none
 };
 
 RunContext make_run_context(const std::string& command);

@@ -74,6 +74,7 @@ ResultRow make_row(const std::string& estimator, nlohmann::json params, const st
   r.time_ms_min = 0.1;
   r.time_ms_max = 12345.678901234567;
   r.repetitions = 5;
+  r.time_ms_samples = {0.2, 1.0 / 3, 0.1, 12345.678901234567, 0.5};
   r.precompute_ms = 2.5;
   r.backend = "cpu";
   r.machine = "host (CPU, 2 cores)";
@@ -103,6 +104,7 @@ void expect_same(const ResultRow& a, const ResultRow& b) {
   EXPECT_EQ(a.time_ms_min, b.time_ms_min);
   EXPECT_EQ(a.time_ms_max, b.time_ms_max);
   EXPECT_EQ(a.repetitions, b.repetitions);
+  EXPECT_EQ(a.time_ms_samples, b.time_ms_samples);
   EXPECT_EQ(a.pass_ms, b.pass_ms);
   EXPECT_EQ(a.precompute_ms, b.precompute_ms);
   EXPECT_EQ(a.backend, b.backend);
