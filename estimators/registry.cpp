@@ -6,6 +6,8 @@
 #include "estimators/obscurances/obscurances.h"
 #include "estimators/vertex_baked/vertex_baked.h"
 #include "estimators/reeves_blau/reeves_blau.h"
+#include "estimators/hbao_split/hbao_split.h"
+#include "estimators/raymarch_ssao/raymarch_ssao.h"
 #include "estimators/tree_hegeman/tree_hegeman.h"
 
 namespace aoeval {
@@ -20,6 +22,8 @@ const std::vector<EstimatorInfo>& estimator_registry() {
       vertex_baked_estimator(),
       tree_sphere_estimator(), tree_ellipsoid_estimator(), tree_shells_estimator(),
       reeves_blau_estimator(),
+      hbao_split_cpu_estimator(),
+      raymarch_ssao_estimator(),
   };
   return registry;
 }

@@ -1,0 +1,31 @@
+// The few GLSL spellings that hbao_kernel.glsl uses, defined for C++ so that the one kernel source
+// compiles as both the CPU twin and the Vulkan compute shaders: the same float operations in the
+// same order (the build has -ffp-contract=off; the GLSL side marks its arithmetic `precise`, which
+// forbids fused multiply-adds there too). Include it inside a namespace, then the accessors, then
+// the kernel.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+namespace aoeval::hbao_glsl {
+
+using glm::ivec2;
+using glm::vec2;
+using glm::vec3;
+using std::abs;
+using std::max;
+using std::min;
+using std::sqrt;
+
+}  // namespace aoeval::hbao_glsl
+
+// GLSL's `precise` (SPIR-V NoContraction) has no C++ spelling: -ffp-contract=off does its job.
+#define precise
+// Parameters written by the callee: `out T` in GLSL, a reference in C++.
+#define HBAO_OUT(T) T&
+// The images reach the kernel as GLSL globals (bindings) and as an explicit first argument in C++.
+#define HBAO_IMAGES_PARAM const HbaoImages &img,
+#define HBAO_IMAGES_ARG img,

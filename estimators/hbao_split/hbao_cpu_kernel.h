@@ -1,0 +1,50 @@
+// The CPU side of the shared kernel (hbao_kernel.glsl): the images it reads, as plain arrays, and
+// their accessors. A translation unit that runs the kernel includes this header, defines
+// hbao_depth() in a namespace of its own (named uniquely across the program: the kernel's
+// functions are not inline), includes the kernel there, then hbao_cpu_kernel_end.h (hbao_cpu.cpp,
+// raymarch_ssao.cpp).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "estimators/hbao_split/glsl_compat.h"
+#include "estimators/hbao_split/hbao_split.h"
+
+namespace aoeval::hbao_glsl {
+struct HbaoImages {
+  int width = 0;
+  size_t pixels = 0;
+  const float* depth = nullptr;
+  const vec3* normal = nullptr;
+  const vec3* random = nullptr;  // tile x tile
+  int tile = 1;
+  const vec2* directions = nullptr;
+  const float* raw_ao = nullptr;
+  float* horizon = nullptr;  // Nd planes of width x height
+  uint64_t* fetches = nullptr;
+};
+
+inline size_t pixel_of(const HbaoImages& img, int i, int j) {
+  return static_cast<size_t>(j) * static_cast<size_t>(img.width) + static_cast<size_t>(i);
+}
+inline vec3 hbao_normal(const HbaoImages& img, int i, int j) {
+  return img.normal[pixel_of(img, i, j)];
+}
+inline vec3 hbao_random(const HbaoImages& img, int i, int j) {
+  return img.random[static_cast<size_t>((j % img.tile) * img.tile + i % img.tile)];
+}
+inline vec2 hbao_direction(const HbaoImages& img, int d) {
+  return img.directions[d];
+}
+inline float hbao_raw_ao(const HbaoImages& img, int i, int j) {
+  return img.raw_ao[pixel_of(img, i, j)];
+}
+inline void hbao_store_horizon(const HbaoImages& img, int i, int j, int d, float h) {
+  img.horizon[static_cast<size_t>(d) * img.pixels + pixel_of(img, i, j)] = h;
+}
+inline float hbao_load_horizon(const HbaoImages& img, int i, int j, int d) {
+  return img.horizon[static_cast<size_t>(d) * img.pixels + pixel_of(img, i, j)];
+}
+
+}  // namespace aoeval::hbao_glsl

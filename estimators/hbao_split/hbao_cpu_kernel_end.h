@@ -1,0 +1,5 @@
+// Ends what hbao_cpu_kernel.h began: the GLSL spellings stay out of the rest of the file.
+#undef precise
+#undef HBAO_OUT
+#undef HBAO_IMAGES_PARAM
+#undef HBAO_IMAGES_ARG

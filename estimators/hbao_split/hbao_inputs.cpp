@@ -1,0 +1,218 @@
+// hbao-split's parameter table (declared once for both twins) and the host-side inputs of the
+// kernel: eye-space depth and normals, the tiled random texture (§4.1.2), the direction table and
+// the constants. See hbao_split.h.
+#include <cmath>
+#include <glm/geometric.hpp>
+#include <numbers>
+
+#include "errors.h"
+#include "estimators/hbao_split/hbao_split.h"
+#include "random.h"
+
+namespace aoeval {
+
+const char* const kHbaoPaper =
+    "Dimitrov, Bavoil, Sainz 2008, Horizon-Split Ambient Occlusion: horizon tracing (§3.1, Fig. "
+    "4), "
+    "horizon occlusion T = H^2 in closed form (eq. 3-6), normal occlusion with the cosine patch "
+    "distribution (eq. 7-12, patches starting at the horizon), A = 1 - (O_T + O_N) (§3.4), linear "
+    "attenuation (§3.5), offset P' = P + z/(f res) n (eq. 13), tiled random texture (§4.1.2), "
+    "depth-aware 5x5 blur (§4.1.3)";
+
+const char* const kHbaoDefinitionDoc =
+    "cosine weighting (eq. 1), dmax = R, falloff linear when attenuation is on (an occluder at "
+    "distance r < R counts 1 - r/R, §3.5), none when off; only what the depth buffer shows within "
+    "R of P' can occlude";
+
+std::vector<ParamSpec> hbao_param_specs() {
+  return {
+      {"R",
+       ParamType::real,
+       0.3,
+       1e-4,
+       1e4,
+       true,
+       "scene units",
+       "radius of influence: horizon and normal rays stop at distance R (§3.1, §3.6; Fig. 6, 11)",
+       {}},
+      {"Nd",
+       ParamType::integer,
+       8,
+       1,
+       64,
+       false,
+       "directions",
+       "horizon directions theta around the normal, each a lune of 2 pi / Nd (§3.1, eq. 5-6)",
+       {}},
+      {"Ns",
+       ParamType::integer,
+       18,
+       1,
+       256,
+       false,
+       "steps",
+       "steps of R / Ns per horizon and normal ray (Fig. 4 line 2, §3.6)",
+       {}},
+      {"Nn",
+       ParamType::integer,
+       1,
+       0,
+       16,
+       false,
+       "rays",
+       "normal-occlusion rays per direction above the horizon, 0 disables O_N (§3.3, eq. 7-12)",
+       {}},
+      {"attenuation",
+       ParamType::boolean,
+       true,
+       0,
+       0,
+       false,
+       "",
+       "weight each occluder at distance r by 1 - r/R (§3.5); the definition's linear falloff",
+       {}},
+      {"offset",
+       ParamType::boolean,
+       true,
+       0,
+       0,
+       false,
+       "",
+       "start rays at P' = P + z/(f res) n against banding at grazing angles (eq. 13, §4.1.1)",
+       {}},
+      {"jitter",
+       ParamType::boolean,
+       true,
+       0,
+       0,
+       false,
+       "",
+       "per-pixel rotation alpha and step jitter beta from the tiled random texture (§4.1.2)",
+       {}},
+      {"tile",
+       ParamType::integer,
+       4,
+       1,
+       64,
+       false,
+       "pixels",
+       "side of the tiled random texture of (cos alpha, sin alpha, beta) (§4.1.2)",
+       {}},
+      {"blur",
+       ParamType::boolean,
+       true,
+       0,
+       0,
+       false,
+       "",
+       "5x5 Gaussian weighted by the inverse depth deviation from the centre (§4.1.3)",
+       {}},
+      {"seed",
+       ParamType::integer,
+       7,
+       0,
+       1e15,
+       false,
+       "",
+       "seed of the random texture (§4.1.2)",
+       {}},
+  };
+}
+
+HbaoSettings hbao_settings_of(const ParamSet& p) {
+  HbaoSettings s;
+  s.radius = p.real("R");
+  s.directions = static_cast<int>(p.integer("Nd"));
+  s.steps = static_cast<int>(p.integer("Ns"));
+  s.normal_rays = static_cast<int>(p.integer("Nn"));
+  s.attenuation = p.boolean("attenuation");
+  s.offset = p.boolean("offset");
+  s.jitter = p.boolean("jitter");
+  s.tile = static_cast<int>(p.integer("tile"));
+  s.blur = p.boolean("blur");
+  s.seed = static_cast<uint64_t>(p.integer("seed"));
+  return s;
+}
+
+AoDefinition hbao_definition(const HbaoSettings& s) {
+  AoDefinition d;
+  d.weighting = Weighting::cosine;
+  d.dmax = s.radius;
+  d.falloff = s.attenuation ? Falloff::linear : Falloff::none;
+  return d;
+}
+
+HbaoFrame hbao_frame_from_gbuffer(const GBuffer& g) {
+  HbaoFrame f;
+  f.width = g.width;
+  f.height = g.height;
+  f.focal = static_cast<float>(g.height) / (2.0f * g.camera.tan_half_fov_y);
+  f.depth.assign(g.pixel_count(), 0.0f);
+  f.normal.assign(g.pixel_count(), glm::vec3(0.0f, 0.0f, -1.0f));
+  const Camera& c = g.camera;
+  for (size_t k = 0; k < g.pixel_count(); ++k) {
+    if (!g.covered(k) || !(g.depth[k] > 0.0f)) continue;
+    f.depth[k] = g.depth[k];
+    const glm::vec3 n = g.normal[k];
+    const glm::vec3 eye(glm::dot(n, c.right), glm::dot(n, c.up), glm::dot(n, c.forward));
+    const float len = glm::length(eye);
+    if (len > 0.0f) f.normal[k] = eye / len;
+  }
+  return f;
+}
+
+std::vector<glm::vec3> hbao_random_texture(const HbaoSettings& s) {
+  const size_t texels = static_cast<size_t>(s.tile) * static_cast<size_t>(s.tile);
+  std::vector<glm::vec3> texture(texels, glm::vec3(1.0f, 0.0f, 0.0f));
+  if (!s.jitter) return texture;
+  const double sector = 2.0 * std::numbers::pi / s.directions;
+  for (size_t k = 0; k < texels; ++k) {
+    SplitMix64 rng(mix_seed(s.seed, k, 0x4842414F));  // "HBAO"
+    const double alpha = rng.uniform_double() * sector;
+    // (u + 0.5) / 2^24 lies strictly inside (0, 1), so beta = 2u - 1 lies inside (-1, 1).
+    const double u = (static_cast<double>(rng.next() >> 40) + 0.5) / 16777216.0;
+    texture[k] = glm::vec3(static_cast<float>(std::cos(alpha)), static_cast<float>(std::sin(alpha)),
+                           static_cast<float>(2.0 * u - 1.0));
+  }
+  return texture;
+}
+
+std::vector<glm::vec2> hbao_direction_table(int directions) {
+  std::vector<glm::vec2> table(static_cast<size_t>(directions));
+  for (int d = 0; d < directions; ++d) {
+    const double theta = 2.0 * std::numbers::pi * d / directions;
+    table[static_cast<size_t>(d)] =
+        glm::vec2(static_cast<float>(std::cos(theta)), static_cast<float>(std::sin(theta)));
+  }
+  return table;
+}
+
+HbaoConstants hbao_constants(const HbaoSettings& s, int width, int height, float focal) {
+  HbaoConstants c{};
+  c.radius = static_cast<float>(s.radius);
+  c.step = static_cast<float>(s.radius / s.steps);
+  c.focal = focal;
+  c.half_width = 0.5f * static_cast<float>(width);
+  c.half_height = 0.5f * static_cast<float>(height);
+  // eq. 13: the staircase step at depth z is z / (f res) with f = 1 / tan(fov/2) and res the
+  // pixels across the (square-pixel) screen height: 1 / (f res) = tan(fov/2) / H = 1 / (2 focal).
+  c.offset_scale = s.offset ? 0.5f / focal : 0.0f;
+  c.width = width;
+  c.height = height;
+  c.directions = s.directions;
+  c.steps = s.steps;
+  c.normal_rays = s.normal_rays;
+  c.attenuation = s.attenuation ? 1 : 0;
+  c.tile = s.tile;
+  return c;
+}
+
+void validate_hbao_frame(const HbaoFrame& f) {
+  if (f.width < 1 || f.height < 1)
+    throw InputError("hbao-split: the G-buffer is empty (" + std::to_string(f.width) + "x" +
+                     std::to_string(f.height) + ")");
+  if (!(f.focal > 0.0f) || !std::isfinite(f.focal))
+    throw InputError("hbao-split: the camera's field of view gives no finite focal length");
+}
+
+}  // namespace aoeval

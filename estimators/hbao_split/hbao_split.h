@@ -1,0 +1,87 @@
+// hbao-split, hbao-split-cpu: Dimitrov, Bavoil, Sainz 2008, "Horizon-Split Ambient Occlusion".
+// Implements horizon tracing (§3.1, Fig. 4), the closed-form horizon occlusion T(theta) = H^2
+// (eq. 3-6, §3.2), normal occlusion with the cosine patch distribution (eq. 7-12, §3.3), their
+// combination A = 1 - (O_T + O_N) (§3.4), linear attenuation (§3.5), the offset against banding
+// (eq. 13, §4.1.1), the tiled randomisation texture (§4.1.2) and the depth-aware 5x5 blur (§4.1.3).
+//
+// The per-pixel algorithm is one source, hbao_kernel.glsl, compiled as C++ for the CPU twin
+// (hbao-split-cpu, TBB over rows) and as GLSL for the Vulkan twin (hbao-split); both read the same
+// eye-space depth and normals, the same random texture bits generated here and the same direction
+// table, so they agree to 1e-3 (hbao_split_test.cpp). Declared AO definition: cosine weighting,
+// dmax = R, linear falloff when attenuation is on (none otherwise).
+#pragma once
+
+#include <cstdint>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <string>
+#include <vector>
+
+#include "estimators/estimator.h"
+
+namespace aoeval {
+namespace hbao_glsl {
+#include "estimators/hbao_split/hbao_constants.glsl"
+}  // namespace hbao_glsl
+using hbao_glsl::HbaoConstants;
+
+// Defaults: Fig. 11 (c) of the paper (R = 0.3 with linear attenuation, Nd = 8, Ns = 18, Nn = 1),
+// the middle of its quality range; its quality preset is Nd = 18, Ns = 25, Nn = 2 (Fig. 11 (d)).
+struct HbaoSettings {
+  double radius = 0.3;  // R
+  int directions = 8;   // Nd
+  int steps = 18;       // Ns
+  int normal_rays = 1;  // Nn (0 disables normal occlusion)
+  bool attenuation = true;
+  bool offset = true;
+  bool jitter = true;
+  int tile = 4;
+  bool blur = true;
+  uint64_t seed = 1;
+};
+
+// The parameter table shared by both twins (hbao-split adds `gbuffer`).
+std::vector<ParamSpec> hbao_param_specs();
+HbaoSettings hbao_settings_of(const ParamSet& params);
+// Cosine weighting, dmax = R, linear falloff with attenuation, none without.
+AoDefinition hbao_definition(const HbaoSettings& settings);
+extern const char* const kHbaoPaper;
+extern const char* const kHbaoDefinitionDoc;
+
+// The inputs of the kernel in eye space (x right, y up, z forward), prepared on the host: linear
+// depth (0 = background) and unit eye-space shading normals, row-major, row 0 at the top.
+struct HbaoFrame {
+  int width = 0;
+  int height = 0;
+  float focal = 1.0f;  // pixels: height / (2 tan(fov_y / 2))
+  std::vector<float> depth;
+  std::vector<glm::vec3> normal;
+};
+HbaoFrame hbao_frame_from_gbuffer(const GBuffer& gbuffer);
+
+// §4.1.2: tile x tile texels of (cos alpha, sin alpha, beta), alpha uniform in [0, 2 pi / Nd), beta
+// uniform in (-1, 1), from `seed`; all (1, 0, 0) without jitter. Row-major, texel (i mod tile,
+// j mod tile) serves pixel (i, j).
+std::vector<glm::vec3> hbao_random_texture(const HbaoSettings& settings);
+// (cos, sin) of 2 pi d / Nd, d < Nd, evaluated in double and rounded.
+std::vector<glm::vec2> hbao_direction_table(int directions);
+HbaoConstants hbao_constants(const HbaoSettings& settings, int width, int height, float focal);
+
+// Checks what the parameter table cannot (a frame to work on); InputError otherwise.
+void validate_hbao_frame(const HbaoFrame& frame);
+
+struct HbaoCpuResult {
+  std::vector<float> ao;          // final AO (blurred when settings.blur), 0 where not covered
+  std::vector<float> raw_ao;      // before the blur
+  std::vector<float> horizon_ao;  // 1 - O_T: horizon occlusion alone (the paper's Fig. 10 (a))
+  uint64_t depth_fetches = 0;     // fetches by the linear searches (counted only when asked)
+  double horizon_ms = 0.0, normal_ms = 0.0, blur_ms = 0.0;  // wall time of each pass
+};
+
+// The CPU twin. Deterministic: same inputs, same bits, whatever the thread count.
+HbaoCpuResult hbao_split_cpu(const HbaoFrame& frame, const HbaoSettings& settings,
+                             bool count_fetches = false);
+
+EstimatorInfo hbao_split_cpu_estimator();
+
+}  // namespace aoeval
