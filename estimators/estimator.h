@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,15 @@ std::string format_param_value(const nlohmann::json& value);
 
 enum class Backend { cpu, embree, vulkan };
 const char* backend_name(Backend b);
+
+// Thrown from Estimator::prepare()/run() when the estimator's backend is missing on this machine
+// (e.g. no Vulkan device). what() is the skip reason, "no Vulkan device (<why>)": the harness
+// records the row as "skipped: <what()>" with empty metrics and carries on with the others, and
+// `aoeval estimate` prints that line and exits 1. Not for bad input (InputError) or bugs.
+class EstimatorUnavailable : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 enum class EstimatorInput { gbuffer, scene_geometry, tree_proxies };
 const char* input_name(EstimatorInput i);

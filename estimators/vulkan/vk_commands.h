@@ -1,0 +1,53 @@
+// Recording helpers: barriers between passes and GPU timestamps per named pass.
+//
+//   vk::PassTimer timer(vk);
+//   vk.submit([&](VkCommandBuffer cmd) {
+//     timer.reset(cmd);
+//     timer.begin(cmd, "horizon");  horizon.dispatch(...);  timer.end(cmd);
+//     vk::pass_barrier(cmd);
+//     timer.begin(cmd, "blur");     blur.dispatch(...);     timer.end(cmd);
+//   });
+//   result.pass_ms = timer.read();   // {"horizon_ms": ..., "blur_ms": ..., "total_ms": ...}
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "estimators/vulkan/vk_context.h"
+
+namespace aoeval::vk {
+
+// Every write of earlier commands (shaders, attachments, copies) is visible to every read or write
+// of later ones. Coarse but always correct; between AO passes the cost is negligible.
+void pass_barrier(VkCommandBuffer cmd);
+
+// Named GPU time spans from timestamp queries, converted with the device's timestampPeriod.
+class PassTimer {
+ public:
+  explicit PassTimer(Context& context, uint32_t max_passes = 16);
+  ~PassTimer();
+  PassTimer(const PassTimer&) = delete;
+  PassTimer& operator=(const PassTimer&) = delete;
+
+  // Resets the query pool and forgets earlier passes; record it first in each command buffer.
+  void reset(VkCommandBuffer cmd);
+  // Timestamps around a pass: begin() after all earlier commands finished, end() after the pass's
+  // commands finished (both at BOTTOM_OF_PIPE, so a pass's span covers its own work).
+  void begin(VkCommandBuffer cmd, const std::string& pass);
+  void end(VkCommandBuffer cmd);
+  // After the submission finished: "<pass>_ms" per pass (a pass recorded twice sums), and
+  // "total_ms" from the first begin to the last end. Empty when timestamps are unsupported.
+  std::map<std::string, double> read() const;
+
+ private:
+  Context& context_;
+  VkQueryPool pool_ = VK_NULL_HANDLE;
+  uint32_t capacity_ = 0;  // queries (two per pass)
+  std::vector<std::string> passes_;
+  bool open_ = false;
+};
+
+}  // namespace aoeval::vk

@@ -1,0 +1,289 @@
+// Tests of the Vulkan layer: a compute round trip with a closed-form answer, timestamps, the
+// no-device path, and the raster G-buffer against the Embree one. Every test that needs a device
+// skips (GTEST_SKIP with the reason) when there is none; CI has lavapipe, so there they run. The
+// contexts made here turn the validation layer on when it is installed, so a validation error
+// fails the test that caused it, in Release builds too.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "corpus.h"
+#include "embree_scene.h"
+#include "estimators/estimator.h"
+#include "estimators/vulkan/raster_gbuffer.h"
+#include "estimators/vulkan/vk_commands.h"
+#include "estimators/vulkan/vk_context.h"
+#include "estimators/vulkan/vk_pipelines.h"
+#include "estimators/vulkan/vk_resources.h"
+#include "gbuffer.h"
+#include "vk_test_roundtrip_comp_spv.h"
+
+namespace aoeval::vk {
+namespace {
+
+std::unique_ptr<Context> test_context(std::string* reason) {
+  return Context::create({.device = "", .validation = true}, reason);
+}
+
+#define REQUIRE_CONTEXT(ctx)                                     \
+  std::string skip_reason;                                       \
+  std::unique_ptr<Context> ctx = test_context(&skip_reason);     \
+  if (!ctx) GTEST_SKIP() << "no Vulkan device: " << skip_reason; \
+  RecordProperty("vulkan_device", ctx->device_description());
+
+struct RoundtripPush {
+  float scale;
+  uint32_t count;
+};
+const std::vector<VkDescriptorType> kRoundtripBindings = {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                                          VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                                                          VK_DESCRIPTOR_TYPE_STORAGE_IMAGE};
+
+TEST(VulkanLayer, ComputeRoundTripWithPushAndSpecConstants) {
+  REQUIRE_CONTEXT(vk);
+  const int w = 37, h = 23;  // not multiples of the 8x8 work group: the bounds check matters
+  const uint32_t count = 500;
+  std::vector<float> in(count);
+  for (uint32_t i = 0; i < count; ++i) in[i] = static_cast<float>(i) - 100.0f;
+  Buffer input(*vk, count * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  Buffer output(*vk, count * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  Image2D image(*vk, w, h, VK_FORMAT_R32_SFLOAT);
+  input.upload(in);
+
+  // Two pipelines from the same SPIR-V: the default OFFSET (0.5) and a specialised one (3.25).
+  for (const float offset : {0.5f, 3.25f}) {
+    std::vector<SpecConstant> spec;
+    if (offset != 0.5f) spec = {spec_float(0, offset)};
+    ComputePipeline pipeline(*vk, "roundtrip", vk_test_roundtrip_comp_spv, kRoundtripBindings,
+                             sizeof(RoundtripPush), spec);
+    VkDescriptorSet set = pipeline.make_set({input, output, image});
+    const RoundtripPush push{0.25f, count};
+    vk->submit([&](VkCommandBuffer cmd) {
+      pipeline.dispatch(cmd, set, push, group_count(w, 8), group_count(h, 8));
+    });
+    // Every value below is exact in float (multiples of 1/4 under 2^22), so equality is exact.
+    const auto out = output.download<float>();
+    for (uint32_t i = 0; i < count; ++i) ASSERT_EQ(out[i], 0.25f * in[i] + offset) << i;
+    const auto texels = image.download<float>();
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        ASSERT_EQ(texels[y * w + x], 0.25f * static_cast<float>(x + 1000 * y) + offset)
+            << x << "," << y;
+  }
+  EXPECT_TRUE(vk->validation_errors().empty());
+}
+
+TEST(VulkanLayer, ImageUploadDownloadRoundTrip) {
+  REQUIRE_CONTEXT(vk);
+  for (VkFormat format :
+       {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32_UINT}) {
+    Image2D image(*vk, 19, 7, format);
+    std::vector<uint32_t> texels(image.byte_size() / 4);
+    for (size_t k = 0; k < texels.size(); ++k) texels[k] = static_cast<uint32_t>(k * 2654435761u);
+    EXPECT_EQ(image.download<uint32_t>(), std::vector<uint32_t>(texels.size(), 0u));  // zeroed
+    image.upload(texels);
+    EXPECT_EQ(image.download<uint32_t>(), texels) << "format " << format;
+  }
+}
+
+TEST(VulkanLayer, TimestampsArePositiveAndMonotone) {
+  REQUIRE_CONTEXT(vk);
+  if (!vk->timestamps_supported()) GTEST_SKIP() << vk->device_name() << " has no timestamps";
+  const int w = 512, h = 512;
+  Buffer input(*vk, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  Buffer output(*vk, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  Image2D image(*vk, w, h, VK_FORMAT_R32_SFLOAT);
+  ComputePipeline pipeline(*vk, "roundtrip", vk_test_roundtrip_comp_spv, kRoundtripBindings,
+                           sizeof(RoundtripPush));
+  VkDescriptorSet set = pipeline.make_set({input, output, image});
+  PassTimer timer(*vk);
+  vk->submit([&](VkCommandBuffer cmd) {
+    timer.reset(cmd);
+    for (const char* pass : {"first", "second"}) {
+      timer.begin(cmd, pass);
+      pipeline.dispatch(cmd, set, RoundtripPush{1.0f, 0}, group_count(w, 8), group_count(h, 8));
+      pass_barrier(cmd);
+      timer.end(cmd);
+    }
+  });
+  const auto ms = timer.read();
+  ASSERT_EQ(ms.size(), 3u);
+  EXPECT_GT(ms.at("first_ms"), 0.0);
+  EXPECT_GT(ms.at("second_ms"), 0.0);
+  // The passes run one after the other (barrier between), so the span from the first timestamp to
+  // the last holds both.
+  EXPECT_GE(ms.at("total_ms"), ms.at("first_ms") + ms.at("second_ms"));
+  std::printf("timestamps on %s: first %.3f ms, second %.3f ms, total %.3f ms\n",
+              vk->device_name().c_str(), ms.at("first_ms"), ms.at("second_ms"), ms.at("total_ms"));
+}
+
+TEST(VulkanLayer, SelectorMatchingNoDeviceListsTheDevices) {
+  std::string reason;
+  const auto devices = list_devices(&reason);
+  if (devices.empty()) GTEST_SKIP() << "no Vulkan device: " << reason;
+  auto c = Context::create({.device = "no-such-gpu-xyz", .validation = false}, &reason);
+  EXPECT_EQ(c, nullptr);
+  EXPECT_NE(reason.find("AOEVAL_VK_DEVICE=no-such-gpu-xyz matches no device"), std::string::npos)
+      << reason;
+  EXPECT_NE(reason.find(devices.front()), std::string::npos) << reason;
+  // An index selects; an index past the end does not.
+  EXPECT_NE(Context::create({.device = "0", .validation = false}, &reason), nullptr) << reason;
+  EXPECT_EQ(
+      Context::create({.device = std::to_string(devices.size()), .validation = false}, &reason),
+      nullptr);
+}
+
+// With the loader pointed at a driver manifest that does not exist, there is no device: the shared
+// context is nullptr with a reason and require_shared_context() throws EstimatorUnavailable. Run in
+// a forked child, because the shared context is cached for the process and the loader reads the
+// variables when an instance is made.
+TEST(VulkanLayer, NoDriverMeansEstimatorUnavailable) {
+  std::fflush(stdout);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    setenv("VK_ICD_FILENAMES", "/nonexistent/aoeval_no_icd.json", 1);
+    setenv("VK_DRIVER_FILES", "/nonexistent/aoeval_no_icd.json", 1);
+    std::string reason;
+    if (shared_context(&reason) != nullptr || reason.empty()) _exit(10);
+    try {
+      require_shared_context();
+      _exit(11);
+    } catch (const EstimatorUnavailable& e) {
+      const std::string what = e.what();
+      std::printf("child: %s\n", what.c_str());
+      std::fflush(stdout);
+      _exit(what.rfind("no Vulkan device (", 0) == 0 ? 0 : 12);
+    } catch (...) {
+      _exit(13);
+    }
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0)
+      << "10: context found, 11: no throw, 12: bad message, 13: other";
+}
+
+// ---------------------------------------------------------------------------------------------
+// Raster G-buffer vs the Embree G-buffer
+
+struct Comparison {
+  size_t interior = 0;         // pixels whose 3x3 neighbourhood is covered by one object in both
+  size_t covered_either = 0;   // pixels covered in at least one buffer
+  size_t edge_mismatch = 0;    // coverage or objectId differ
+  std::vector<double> z_rel;   // |Z_raster - Z_embree| / Z_embree on interior pixels
+  std::vector<double> n_deg;   // angle between the shading normals, degrees
+  std::vector<double> ng_deg;  // angle between the geometric normals, degrees
+  size_t disagree = 0;         // interior pixels outside the tolerances below
+};
+
+// Tolerances for "the same surface point". Both sides compute P = (1-u-v) p0 + u p1 + v p2 in
+// float from barycentrics of the same ray and triangle (Embree's watertight test, our
+// Moller-Trumbore): a few float32 ulps (6e-8 relative) amplified by 1/cos of the viewing angle, so
+// 1e-5 relative depth is ~170 ulps, room for rays at 85 degrees. Unit normals from the same
+// corners differ by rounding (~1e-7 rad) plus the barycentric error times the normal's variation
+// over a triangle (< 1 rad): 0.01 degree = 1.7e-4 rad is a hundredfold margin. Pixels beyond them
+// are those where rasteriser and Embree chose different triangles: a pixel centre on an edge shared
+// by two faces of a crease (Ng jumps), or a self-occluding silhouette inside one object.
+constexpr double kDepthRelTolerance = 1e-5;
+constexpr double kNormalDegTolerance = 0.01;
+constexpr double kMaxDisagreeFraction = 0.005;
+
+// atan2(|a x b|, a . b) in double: acos(a . b) cannot resolve angles below ~0.02 degrees in float.
+double angle_deg(glm::vec3 a, glm::vec3 b) {
+  const glm::dvec3 da(a), db(b);
+  return glm::degrees(std::atan2(glm::length(glm::cross(da, db)), glm::dot(da, db)));
+}
+
+Comparison compare(const GBuffer& raster, const GBuffer& embree) {
+  Comparison c;
+  const int w = embree.width, h = embree.height;
+  for (int j = 0; j < h; ++j) {
+    for (int i = 0; i < w; ++i) {
+      const size_t k = embree.index(i, j);
+      if (raster.covered(k) || embree.covered(k)) {
+        ++c.covered_either;
+        if (raster.covered(k) != embree.covered(k) || raster.object_id[k] != embree.object_id[k])
+          ++c.edge_mismatch;
+      }
+      if (i == 0 || j == 0 || i == w - 1 || j == h - 1) continue;
+      bool interior = true;
+      for (int dj = -1; dj <= 1 && interior; ++dj)
+        for (int di = -1; di <= 1 && interior; ++di) {
+          const size_t n = embree.index(i + di, j + dj);
+          interior = raster.covered(n) && embree.covered(n) &&
+                     raster.object_id[n] == embree.object_id[k] &&
+                     embree.object_id[n] == embree.object_id[k];
+        }
+      if (!interior) continue;
+      ++c.interior;
+      c.z_rel.push_back(std::abs(raster.depth[k] - embree.depth[k]) / embree.depth[k]);
+      c.n_deg.push_back(angle_deg(raster.normal[k], embree.normal[k]));
+      c.ng_deg.push_back(angle_deg(raster.geometric_normal[k], embree.geometric_normal[k]));
+      if (c.z_rel.back() > kDepthRelTolerance || c.n_deg.back() > kNormalDegTolerance ||
+          c.ng_deg.back() > kNormalDegTolerance)
+        ++c.disagree;
+    }
+  }
+  return c;
+}
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[static_cast<size_t>(q * static_cast<double>(v.size() - 1))];
+}
+
+class RasterVsEmbree : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(RasterVsEmbree, InteriorPixelsAgreeEdgesAreReported) {
+  REQUIRE_CONTEXT(vk);
+  const Scene scene = load_scene(GetParam());
+  const EmbreeScene embree(scene);
+  const Camera camera = make_camera(scene.view(""), 128, 96);
+  const GBuffer reference = render_gbuffer(embree, camera);
+  RasterGBuffer raster_pass(*vk, scene);
+  const GBuffer raster = raster_pass.render(camera);
+  ASSERT_EQ(raster.pixel_count(), reference.pixel_count());
+
+  const Comparison c = compare(raster, reference);
+  const double edge = static_cast<double>(c.edge_mismatch) / static_cast<double>(c.covered_either);
+  std::printf(
+      "%s %dx%d on %s: %zu interior pixels; Z rel err median %.2e p99 %.2e max %.2e; "
+      "N angle p99 %.2e max %.2e deg; Ng angle p99 %.2e max %.2e deg; "
+      "%zu interior pixels beyond tolerance; edge mismatch %zu / %zu covered = %.4f\n",
+      GetParam().c_str(), camera.width, camera.height, vk->device_name().c_str(), c.interior,
+      quantile(c.z_rel, 0.5), quantile(c.z_rel, 0.99), quantile(c.z_rel, 1.0),
+      quantile(c.n_deg, 0.99), quantile(c.n_deg, 1.0), quantile(c.ng_deg, 0.99),
+      quantile(c.ng_deg, 1.0), c.disagree, c.edge_mismatch, c.covered_either, edge);
+  RecordProperty("edge_mismatch_fraction", std::to_string(edge));
+  RecordProperty("z_rel_max", std::to_string(quantile(c.z_rel, 1.0)));
+
+  // The views frame their objects: most pixels are interior, so the statistics mean something.
+  ASSERT_GT(c.interior, reference.pixel_count() / 3);
+  EXPECT_LE(static_cast<double>(c.disagree),
+            kMaxDisagreeFraction * static_cast<double>(c.interior));
+  EXPECT_LE(quantile(c.z_rel, 0.99), kDepthRelTolerance);
+  EXPECT_LE(quantile(c.n_deg, 0.99), kNormalDegTolerance);
+  EXPECT_LE(quantile(c.ng_deg, 0.99), kNormalDegTolerance);
+  // Edges: both sample the exact pixel centres, so coverage and objectId differ only where a
+  // centre lies within rounding of a silhouette edge; a few percent would mean a camera mismatch
+  // (half-pixel offset, flipped rows, wrong fov), which shifts every silhouette.
+  EXPECT_LT(edge, 0.01);
+}
+
+INSTANTIATE_TEST_SUITE_P(Corpus, RasterVsEmbree, ::testing::Values("bunny", "cornell-box"),
+                         [](const auto& param_info) {
+                           std::string name = param_info.param;
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
+
+}  // namespace
+}  // namespace aoeval::vk
