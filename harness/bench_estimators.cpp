@@ -103,19 +103,31 @@ void bench_estimators(const EstimatorBenchOptions& o) {
         if (e->find_param(it.key())) overrides[it.key()] = it.value();
       const ParamSet params = resolve_params(e->name, e->params, overrides, "--set");
       auto estimator = e->create(params);
-      const auto t0 = std::chrono::steady_clock::now();
-      estimator->prepare(context_in);
-      const double pre =
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      for (int i = 0; i < o.warmup; ++i) estimator->run(context_in);
+      double pre = 0.0;
       std::vector<double> times;
-      for (int i = 0; i < o.repetitions; ++i) {
-        const auto t = std::chrono::steady_clock::now();
-        const EstimateResult r = estimator->run(context_in);
-        const double wall =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
-        const auto total = r.pass_ms.find("total_ms");
-        times.push_back(total != r.pass_ms.end() ? total->second : wall);
+      std::map<std::string, std::vector<double>> passes;
+      try {
+        const auto t0 = std::chrono::steady_clock::now();
+        estimator->prepare(context_in);
+        pre = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                  .count();
+        for (int i = 0; i < o.warmup; ++i) estimator->run(context_in);
+        for (int i = 0; i < o.repetitions; ++i) {
+          const auto t = std::chrono::steady_clock::now();
+          const EstimateResult r = estimator->run(context_in);
+          const double wall =
+              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t)
+                  .count();
+          const auto total = r.pass_ms.find("total_ms");
+          times.push_back(total != r.pass_ms.end() ? total->second : wall);
+          for (const auto& [pass, ms] : r.pass_ms)
+            if (pass != "total_ms") passes[pass].push_back(ms);
+        }
+      } catch (const EstimatorUnavailable& unavailable) {
+        // No backend here (e.g. no Vulkan device): say so and bench the others.
+        std::fprintf(stderr, "bench: %s skipped: %s\n", e->name.c_str(), unavailable.what());
+        progress.step(e->name + " " + scene.name);
+        continue;
       }
       BenchLine l{e->name,
                   scene.name,
@@ -146,6 +158,7 @@ void bench_estimators(const EstimatorBenchOptions& o) {
       row.time_ms_max = l.max_ms;
       row.repetitions = o.repetitions;
       row.precompute_ms = pre;
+      for (const auto& [pass, values] : passes) row.pass_ms[pass] = median(values);
       row.machine = context.machine;
       row.device = context.device;
       row.git_commit = context.git_commit;

@@ -3,6 +3,7 @@
 
 #include "commands.h"
 #include "corpus.h"
+#include "errors.h"
 #include "estimators/registry.h"
 #include "harness/evaluation.h"
 
@@ -33,8 +34,15 @@ void add_estimate_command(CLI::App& app) {
     const GBuffer g = render_gbuffer(es, camera);
     const EstimateContext context{scene, es, g};
     auto estimator = e.create(params);
-    estimator->prepare(context);
-    const EstimateResult r = estimator->run(context);
+    EstimateResult r;
+    try {
+      estimator->prepare(context);
+      r = estimator->run(context);
+    } catch (const EstimatorUnavailable& unavailable) {
+      // No backend here (e.g. no Vulkan device): say so in the results' words, write nothing.
+      std::fprintf(stderr, "aoeval: skipped: %s\n", unavailable.what());
+      throw ExitStatus{1};
+    }
     write_exr(o.output, estimate_to_image(g, r),
               estimate_attributes(scene, view, camera, e, params, estimator->derived()));
   });

@@ -175,22 +175,32 @@ ResultRow EvaluationSession::evaluate(const EvaluationRequest& req,
 
   const EstimateContext context{s.scene, *s.embree, g};
   std::unique_ptr<Estimator> estimator = e.create(params);
-  const auto t_pre = std::chrono::steady_clock::now();
-  estimator->prepare(context);
-  row.precompute_ms = ms_since(t_pre);
-  const nlohmann::json derived = estimator->derived();
-  if (!derived.empty()) row.params["derived"] = derived;
+  nlohmann::json derived;
   EstimateResult result;
-  for (int i = 0; i < timing_.warmup; ++i) result = estimator->run(context);
   std::vector<double> times;
   std::map<std::string, std::vector<double>> passes;
-  for (int i = 0; i < std::max(1, timing_.repetitions); ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
-    result = estimator->run(context);
-    const double wall = ms_since(t0);
-    const auto total = result.pass_ms.find("total_ms");
-    times.push_back(total != result.pass_ms.end() ? total->second : wall);
-    for (const auto& [pass, ms] : result.pass_ms) passes[pass].push_back(ms);
+  try {
+    const auto t_pre = std::chrono::steady_clock::now();
+    estimator->prepare(context);
+    row.precompute_ms = ms_since(t_pre);
+    derived = estimator->derived();
+    if (!derived.empty()) row.params["derived"] = derived;
+    for (int i = 0; i < timing_.warmup; ++i) result = estimator->run(context);
+    for (int i = 0; i < std::max(1, timing_.repetitions); ++i) {
+      const auto t0 = std::chrono::steady_clock::now();
+      result = estimator->run(context);
+      const double wall = ms_since(t0);
+      const auto total = result.pass_ms.find("total_ms");
+      times.push_back(total != result.pass_ms.end() ? total->second : wall);
+      for (const auto& [pass, ms] : result.pass_ms) passes[pass].push_back(ms);
+    }
+  } catch (const EstimatorUnavailable& unavailable) {
+    // The backend is missing on this machine (e.g. no Vulkan device): the row says why, with no
+    // metrics or timings, and sweeps and runs carry on with the other estimators.
+    row.status = std::string("skipped: ") + unavailable.what();
+    row.timestamp = utc_now();
+    last_estimate_.clear();
+    return row;
   }
   if (result.ao.size() != g.pixel_count())
     throw std::runtime_error("estimator " + e.name + " returned " +

@@ -76,7 +76,8 @@ int run_sweep(const SweepOptions& o) {
   for (const auto& p : points)
     if (!done.count(p.name)) pending.push_back(&p);
   std::fprintf(stderr, "sweep %s: %zu points (%zu in this shard), %zu already done, %zu to run\n",
-               spec.name.c_str(), total, points.size(), points.size() - pending.size(), pending.size());
+               spec.name.c_str(), total, points.size(), points.size() - pending.size(),
+               pending.size());
 
   g_interrupted = false;
   auto previous = std::signal(SIGINT, on_sigint);
@@ -99,7 +100,7 @@ int run_sweep(const SweepOptions& o) {
     row.machine = context.machine;
     row.device = context.device;
     row.git_commit = context.git_commit;
-    if (o.keep_estimates) row.estimate_file = estimate_rel;
+    if (o.keep_estimates && row.status == "ok") row.estimate_file = estimate_rel;
     folder.add(row);
     store.add(row);
     ++finished;

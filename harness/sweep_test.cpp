@@ -4,6 +4,7 @@
 #include <set>
 
 #include "errors.h"
+#include "harness/evaluation.h"
 #include "harness/sweep_spec.h"
 
 namespace aoeval {
@@ -99,6 +100,35 @@ TEST(Sweep, ValidationNamesTheFieldAndTheKey) {
   j = spec_with({{{"estimator", "constant"}}});
   j["scenes"] = {"no-such-scene"};
   EXPECT_FALSE(error_of(j).empty());
+}
+
+// An estimator whose backend is missing (EstimatorUnavailable from prepare) gives a "skipped" row
+// with its reason and no metrics, instead of ending the sweep.
+TEST(Evaluation, UnavailableBackendGivesASkippedRow) {
+  struct Unavailable : Estimator {
+    void prepare(const EstimateContext&) override {
+      throw EstimatorUnavailable("no Vulkan device (test: no driver)");
+    }
+    EstimateResult run(const EstimateContext&) override { return {}; }
+  };
+  EstimatorInfo info;
+  info.name = "unavailable";
+  info.backend = Backend::vulkan;
+  info.definition = [](const ParamSet&) { return AoDefinition{}; };
+  info.create = [](const ParamSet&) { return std::make_unique<Unavailable>(); };
+  EvaluationSession session(ReferenceSpec{}, TimingSpec{}, false);
+  EvaluationRequest req;
+  req.estimator = &info;
+  req.scene = "cornell-box";
+  req.width = 16;
+  req.height = 12;
+  const ResultRow row = session.evaluate(req);
+  EXPECT_EQ(row.status, "skipped: no Vulkan device (test: no driver)");
+  EXPECT_TRUE(row.metrics.empty());
+  EXPECT_TRUE(row.true_metrics.empty());
+  EXPECT_EQ(row.repetitions, 0);
+  EXPECT_EQ(row.backend, "vulkan");
+  EXPECT_TRUE(session.last_estimate().empty());
 }
 
 }  // namespace
