@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 
 #include "corpus.h"
 #include "embree_scene.h"
@@ -122,6 +123,23 @@ TEST(VulkanLayer, TimestampsArePositiveAndMonotone) {
               vk->device_name().c_str(), ms.at("first_ms"), ms.at("second_ms"), ms.at("total_ms"));
 }
 
+// A validation error (here an access mask the source stage cannot perform) surfaces as a
+// VulkanError from submit(), so a misuse fails the test or run that made it.
+TEST(VulkanLayer, ValidationErrorsThrow) {
+  REQUIRE_CONTEXT(vk);
+  if (!vk->validation_enabled()) GTEST_SKIP() << "VK_LAYER_KHRONOS_validation is not installed";
+  EXPECT_THROW(vk->submit([](VkCommandBuffer cmd) {
+    auto m = make_info<VkMemoryBarrier>(VK_STRUCTURE_TYPE_MEMORY_BARRIER);
+    m.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;  // not an access of the transfer stage
+    m.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1,
+                         &m, 0, nullptr, 0, nullptr);
+  }),
+               VulkanError);
+  EXPECT_TRUE(vk->validation_errors().empty());  // reported once, then cleared
+  EXPECT_NO_THROW(vk->submit([](VkCommandBuffer) {}));
+}
+
 TEST(VulkanLayer, SelectorMatchingNoDeviceListsTheDevices) {
   std::string reason;
   const auto devices = list_devices(&reason);
@@ -138,36 +156,64 @@ TEST(VulkanLayer, SelectorMatchingNoDeviceListsTheDevices) {
       nullptr);
 }
 
-// With the loader pointed at a driver manifest that does not exist, there is no device: the shared
-// context is nullptr with a reason and require_shared_context() throws EstimatorUnavailable. Run in
-// a forked child, because the shared context is cached for the process and the loader reads the
-// variables when an instance is made.
-TEST(VulkanLayer, NoDriverMeansEstimatorUnavailable) {
+// Runs `body` in a forked child and returns its exit code: the shared context is cached for the
+// process and the loader reads its environment variables when an instance is made, so each
+// environment gets a fresh process.
+int exit_code_in_child(const std::function<int()>& body) {
   std::fflush(stdout);
   const pid_t child = fork();
-  ASSERT_GE(child, 0);
+  if (child < 0) return -1;
   if (child == 0) {
-    setenv("VK_ICD_FILENAMES", "/nonexistent/aoeval_no_icd.json", 1);
-    setenv("VK_DRIVER_FILES", "/nonexistent/aoeval_no_icd.json", 1);
-    std::string reason;
-    if (shared_context(&reason) != nullptr || reason.empty()) _exit(10);
-    try {
-      require_shared_context();
-      _exit(11);
-    } catch (const EstimatorUnavailable& e) {
-      const std::string what = e.what();
-      std::printf("child: %s\n", what.c_str());
-      std::fflush(stdout);
-      _exit(what.rfind("no Vulkan device (", 0) == 0 ? 0 : 12);
-    } catch (...) {
-      _exit(13);
-    }
+    const int code = body();
+    std::fflush(stdout);
+    _exit(code);
   }
   int status = 0;
-  ASSERT_EQ(waitpid(child, &status, 0), child);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 0)
-      << "10: context found, 11: no throw, 12: bad message, 13: other";
+  if (waitpid(child, &status, 0) != child || !WIFEXITED(status)) return -2;
+  return WEXITSTATUS(status);
+}
+
+// 0 when require_shared_context() throws EstimatorUnavailable("no Vulkan device
+// (...<expected>...)"), else a code saying what happened instead.
+int expect_unavailable(const std::string& expected) {
+  std::string reason;
+  if (shared_context(&reason) != nullptr || reason.empty()) return 10;
+  try {
+    require_shared_context();
+    return 11;
+  } catch (const EstimatorUnavailable& e) {
+    const std::string what = e.what();
+    std::printf("child: %s\n", what.c_str());
+    if (what.rfind("no Vulkan device (", 0) != 0) return 12;
+    return what.find(expected) != std::string::npos ? 0 : 13;
+  } catch (...) {
+    return 14;
+  }
+}
+
+// With the loader pointed at a driver manifest that does not exist there is no device: the shared
+// context is nullptr with a reason and require_shared_context() throws EstimatorUnavailable.
+TEST(VulkanLayer, NoDriverMeansEstimatorUnavailable) {
+  const int code = exit_code_in_child([] {
+    setenv("VK_ICD_FILENAMES", "/nonexistent/aoeval_no_icd.json", 1);
+    setenv("VK_DRIVER_FILES", "/nonexistent/aoeval_no_icd.json", 1);
+    return expect_unavailable("vkCreateInstance failed");
+  });
+  EXPECT_EQ(code, 0)
+      << "10: context found, 11: no throw, 12: bad prefix, 13: bad reason, 14: other";
+}
+
+// AOEVAL_VK_DEVICE naming no device: unavailable, and the reason lists the devices there are.
+TEST(VulkanLayer, AoevalVkDeviceMatchingNothingIsUnavailable) {
+  std::string reason;
+  const auto devices = list_devices(&reason);
+  if (devices.empty()) GTEST_SKIP() << "no Vulkan device: " << reason;
+  const int code = exit_code_in_child([&] {
+    setenv("AOEVAL_VK_DEVICE", "no-such-gpu-xyz", 1);
+    return expect_unavailable("devices: " + devices.front());
+  });
+  EXPECT_EQ(code, 0)
+      << "10: context found, 11: no throw, 12: bad prefix, 13: bad reason, 14: other";
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -246,7 +292,7 @@ TEST_P(RasterVsEmbree, InteriorPixelsAgreeEdgesAreReported) {
   REQUIRE_CONTEXT(vk);
   const Scene scene = load_scene(GetParam());
   const EmbreeScene embree(scene);
-  const Camera camera = make_camera(scene.view(""), 128, 96);
+  const Camera camera = make_camera(scene.view(""), 320, 240);
   const GBuffer reference = render_gbuffer(embree, camera);
   RasterGBuffer raster_pass(*vk, scene);
   const GBuffer raster = raster_pass.render(camera);
