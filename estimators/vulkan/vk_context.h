@@ -126,7 +126,9 @@ std::vector<std::string> list_devices(std::string* reason);
 
 // The process-wide context, created on first use with default options (so $AOEVAL_VK_DEVICE and
 // $AOEVAL_VK_VALIDATION apply). nullptr when there is no usable device, with the reason in
-// `reason`; the answer is cached for the process.
+// `reason`; the answer is cached for the process. It lives until exit: objects made from it
+// (buffers, images, pipelines) belong to estimators and must die before it, so never keep them in
+// statics.
 Context* shared_context(std::string* reason = nullptr);
 
 // The shared context, or throws aoeval::EstimatorUnavailable("no Vulkan device (<reason>)"): what

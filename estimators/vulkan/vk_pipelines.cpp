@@ -247,6 +247,16 @@ GraphicsPipeline::GraphicsPipeline(Context& context, const GraphicsDesc& desc)
   rp.pSubpasses = &subpass;
   check(vkCreateRenderPass(device, &rp, nullptr, &render_pass_),
         (name_ + ": vkCreateRenderPass").c_str());
+  try {
+    create_pipeline(desc);
+  } catch (...) {
+    vkDestroyRenderPass(device, render_pass_, nullptr);  // ~GraphicsPipeline will not run
+    throw;
+  }
+}
+
+void GraphicsPipeline::create_pipeline(const GraphicsDesc& desc) {
+  VkDevice device = context_.device();
 
   ModuleGuard vertex{device, make_module(device, desc.vertex, name_ + " (vertex)")};
   ModuleGuard fragment{device, make_module(device, desc.fragment, name_ + " (fragment)")};
@@ -320,7 +330,7 @@ GraphicsPipeline::GraphicsPipeline(Context& context, const GraphicsDesc& desc)
   info.subpass = 0;
   check(vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_),
         (name_ + ": vkCreateGraphicsPipelines").c_str());
-  context.throw_if_validation_errors();
+  context_.throw_if_validation_errors();
 }
 
 GraphicsPipeline::~GraphicsPipeline() {

@@ -141,6 +141,7 @@ class GraphicsPipeline : public PipelineBase {
   VkRenderPass render_pass() const { return render_pass_; }
 
  private:
+  void create_pipeline(const GraphicsDesc& desc);
   VkRenderPass render_pass_ = VK_NULL_HANDLE;
 };
 
