@@ -1,0 +1,91 @@
+// `aoeval figures` as users see it: one cheap figure at --quick scale writes its PNG, CSV (with the
+// expected columns) and caption (with a verdict), plus index.html; unknown names exit 2 listing the
+// names; no name at all is bad usage too.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("aoeval_figures_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+Result run(const fs::path& dir, const std::string& args) {
+  const std::string cmd = std::string(AOEVAL_BINARY) + " figures " + args + " >" +
+                          (dir / "stdout").string() + " 2>" + (dir / "stderr").string() +
+                          " </dev/null";
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir / "stdout"),
+          slurp(dir / "stderr")};
+}
+
+TEST(FiguresCli, QuickFigureWritesPngCsvCaptionAndIndex) {
+  const fs::path d = fresh_dir("quick");
+  const fs::path out = d / "figs";
+  const Result r = run(d, "mendez-fig6 --quick --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::file_size(out / "mendez-fig6.png") > 1000);
+  EXPECT_TRUE(fs::file_size(out / "mendez-fig6-plot.png") > 1000);
+  const std::string csv = slurp(out / "mendez-fig6.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "sampling,rays,seed,dmax,width,height,rmse,rmse_excess,ssim,bias");
+  // 2 samplings x 2 ray counts x 2 seeds at --quick, plus the header
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 9);
+  const std::string caption = slurp(out / "mendez-fig6.txt");
+  EXPECT_NE(caption.find("Claim: "), std::string::npos);
+  EXPECT_NE(caption.find("Verdict: "), std::string::npos);
+  EXPECT_NE(caption.find("reproduced"), std::string::npos);
+  const std::string index = slurp(out / "index.html");
+  EXPECT_NE(index.find("mendez-fig6.png"), std::string::npos);
+  EXPECT_NE(r.out.find("mendez-fig6"), std::string::npos);
+  EXPECT_EQ(r.err.find('\x1b'), std::string::npos);  // stderr is not a terminal: no bar
+}
+
+TEST(FiguresCli, UnknownNameExits2ListingTheNames) {
+  const fs::path d = fresh_dir("unknown");
+  const Result r = run(d, "no-such-figure --out " + (d / "figs").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("unknown figure 'no-such-figure'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("hegeman-fig2"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d / "figs" / "index.html"));
+}
+
+TEST(FiguresCli, NoNameIsBadUsage) {
+  const fs::path d = fresh_dir("none");
+  const Result r = run(d, "--out " + (d / "figs").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--all"), std::string::npos) << r.err;
+}
+
+TEST(FiguresCli, ListNamesEveryFigure) {
+  const fs::path d = fresh_dir("list");
+  const Result r = run(d, "--list");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.out.find("dimitrov-table1"), std::string::npos);
+  EXPECT_NE(r.out.find("gpugems-fig17-3"), std::string::npos);
+}
+
+}  // namespace

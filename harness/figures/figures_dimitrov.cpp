@@ -1,0 +1,330 @@
+// Dimitrov, Bavoil, Sainz 2008, "Horizon-Split Ambient Occlusion": Fig. 6 (radius R), Fig. 7
+// (directions Nd), Fig. 11 (four presets at R = 0.3 against a ray tracer), Fig. 12 (horizon split
+// against ray marching at equal rays) and Table 1 (geometry / HO / NO / blur ms by resolution,
+// R = 0.2, Nd = 7, Nn = 1, Ns = 12). Accuracy is scored against the matched reference (cosine,
+// dmax = R, linear falloff: §3.5) on the corpus's densest scanned mesh.
+#include <algorithm>
+#include <cmath>
+
+#include "corpus.h"
+#include "estimators/registry.h"
+#include "harness/error_maps.h"
+#include "harness/figures/figure_util.h"
+#include "scenes/exr_io.h"
+
+namespace aoeval::figures {
+
+namespace {
+
+// hbao-split-cpu runs the same kernel source as the Vulkan hbao-split, deterministically and
+// everywhere; the accuracy figures use it. Table 1 times the Vulkan passes when they exist.
+const char* const kHbaoCpu = "hbao-split-cpu";
+
+}  // namespace
+
+// "Densest scanned mesh": the scanned-mesh scene of CONTRACT §6 with the most triangles.
+std::string densest_scanned(FigureContext& ctx) {
+  std::string best;
+  size_t most = 0;
+  for (const char* name : {"bunny", "dragon", "armadillo", "elephant"}) {
+    const size_t n = ctx.session->scene(name).scene.triangle_count();
+    if (n > most) most = n, best = name;
+  }
+  return best;
+}
+
+namespace {
+
+std::string join(const std::vector<double>& v, int digits = 4) {
+  std::string s;
+  for (double x : v) s += std::string(s.empty() ? "" : ", ") + fmt(x, digits);
+  return s;
+}
+
+struct Point {
+  double rmse, true_rmse, mean_ao;
+  std::vector<float> estimate;
+};
+
+Point score_point(FigureContext& ctx, const std::string& estimator, const nlohmann::json& o,
+                  const std::string& scene, int w, int h) {
+  const ScoredRun run = run_scored(ctx, estimator, o, scene, "main", w, h);
+  const auto mask = compared_mask(ctx, scene, "main", w, h, true_ao_definition());
+  return {run.row.metrics["rmse"].get<double>(), run.row.true_metrics["rmse"].get<double>(),
+          masked_mean(run.estimate, mask), run.estimate};
+}
+
+// ---- Fig. 6: R --------------------------------------------------------------------------------
+
+FigureResult fig6(FigureContext& ctx) {
+  const std::string scene = densest_scanned(ctx);
+  const auto [w, h] = view_size(ctx, scene, "main", ctx.pick(240, 48));
+  const std::vector<double> radii = {0.05, 0.1, 0.2, 0.3, 0.5};
+  FigureResult r;
+  r.table.columns = {"R",     "Nd",     "Ns",           "Nn",        "scene",
+                     "width", "height", "rmse_matched", "rmse_true", "mean_ao"};
+  std::vector<double> rmse, mean;
+  std::vector<OIIO::ImageBuf> panels;
+  const auto mask = compared_mask(ctx, scene, "main", w, h, true_ao_definition());
+  PlotSpec plot;
+  plot.title = "Dimitrov et al. 2008 Fig. 6: radius of influence R";
+  plot.x_label = "R (scene units)";
+  plot.y_label = "RMSE vs matched reference; mean AO";
+  plot.log_x = true;
+  PlotSeries e = make_series("RMSE (matched)"), m = make_series("mean AO");
+  for (double R : radii) {
+    const Point p = score_point(ctx, kHbaoCpu, {{"R", R}}, scene, w, h);
+    rmse.push_back(p.rmse);
+    mean.push_back(p.mean_ao);
+    r.table.add({fmt(R), "8", "18", "1", scene, std::to_string(w), std::to_string(h), fmt(p.rmse),
+                 fmt(p.true_rmse), fmt(p.mean_ao)});
+    if (R == 0.1 || R == 0.2 || R == 0.5)  // the paper's three panels
+      panels.push_back(ao_image(w, h, p.estimate.data(), mask, "R = " + fmt(R)));
+    e.x.push_back(R), e.y.push_back(p.rmse), m.x.push_back(R), m.y.push_back(p.mean_ao);
+  }
+  plot.series = {e, m};
+  write_image(ctx.path("dimitrov-fig6.png"),
+              panel_grid({panels}, "Dimitrov et al. 2008 Fig. 6: effect of R (" + scene + ")"));
+  render_plot(plot, ctx.path("dimitrov-fig6-plot.png"));
+  r.images = {"dimitrov-fig6.png", "dimitrov-fig6-plot.png"};
+  bool stronger = true;
+  for (size_t i = 1; i < mean.size(); ++i) stronger = stronger && mean[i] < mean[i - 1];
+  r.checks.push_back(
+      {"mean AO falls strictly as R grows ('stronger ambient occlusion values due "
+       "to the existence of more occluders')",
+       stronger, "mean AO " + join(mean)});
+  r.checks.push_back(
+      {"matched RMSE at the largest R > at the smallest, at fixed Nd, Ns, Nn "
+       "('occluder undersampling ... requiring more sampling rays')",
+       rmse.back() > rmse.front(), "RMSE " + join(rmse)});
+  r.measured = std::string(kHbaoCpu) + " (Nd 8, Ns 18, Nn 1, attenuation, jitter, blur) on " +
+               scene + "/main at " + std::to_string(w) + "x" + std::to_string(h) +
+               "; each R scored against its own matched reference (cosine, dmax = R, linear) at " +
+               std::to_string(ctx.session->reference_spec().spp) + " spp.";
+  return r;
+}
+
+// ---- Fig. 7: Nd -------------------------------------------------------------------------------
+
+FigureResult fig7(FigureContext& ctx) {
+  const std::string scene = densest_scanned(ctx);
+  const auto [w, h] = view_size(ctx, scene, "main", ctx.pick(240, 48));
+  const std::vector<int> nds = {1, 2, 4, 7, 10, 16};
+  const int reps = ctx.pick(3, 1);
+  FigureResult r;
+  r.table.columns = {"Nd",           "R",         "scene",   "width",         "height",
+                     "rmse_matched", "rmse_true", "mean_ao", "time_ms_median"};
+  std::vector<double> rmse, time;
+  std::vector<OIIO::ImageBuf> panels;
+  const auto mask = compared_mask(ctx, scene, "main", w, h, true_ao_definition());
+  PlotSpec plot;
+  plot.title = "Dimitrov et al. 2008 Fig. 7: number of directions Nd (R = 0.2)";
+  plot.x_label = "Nd";
+  plot.y_label = "RMSE vs matched reference";
+  plot.log_x = true;
+  PlotSeries e = make_series("RMSE (matched)");
+  for (int nd : nds) {
+    const nlohmann::json o = {{"R", 0.2}, {"Nd", nd}};
+    const Point p = score_point(ctx, kHbaoCpu, o, scene, w, h);
+    const TimedRun t = time_estimator(ctx, kHbaoCpu, o, scene, "main", w, h, 1, reps);
+    rmse.push_back(p.rmse);
+    time.push_back(t.median_ms);
+    r.table.add({std::to_string(nd), "0.2", scene, std::to_string(w), std::to_string(h),
+                 fmt(p.rmse), fmt(p.true_rmse), fmt(p.mean_ao), fmt(t.median_ms)});
+    if (nd == 1 || nd == 4 || nd == 10)  // the paper's three panels
+      panels.push_back(ao_image(w, h, p.estimate.data(), mask, "Nd = " + std::to_string(nd)));
+    e.x.push_back(nd), e.y.push_back(p.rmse);
+  }
+  plot.series = {e};
+  write_image(ctx.path("dimitrov-fig7.png"),
+              panel_grid({panels}, "Dimitrov et al. 2008 Fig. 7: effect of Nd (" + scene + ")"));
+  render_plot(plot, ctx.path("dimitrov-fig7-plot.png"));
+  r.images = {"dimitrov-fig7.png", "dimitrov-fig7-plot.png"};
+  const size_t i1 = 0, i4 = 2, i10 = 4;
+  r.checks.push_back(
+      {"matched RMSE falls across the paper's panels: RMSE(Nd 1) > RMSE(Nd 4) > "
+       "RMSE(Nd 10)",
+       rmse[i1] > rmse[i4] && rmse[i4] > rmse[i10],
+       fmt(rmse[i1], 4) + " > " + fmt(rmse[i4], 4) + " > " + fmt(rmse[i10], 4)});
+  const double ratio = time.back() / time.front();
+  r.checks.push_back(
+      {"time grows with Nd ('the total number of traced rays is proportional to "
+       "this parameter'): t(Nd 16) / t(Nd 1) >= 4",
+       ratio >= 4.0, fmt(ratio, 3) + " (median ms " + join(time) + ")"});
+  r.measured = std::string(kHbaoCpu) + " (R 0.2, Ns 18, Nn 1, blur) on " + scene + "/main at " +
+               std::to_string(w) + "x" + std::to_string(h) +
+               ", against the matched reference (cosine, dmax 0.2, linear); time = median of " +
+               std::to_string(reps) + " runs.";
+  return r;
+}
+
+// ---- Fig. 11: presets -------------------------------------------------------------------------
+
+FigureResult fig11(FigureContext& ctx) {
+  const std::string scene = densest_scanned(ctx);
+  const auto [w, h] = view_size(ctx, scene, "main", ctx.pick(240, 48));
+  struct Preset {
+    std::string label;
+    int nd, ns, nn;
+  };
+  // Fig. 11 caption: R = 0.3 with linear attenuation.
+  const std::vector<Preset> presets = {{"(a) Nd 6 Ns 9 Nn 0", 6, 9, 0},
+                                       {"(b) Nd 8 Ns 18 Nn 0", 8, 18, 0},
+                                       {"(c) Nd 8 Ns 18 Nn 1", 8, 18, 1},
+                                       {"(d) Nd 18 Ns 25 Nn 2", 18, 25, 2}};
+  const int reps = ctx.pick(3, 1);
+  FigureResult r;
+  r.table.columns = {"preset",        "Nd",     "Ns",           "Nn",           "R",
+                     "width",         "height", "rmse_matched", "ssim_matched", "rmse_true",
+                     "time_ms_median"};
+  std::vector<double> rmse, time;
+  std::vector<std::vector<float>> estimates;
+  std::vector<OIIO::ImageBuf> top, bottom;
+  AoDefinition definition;
+  for (const auto& p : presets) {
+    const nlohmann::json o = {{"R", 0.3}, {"Nd", p.nd}, {"Ns", p.ns}, {"Nn", p.nn}};
+    const ScoredRun run = run_scored(ctx, kHbaoCpu, o, scene, "main", w, h);
+    definition = find_estimator(kHbaoCpu).definition(ParamSet(run.row.params));
+    const TimedRun t = time_estimator(ctx, kHbaoCpu, o, scene, "main", w, h, 1, reps);
+    rmse.push_back(run.row.metrics["rmse"].get<double>());
+    time.push_back(t.median_ms);
+    r.table.add({p.label.substr(0, 3), std::to_string(p.nd), std::to_string(p.ns),
+                 std::to_string(p.nn), "0.3", std::to_string(w), std::to_string(h),
+                 fmt(rmse.back()), fmt(run.row.metrics["ssim"].get<double>()),
+                 fmt(run.row.true_metrics["rmse"].get<double>()), fmt(t.median_ms)});
+    estimates.push_back(run.estimate);
+  }
+  const ReferenceImage& ref = reference_of(ctx, scene, "main", w, h, definition);
+  const auto mask = compared_mask(ctx, scene, "main", w, h, definition);
+  for (size_t i = 0; i < presets.size(); ++i) {
+    top.push_back(ao_image(w, h, estimates[i].data(), mask, presets[i].label));
+    bottom.push_back(abs_error_map(w, h, ref.ao.data(), estimates[i].data(), mask, 0.2f));
+  }
+  top.push_back(
+      ao_image(w, h, ref.ao.data(), mask,
+               "(e) ray traced, " + std::to_string(ctx.session->reference_spec().spp) + " spp"));
+  write_image(ctx.path("dimitrov-fig11.png"),
+              panel_grid({top, bottom}, "Dimitrov et al. 2008 Fig. 11: presets at R = 0.3"));
+  r.images = {"dimitrov-fig11.png"};
+  r.checks.push_back(
+      {"the quality preset (d) is closer to the ray tracer than the performance "
+       "preset (a): RMSE(d) < RMSE(a)",
+       rmse[3] < rmse[0], fmt(rmse[3], 4) + " vs " + fmt(rmse[0], 4)});
+  r.checks.push_back({"adding normal occlusion improves proximity occlusion: RMSE(c) < RMSE(b)",
+                      rmse[2] < rmse[1], fmt(rmse[2], 4) + " vs " + fmt(rmse[1], 4)});
+  r.checks.push_back({"cost rises from performance to quality: t(a) < t(b) < t(c) < t(d)",
+                      time[0] < time[1] && time[1] < time[2] && time[2] < time[3],
+                      "median ms " + join(time)});
+  r.measured = std::string(kHbaoCpu) +
+               " with the four presets of the Fig. 11 caption (R 0.3, "
+               "linear attenuation, blur) on " +
+               scene + "/main at " + std::to_string(w) + "x" + std::to_string(h) +
+               "; (e) is the matched Embree reference (cosine, dmax 0.3, "
+               "linear) instead of Mental Ray; error maps share the scale [0, 0.2].";
+  return r;
+}
+
+// ---- Fig. 12: horizon split vs ray marching at equal rays -------------------------------------
+
+FigureResult fig12(FigureContext& ctx) {
+  const std::string scene = densest_scanned(ctx);
+  const auto [w, h] = view_size(ctx, scene, "main", ctx.pick(240, 48));
+  const std::vector<int> budgets =
+      ctx.quick ? std::vector<int>{4, 16} : std::vector<int>{4, 8, 16, 32, 64};
+  FigureResult r;
+  r.table.columns = {"rays_per_pixel", "estimator", "Nd",     "Nn", "rays", "R", "Ns",
+                     "rmse_matched",   "rmse_true", "time_ms"};
+  PlotSpec plot;
+  plot.title = "Dimitrov et al. 2008 Fig. 12: error at equal rays per pixel";
+  plot.x_label = "rays per pixel (horizon split: Nd (1 + Nn))";
+  plot.y_label = "RMSE vs matched reference";
+  plot.log_x = plot.log_y = true;
+  PlotSeries hs = make_series("horizon split (hbao-split-cpu, Nn 1)"),
+             rm = make_series("ray marching (raymarch-ssao)");
+  std::vector<double> e_hs, e_rm;
+  std::vector<OIIO::ImageBuf> panels;
+  const auto mask = compared_mask(ctx, scene, "main", w, h, true_ao_definition());
+  for (int b : budgets) {
+    // Horizon split traces Nd horizon rays and Nd * Nn normal rays (§3); blur off for both so the
+    // comparison is of the estimators, not of the post-filter.
+    const nlohmann::json oh = {{"R", 0.3}, {"Nd", b / 2}, {"Nn", 1}, {"blur", false}};
+    const nlohmann::json orm = {{"R", 0.3}, {"rays", b}};
+    const ScoredRun a = run_scored(ctx, kHbaoCpu, oh, scene, "main", w, h);
+    const ScoredRun c = run_scored(ctx, "raymarch-ssao", orm, scene, "main", w, h);
+    e_hs.push_back(a.row.metrics["rmse"].get<double>());
+    e_rm.push_back(c.row.metrics["rmse"].get<double>());
+    r.table.add({std::to_string(b), kHbaoCpu, std::to_string(b / 2), "1", "", "0.3", "18",
+                 fmt(e_hs.back()), fmt(a.row.true_metrics["rmse"].get<double>()),
+                 fmt(a.row.time_ms_median)});
+    r.table.add({std::to_string(b), "raymarch-ssao", "", "", std::to_string(b), "0.3", "18",
+                 fmt(e_rm.back()), fmt(c.row.true_metrics["rmse"].get<double>()),
+                 fmt(c.row.time_ms_median)});
+    hs.x.push_back(b), hs.y.push_back(e_hs.back()), rm.x.push_back(b), rm.y.push_back(e_rm.back());
+    if (b == 8 || (ctx.quick && b == 4)) {
+      panels.push_back(
+          ao_image(w, h, a.estimate.data(), mask, "horizon split, " + std::to_string(b) + " rays"));
+      panels.push_back(
+          ao_image(w, h, c.estimate.data(), mask, "ray marching, " + std::to_string(b) + " rays"));
+    }
+  }
+  plot.series = {hs, rm};
+  write_image(ctx.path("dimitrov-fig12.png"),
+              panel_grid({panels}, "Dimitrov et al. 2008 Fig. 12: equal rays per pixel"));
+  render_plot(plot, ctx.path("dimitrov-fig12-plot.png"));
+  r.images = {"dimitrov-fig12.png", "dimitrov-fig12-plot.png"};
+  size_t wins = 0;
+  for (size_t i = 0; i < budgets.size(); ++i) wins += e_hs[i] < e_rm[i] ? 1 : 0;
+  r.checks.push_back({"at the fewest rays (" + std::to_string(budgets.front()) +
+                          " per pixel) horizon split has the lower matched RMSE",
+                      e_hs.front() < e_rm.front(),
+                      fmt(e_hs.front(), 4) + " vs " + fmt(e_rm.front(), 4)});
+  r.checks.push_back(
+      {"horizon split has the lower matched RMSE at every ray count ('ray marching "
+       "requires more rays than horizon occlusion')",
+       wins == budgets.size(),
+       std::to_string(wins) + " of " + std::to_string(budgets.size()) + "; horizon split " +
+           join(e_hs) + "; ray marching " + join(e_rm)});
+  r.measured =
+      "equal rays per pixel b: hbao-split-cpu with Nd = b/2, Nn = 1 (b rays: Nd horizon "
+      "+ Nd Nn normal) and raymarch-ssao with b rays, both R 0.3, Ns 18, linear "
+      "attenuation, no blur, on " +
+      scene + "/main at " + std::to_string(w) + "x" + std::to_string(h) +
+      ", against the shared matched reference (cosine, dmax 0.3, "
+      "linear).";
+  return r;
+}
+
+}  // namespace
+
+FigureResult dimitrov_table1(FigureContext& ctx);  // figures_dimitrov_table1.cpp
+
+std::vector<Figure> dimitrov_figures() {
+  return {
+      {"dimitrov-fig6", "Dimitrov et al. 2008, Fig. 6 and §3.6",
+       "Increasing the radius of influence R gives stronger ambient occlusion (more occluders) "
+       "and undersamples occluders in the hemisphere, requiring more rays for the same quality "
+       "(panels R = 0.1, 0.2, 0.5).",
+       fig6},
+      {"dimitrov-fig7", "Dimitrov et al. 2008, Fig. 7 and §3.6",
+       "More initial directions Nd (panels Nd = 1, 4, 10 at R = 0.2) give a smoother, more "
+       "accurate result; the number of traced rays is proportional to Nd.",
+       fig7},
+      {"dimitrov-fig11", "Dimitrov et al. 2008, Fig. 11",
+       "Presets at R = 0.3 with linear attenuation go from performance (a: Nd 6, Ns 9, Nn 0) to "
+       "quality (d: Nd 18, Ns 25, Nn 2, 5 fps), adding normal occlusion (b -> c) improves "
+       "proximity occlusion, and the result is similar to a ray tracer (e: 256 rays, 8 min).",
+       fig11},
+      {"dimitrov-fig12", "Dimitrov et al. 2008, Fig. 12 and §5",
+       "Horizon occlusion converges faster than Monte-Carlo ray marching: ray marching requires "
+       "more rays than horizon-split occlusion to produce similar images.",
+       fig12},
+      {"dimitrov-table1", "Dimitrov et al. 2008, Table 1",
+       "For R = 0.2, Nd = 7, Nn = 1, Ns = 12 on a 750k-triangle model, geometry / HO / NO / blur "
+       "take 4.02 / 7.16 / 4.67 / 0.71 ms at 640x480 up to 6.68 / 39.66 / 37.41 / 4.35 ms at "
+       "1600x1153 (GeForce 8800 GTX): horizon occlusion costs about as much as one normal ray, "
+       "blur is the cheapest pass, and HO and NO grow with the pixel count.",
+       dimitrov_table1},
+  };
+}
+
+}  // namespace aoeval::figures
