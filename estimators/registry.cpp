@@ -7,6 +7,7 @@
 #include "estimators/vertex_baked/vertex_baked.h"
 #include "estimators/reeves_blau/reeves_blau.h"
 #include "estimators/hbao_split/hbao_split.h"
+#include "estimators/hbao_split/hbao_vulkan.h"
 #include "estimators/raymarch_ssao/raymarch_ssao.h"
 #include "estimators/tree_hegeman/tree_hegeman.h"
 
@@ -22,6 +23,7 @@ const std::vector<EstimatorInfo>& estimator_registry() {
       vertex_baked_estimator(),
       tree_sphere_estimator(), tree_ellipsoid_estimator(), tree_shells_estimator(),
       reeves_blau_estimator(),
+      hbao_split_estimator(),
       hbao_split_cpu_estimator(),
       raymarch_ssao_estimator(),
   };

@@ -2,6 +2,7 @@
 #include "bench_reference.h"
 #include "commands.h"
 #include "harness/bench_estimators.h"
+#include "harness/bench_hbao.h"
 
 namespace aoeval {
 
@@ -36,6 +37,22 @@ void add_bench_command(CLI::App& app) {
   estimators->add_option("--out", est.out_dir, "output folder (bench.csv, bench.md, results.*)");
   estimators->add_option("--db", est.database, "SQLite results store");
   estimators->callback([] { bench_estimators(est); });
+
+  static HbaoBenchOptions hb;
+  auto* hbao = cmd->add_subcommand(
+      "hbao",
+      "hbao-split: depth fetches/s against a bare fetch loop (target ratio >= 0.5), and "
+      "against hbao-split-cpu on the same G-buffer");
+  hbao->add_option("--scene", hb.scene, "corpus name or scene file (default bunny)");
+  hbao->add_option("--view", hb.view, "view name (default: the scene's first view)");
+  hbao->add_option("--res", hb.res, "resolution WIDTHxHEIGHT (default 640x480)");
+  hbao->add_option("--set", hb.sets, "KEY=VALUE for hbao-split (repeatable)");
+  hbao->add_option("--warmup", hb.warmup, "untimed runs first")->check(CLI::Range(0, 100));
+  hbao->add_option("--repetitions", hb.repetitions, "timed runs")->check(CLI::Range(1, 1000));
+  hbao->add_option("--out", hb.out_dir,
+                   "output folder (bench_hbao.json, bench_hbao.md, results.*)");
+  hbao->add_option("--db", hb.database, "SQLite results store");
+  hbao->callback([] { bench_hbao(hb); });
 }
 
 }  // namespace aoeval

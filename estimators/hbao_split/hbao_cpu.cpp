@@ -19,6 +19,7 @@ namespace plain {
 inline float hbao_depth(const HbaoImages& img, int i, int j) {
   return img.depth[pixel_of(img, i, j)];
 }
+#include "estimators/hbao_split/hbao_basics.glsl"
 #include "estimators/hbao_split/hbao_kernel.glsl"
 }  // namespace plain
 
@@ -27,6 +28,7 @@ inline float hbao_depth(const HbaoImages& img, int i, int j) {
   ++*img.fetches;
   return img.depth[pixel_of(img, i, j)];
 }
+#include "estimators/hbao_split/hbao_basics.glsl"
 #include "estimators/hbao_split/hbao_kernel.glsl"
 }  // namespace counting
 
@@ -54,6 +56,22 @@ void for_each_pixel(int width, int height, const Body& body) {
 }
 
 }  // namespace
+
+HbaoFrame hbao_frame_from_gbuffer(const GBuffer& g) {
+  HbaoFrame f;
+  f.width = g.width;
+  f.height = g.height;
+  f.focal = static_cast<float>(g.height) / (2.0f * g.camera.tan_half_fov_y);
+  f.depth.assign(g.pixel_count(), 0.0f);
+  f.normal.assign(g.pixel_count(), glm::vec3(0.0f, 0.0f, -1.0f));
+  const Camera& c = g.camera;
+  for (size_t k = 0; k < g.pixel_count(); ++k) {
+    if (!g.covered(k) || !(g.depth[k] > 0.0f)) continue;
+    f.depth[k] = g.depth[k];
+    f.normal[k] = hbao_glsl::plain::hbao_eye_normal(g.normal[k], c.right, c.up, c.forward);
+  }
+  return f;
+}
 
 HbaoCpuResult hbao_split_cpu(const HbaoFrame& frame, const HbaoSettings& settings,
                              bool count_fetches) {

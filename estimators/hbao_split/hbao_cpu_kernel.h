@@ -21,7 +21,7 @@ struct HbaoImages {
   int tile = 1;
   const vec2* directions = nullptr;
   const float* raw_ao = nullptr;
-  float* horizon = nullptr;  // Nd planes of width x height
+  float* horizon = nullptr;  // Nd planes of width x height: H(theta_d)^2
   uint64_t* fetches = nullptr;
 };
 

@@ -2,7 +2,6 @@
 // kernel: eye-space depth and normals, the tiled random texture (§4.1.2), the direction table and
 // the constants. See hbao_split.h.
 #include <cmath>
-#include <glm/geometric.hpp>
 #include <numbers>
 
 #include "errors.h"
@@ -140,25 +139,6 @@ AoDefinition hbao_definition(const HbaoSettings& s) {
   d.dmax = s.radius;
   d.falloff = s.attenuation ? Falloff::linear : Falloff::none;
   return d;
-}
-
-HbaoFrame hbao_frame_from_gbuffer(const GBuffer& g) {
-  HbaoFrame f;
-  f.width = g.width;
-  f.height = g.height;
-  f.focal = static_cast<float>(g.height) / (2.0f * g.camera.tan_half_fov_y);
-  f.depth.assign(g.pixel_count(), 0.0f);
-  f.normal.assign(g.pixel_count(), glm::vec3(0.0f, 0.0f, -1.0f));
-  const Camera& c = g.camera;
-  for (size_t k = 0; k < g.pixel_count(); ++k) {
-    if (!g.covered(k) || !(g.depth[k] > 0.0f)) continue;
-    f.depth[k] = g.depth[k];
-    const glm::vec3 n = g.normal[k];
-    const glm::vec3 eye(glm::dot(n, c.right), glm::dot(n, c.up), glm::dot(n, c.forward));
-    const float len = glm::length(eye);
-    if (len > 0.0f) f.normal[k] = eye / len;
-  }
-  return f;
 }
 
 std::vector<glm::vec3> hbao_random_texture(const HbaoSettings& s) {

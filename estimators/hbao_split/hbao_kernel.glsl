@@ -3,7 +3,8 @@
 // CPU twin (hbao_cpu.cpp) includes it as C++ through glsl_compat.h. So it uses only spellings both
 // languages share (float literals with an f suffix, float()/int() casts, `precise` on every result
 // that could be contracted into an fma, HBAO_OUT for out parameters) and the same operations in the
-// same order, which is what makes the twins agree to 1e-3 (hbao_split_test.cpp).
+// same order, which is what makes the twins agree to 1e-3 (hbao_split_test.cpp). It needs
+// hbao_basics.glsl (hbao_dot, hbao_eye_normal) included before it.
 //
 // Before including it, each side defines the accessors of the input images (nearest-texel reads,
 // §4.1.1; coordinates are always inside the image):
@@ -12,17 +13,12 @@
 //   vec3  hbao_random(HBAO_IMAGES_PARAM int i, int j)    (cos a, sin a, beta) of the tiled texture
 //   vec2  hbao_direction(HBAO_IMAGES_PARAM int d)        (cos, sin) of 2 pi d / Nd
 //   float hbao_raw_ao(HBAO_IMAGES_PARAM int i, int j)    unblurred AO (the blur pass only)
-//   void  hbao_store_horizon(HBAO_IMAGES_PARAM int i, int j, int d, float h)  H of direction d
+//   void  hbao_store_horizon(HBAO_IMAGES_PARAM int i, int j, int d, float h2)  H^2 of direction d
 //   float hbao_load_horizon(HBAO_IMAGES_PARAM int i, int j, int d)            (between the passes)
 //
 // Eye space: x right, y up, z forward along the view axis (z = the G-buffer's linear depth); pixel
 // (i, j) is seen through the eye-space point ((i + 0.5 - W/2) / f, (H/2 - j - 0.5) / f, 1), with
 // f = H / (2 tan(fov_y / 2)) the focal length in pixels (square pixels, CONTRACT §3).
-
-float hbao_dot(vec3 a, vec3 b) {
-  precise float r = a.x * b.x + a.y * b.y + a.z * b.z;
-  return r;
-}
 
 // The eye-space point of pixel (i, j) at linear depth z (§4: "we compute an eye-space position of
 // its corresponding surface point P").
@@ -36,13 +32,16 @@ vec3 hbao_eye_position(int i, int j, float z, HbaoConstants c) {
 // nearest texel's depth (§4.1.1) and, when that surface lies in front of Q, return its point on the
 // eye ray through Q. Outside the screen, behind the eye or over background: not below.
 bool hbao_below(HBAO_IMAGES_PARAM vec3 q, HbaoConstants c, HBAO_OUT(vec3) hit) {
-  if (!(q.z > 0.0f)) return false;
-  precise float u = q.x / q.z * c.focal + c.half_width;
-  precise float v = c.half_height - q.y / q.z * c.focal;
-  if (!(u >= 0.0f && u < float(c.width) && v >= 0.0f && v < float(c.height))) return false;
-  float z = hbao_depth(HBAO_IMAGES_ARG int(u), int(v));  // u, v >= 0: int() is floor()
-  if (!(z > 0.0f && z < q.z)) return false;
-  precise float scale = z / q.z;
+  precise float inv_z = 1.0f / q.z;  // one division per step (they dominate on CPU devices)
+  precise float focal_z = c.focal * inv_z;
+  precise float u = q.x * focal_z + c.half_width;
+  precise float v = c.half_height - q.y * focal_z;
+  bool inside = q.z > 0.0f && u >= 0.0f && u < float(c.width) && v >= 0.0f && v < float(c.height);
+  // The fetch is unconditional (texel 0 stands in outside the screen, and is then ignored): no
+  // branch around the load, which SIMD devices (lavapipe) would otherwise mask lane by lane.
+  float z = hbao_depth(HBAO_IMAGES_ARG inside ? int(u) : 0, inside ? int(v) : 0);
+  if (!(inside && z > 0.0f && z < q.z)) return false;
+  precise float scale = z * inv_z;
   hit = q * scale;
   return true;
 }
@@ -56,42 +55,45 @@ float hbao_attenuation(float len2, HbaoConstants c) {
 
 // §3.1 horizon tracing (Fig. 4) in tangent direction t: the horizon ray h starts as t and is
 // deflected towards each intersection I that lies within R and ahead (DOT(I - P, t) > 0) whenever
-// that raises it, so H = DOT(h, n) only grows. Returns H(theta) = sin of the horizon elevation.
-// `occlusion` receives T(theta) of eq. 3: H^2 (§3.2) without attenuation; with it (§3.5) each rise
-// of the horizon from H_old to H_new is weighted by the attenuation of the occluder that caused it,
-// T = sum W(r) (H_new^2 - H_old^2), which telescopes to H^2 when W = 1.
+// that raises it, so H = DOT(h, n) only grows. Returns H(theta)^2, the horizon occlusion of §3.2
+// without attenuation. `occlusion` receives T(theta) of eq. 3: H^2 without attenuation; with it
+// (§3.5) each rise of the horizon from H_old to H_new is weighted by the attenuation of the occluder
+// that caused it, T = sum W(r) (H_new^2 - H_old^2), which telescopes to H^2 when W = 1.
 // beta in (-1, 1) jitters the steps: Q = P + (i + beta) (R / Ns) h (§4.1.2).
+// The candidate height of I is compared squared, dn^2 > H^2 (dn^2 + dt^2) with dn > 0, so that the
+// square root and divisions run only when the horizon rises.
 float hbao_trace_horizon(HBAO_IMAGES_PARAM vec3 p, vec3 n, vec3 t, float beta, HbaoConstants c,
                          HBAO_OUT(float) occlusion) {
-  precise float sin_h = 0.0f;  // DOT(h, n)
-  precise float cos_h = 1.0f;  // DOT(h, t)
+  precise vec3 h = t;
+  precise float h2 = 0.0f;  // DOT(h, n)^2
   precise float occ = 0.0f;
   precise float r2 = c.radius * c.radius;
   for (int s = 1; s <= c.steps; ++s) {
     precise float dist = (float(s) + beta) * c.step;
-    precise vec3 h = t * cos_h + n * sin_h;
     precise vec3 q = p + h * dist;
     vec3 hit;
     if (hbao_below(HBAO_IMAGES_ARG q, c, hit)) {
       precise vec3 d = hit - p;
       precise float len2 = hbao_dot(d, d);
       precise float dt = hbao_dot(d, t);
-      if (len2 < r2 && dt > 0.0f) {
-        // h <- NORMALIZE(PROJ_n,t(I - P)) (Fig. 4 line 7), kept as its (cos, sin) in the n-t plane.
-        precise float dn = hbao_dot(d, n);
-        precise float len_nt = sqrt(dn * dn + dt * dt);
-        precise float sin_new = dn / len_nt;
-        if (sin_new > sin_h) {
-          precise float rise = sin_new * sin_new - sin_h * sin_h;
+      precise float dn = hbao_dot(d, n);
+      precise float dn2 = dn * dn;
+      precise float nt2 = dn2 + dt * dt;  // |PROJ_n,t(I - P)|^2
+      if (len2 < r2 && dt > 0.0f && dn > 0.0f && dn2 > h2 * nt2) {
+        precise float h2_new = dn2 / nt2;
+        if (h2_new > h2) {
+          precise float rise = h2_new - h2;
           occ = occ + hbao_attenuation(len2, c) * rise;
-          sin_h = sin_new;
-          cos_h = dt / len_nt;
+          h2 = h2_new;
+          // h <- NORMALIZE(PROJ_n,t(I - P)) (Fig. 4 line 7).
+          precise float len_nt = sqrt(nt2);
+          h = (t * dt + n * dn) / len_nt;
         }
       }
     }
   }
   occlusion = occ;
-  return sin_h;
+  return h2;
 }
 
 // §3.3 linear search along a normal ray r (unit) from P: the attenuated weight of the first
@@ -119,9 +121,8 @@ float hbao_march(HBAO_IMAGES_PARAM vec3 p, vec3 r, float beta, HbaoConstants c) 
 // start the patches at the tangent plane (k = 0 gives r = t, below the horizon) and drop the
 // (1 - H^2) factor of each patch's share; we keep the derivation of eq. 7-8 instead. Returns the
 // stripe's occlusion times Nd: (1 - H^2) / Nn sum_k W_k.
-float hbao_stripe_normal_occlusion(HBAO_IMAGES_PARAM vec3 p, vec3 n, vec3 t, float sin_h,
+float hbao_stripe_normal_occlusion(HBAO_IMAGES_PARAM vec3 p, vec3 n, vec3 t, float h2,
                                    float beta, HbaoConstants c) {
-  precise float h2 = sin_h * sin_h;
   precise float sum = 0.0f;
   for (int k = 0; k < c.normal_rays; ++k) {
     precise float z2 = h2 + (1.0f - h2) * ((float(k) + 0.5f) / float(c.normal_rays));
@@ -180,7 +181,7 @@ vec3 hbao_tangent(HBAO_IMAGES_PARAM HbaoPixel px, int d) {
   return t;
 }
 
-// Pass 1, horizon occlusion (§3.2): traces the Nd horizons of pixel (i, j), stores each H(theta_d)
+// Pass 1, horizon occlusion (§3.2): traces the Nd horizons of pixel (i, j), stores each H(theta_d)^2
 // for pass 2 and returns O_T = (1/Nd) sum_d T(theta_d) (eq. 5-6: each lune subtends 2 pi / Nd).
 float hbao_horizon_pass(HBAO_IMAGES_PARAM int i, int j, HbaoConstants c) {
   HbaoPixel px;
@@ -189,8 +190,8 @@ float hbao_horizon_pass(HBAO_IMAGES_PARAM int i, int j, HbaoConstants c) {
   for (int d = 0; d < c.directions; ++d) {
     vec3 t = hbao_tangent(HBAO_IMAGES_ARG px, d);
     float occlusion;
-    float h = hbao_trace_horizon(HBAO_IMAGES_ARG px.p, px.n, t, px.beta, c, occlusion);
-    hbao_store_horizon(HBAO_IMAGES_ARG i, j, d, h);
+    float h2 = hbao_trace_horizon(HBAO_IMAGES_ARG px.p, px.n, t, px.beta, c, occlusion);
+    hbao_store_horizon(HBAO_IMAGES_ARG i, j, d, h2);
     sum = sum + occlusion;
   }
   precise float ot = sum / float(c.directions);
@@ -207,8 +208,8 @@ float hbao_normal_pass(HBAO_IMAGES_PARAM int i, int j, float ot, HbaoConstants c
   if (c.normal_rays > 0) {
     for (int d = 0; d < c.directions; ++d) {
       vec3 t = hbao_tangent(HBAO_IMAGES_ARG px, d);
-      float h = hbao_load_horizon(HBAO_IMAGES_ARG i, j, d);
-      sum = sum + hbao_stripe_normal_occlusion(HBAO_IMAGES_ARG px.p, px.n, t, h, px.beta, c);
+      float h2 = hbao_load_horizon(HBAO_IMAGES_ARG i, j, d);
+      sum = sum + hbao_stripe_normal_occlusion(HBAO_IMAGES_ARG px.p, px.n, t, h2, px.beta, c);
     }
   }
   precise float on = sum / float(c.directions);

@@ -4,8 +4,10 @@
 
 #include <cmath>
 
+#include "corpus.h"
 #include "errors.h"
 #include "estimators/hbao_split/hbao_split.h"
+#include "estimators/hbao_split/hbao_vulkan.h"
 #include "estimators/hbao_split/ssao_test_scenes.h"
 #include "estimators/registry.h"
 
@@ -182,6 +184,108 @@ TEST(HbaoSplitCpu, ParametersAndDefinition) {
 TEST(HbaoSplitCpu, EmptyFrameIsAnInputError) {
   HbaoFrame empty;
   EXPECT_THROW(hbao_split_cpu(empty, HbaoSettings{}), InputError);
+}
+
+// ---- hbao-split (Vulkan): skipped with the reason where there is no device; lavapipe runs them.
+
+#define REQUIRE_VULKAN(vk)                                      \
+  std::string skip_reason;                                      \
+  vk::Context* vk = vk::shared_context(&skip_reason);           \
+  if (!vk) GTEST_SKIP() << "no Vulkan device: " << skip_reason; \
+  RecordProperty("vulkan_device", vk->device_description());
+
+// Max |a - b| over the pixels where the frame has depth.
+double max_abs_difference(const HbaoFrame& f, const std::vector<float>& a,
+                          const std::vector<float>& b) {
+  double m = 0.0;
+  for (size_t k = 0; k < f.depth.size(); ++k)
+    if (f.depth[k] > 0.0f) m = std::max(m, std::abs(static_cast<double>(a[k]) - b[k]));
+  return m;
+}
+
+// The twins compile one kernel source and read the same bits (depth, eye-space normals, random
+// texture, direction table), so they differ only where the device rounds differently from IEEE
+// (lavapipe: nowhere we rely on). 1e-3 bounds what a rare flipped nearest-texel decision could do.
+TEST(HbaoSplitVulkan, TwinsAgreeOnTheSameGBuffer) {
+  REQUIRE_VULKAN(vk);
+  const Scene scene = load_scene("bunny");
+  const Camera camera = make_camera(scene.views.front(), 160, 120);
+  EmbreeScene embree(scene);
+  const HbaoFrame frame = hbao_frame_from_gbuffer(render_gbuffer(embree, camera));
+  for (bool blur : {false, true}) {
+    const HbaoSettings s = settings_with({{"blur", blur}, {"Nn", 2}});
+    const HbaoCpuResult cpu = hbao_split_cpu(frame, s);
+    HbaoDevice device(*vk, s, frame);
+    const HbaoGpuResult gpu = device.run();
+    const double diff = max_abs_difference(frame, cpu.ao, gpu.ao);
+    std::printf("twins, blur %d: max |cpu - gpu| = %.3g (raw %.3g, horizon %.3g)\n", blur, diff,
+                max_abs_difference(frame, cpu.raw_ao, gpu.raw_ao),
+                max_abs_difference(frame, cpu.horizon_ao, gpu.horizon_ao));
+    EXPECT_LE(diff, 1e-3);
+    EXPECT_LE(max_abs_difference(frame, cpu.horizon_ao, gpu.horizon_ao), 1e-3);
+    EXPECT_GT(gpu.pass_ms.count("horizon_ms"), 0u);
+    EXPECT_GT(gpu.pass_ms.count("normal_ms"), 0u);
+    EXPECT_EQ(gpu.pass_ms.count("blur_ms"), blur ? 1u : 0u);
+    EXPECT_EQ(gpu.pass_ms.count("geometry_ms"), 0u);  // gbuffer=embree: uploaded in prepare()
+  }
+}
+
+// gbuffer=raster: the device rasterises the scene and converts its normals with the same function
+// as the CPU; the CPU twin on the downloaded raster G-buffer agrees to 1e-3, and against the
+// Embree G-buffer the AO differs only where the two G-buffers do (silhouettes).
+TEST(HbaoSplitVulkan, RasterGBufferFeedsTheSameKernel) {
+  REQUIRE_VULKAN(vk);
+  const Scene scene = load_scene("bunny");
+  const Camera camera = make_camera(scene.views.front(), 160, 120);
+  const HbaoSettings s = settings_with({});
+  HbaoDevice device(*vk, s, scene, camera);
+  const HbaoGpuResult gpu = device.run();
+  EXPECT_GT(gpu.pass_ms.count("geometry_ms"), 0u);
+  EXPECT_GT(gpu.pass_ms.count("total_ms"), 0u);
+  const HbaoFrame raster = device.frame();
+  EXPECT_LE(max_abs_difference(raster, hbao_split_cpu(raster, s).ao, gpu.ao), 1e-3);
+
+  EmbreeScene embree(scene);
+  const HbaoFrame traced = hbao_frame_from_gbuffer(render_gbuffer(embree, camera));
+  const std::vector<float> cpu = hbao_split_cpu(traced, s).ao;
+  double sum = 0.0;
+  size_t both = 0, large = 0;
+  for (size_t k = 0; k < cpu.size(); ++k) {
+    if (!(traced.depth[k] > 0.0f) || !(raster.depth[k] > 0.0f)) continue;
+    const double d = std::abs(static_cast<double>(cpu[k]) - gpu.ao[k]);
+    sum += d;
+    large += d > 0.05 ? 1 : 0;
+    ++both;
+  }
+  ASSERT_GT(both, 5000u);
+  std::printf("raster vs embree G-buffer: mean |diff| %.2g, %zu of %zu pixels > 0.05\n",
+              sum / static_cast<double>(both), large, both);
+  EXPECT_LT(sum / static_cast<double>(both), 2e-3);
+  EXPECT_LT(static_cast<double>(large), 0.01 * static_cast<double>(both));
+}
+
+TEST(HbaoSplitVulkan, GrazingFloorOnTheDevice) {
+  REQUIRE_VULKAN(vk);
+  const TestView view = grazing_floor(160, 120);
+  HbaoDevice on(*vk, settings_with({}), hbao_frame_from_gbuffer(view.gbuffer));
+  HbaoDevice off(*vk, settings_with({{"offset", false}}), hbao_frame_from_gbuffer(view.gbuffer));
+  const Stats a = floor_stats(view.gbuffer, on.run().ao, 80.0);
+  const Stats b = floor_stats(view.gbuffer, off.run().ao, 80.0);
+  EXPECT_GE(a.mean, 0.98);
+  EXPECT_LT(b.mean, a.mean - 0.05);
+}
+
+TEST(HbaoSplitVulkan, RegisteredWithTheGBufferChoice) {
+  const EstimatorInfo& info = find_estimator("hbao-split");
+  EXPECT_EQ(info.backend, Backend::vulkan);
+  const ParamSet p = resolve_params(info.name, info.params, nlohmann::json::object(), "test");
+  EXPECT_EQ(p.choice("gbuffer"), "raster");
+  EXPECT_NO_THROW(
+      resolve_params(info.name, info.params, parse_set_arguments({"gbuffer=embree"}), "--set"));
+  EXPECT_THROW(resolve_params(info.name, info.params, parse_set_arguments({"gbuffer=gl"}), "--set"),
+               InputError);
+  // The twins declare the same parameters (hbao-split adds gbuffer only).
+  EXPECT_EQ(info.params.size(), find_estimator("hbao-split-cpu").params.size() + 1);
 }
 
 }  // namespace

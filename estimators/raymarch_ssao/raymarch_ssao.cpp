@@ -19,6 +19,7 @@ namespace raymarch {
 inline float hbao_depth(const HbaoImages& img, int i, int j) {
   return img.depth[pixel_of(img, i, j)];
 }
+#include "estimators/hbao_split/hbao_basics.glsl"
 #include "estimators/hbao_split/hbao_kernel.glsl"
 }  // namespace raymarch
 }  // namespace aoeval::hbao_glsl

@@ -1,0 +1,51 @@
+// What the hbao-split compute passes share: the bindings (one layout for the horizon, normal and
+// blur passes), the kernel's accessors over them, and the kernel itself (hbao_kernel.glsl, the same
+// source the CPU twin compiles as C++).
+#define HBAO_OUT(T) out T
+#define HBAO_IMAGES_PARAM
+#define HBAO_IMAGES_ARG
+
+#include "hbao_constants.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(set = 0, binding = 0, r32f) uniform readonly image2D depth_image;    // linear depth, 0 = none
+layout(set = 0, binding = 1, rgba32f) uniform readonly image2D normal_image;  // eye-space normal
+layout(std430, set = 0, binding = 2) readonly buffer RandomTexture { vec4 random_texels[]; };
+layout(std430, set = 0, binding = 3) readonly buffer Directions { vec2 directions[]; };
+layout(std430, set = 0, binding = 4) buffer Horizons { float horizons[]; };  // Nd planes
+layout(set = 0, binding = 5, r32f) uniform image2D ot_image;       // O_T, pass 1 -> pass 2
+layout(set = 0, binding = 6, r32f) uniform image2D raw_ao_image;   // A before the blur
+layout(set = 0, binding = 7, r32f) uniform writeonly image2D ao_image;  // A after the blur
+
+layout(push_constant) uniform Push {
+  HbaoConstants c;
+} pc;
+
+float hbao_depth(int i, int j) {
+  return imageLoad(depth_image, ivec2(i, j)).r;
+}
+vec3 hbao_normal(int i, int j) {
+  return imageLoad(normal_image, ivec2(i, j)).xyz;
+}
+vec3 hbao_random(int i, int j) {
+  return random_texels[(j % pc.c.tile) * pc.c.tile + (i % pc.c.tile)].xyz;
+}
+vec2 hbao_direction(int d) {
+  return directions[d];
+}
+float hbao_raw_ao(int i, int j) {
+  return imageLoad(raw_ao_image, ivec2(i, j)).r;
+}
+int hbao_horizon_index(int i, int j, int d) {
+  return (d * pc.c.height + j) * pc.c.width + i;
+}
+void hbao_store_horizon(int i, int j, int d, float h) {
+  horizons[hbao_horizon_index(i, j, d)] = h;
+}
+float hbao_load_horizon(int i, int j, int d) {
+  return horizons[hbao_horizon_index(i, j, d)];
+}
+
+#include "hbao_basics.glsl"
+#include "hbao_kernel.glsl"

@@ -1,0 +1,291 @@
+// hbao-split: the Vulkan twin (see hbao_vulkan.h and, for the algorithm, hbao_split.h).
+#include "estimators/hbao_split/hbao_vulkan.h"
+
+#include <cmath>
+#include <glm/vec4.hpp>
+#include <numbers>
+
+#include "estimators/vulkan/raster_gbuffer.h"
+#include "estimators/vulkan/vk_commands.h"
+#include "estimators/vulkan/vk_pipelines.h"
+#include "hbao_bare_fetch_comp_spv.h"
+#include "hbao_blur_comp_spv.h"
+#include "hbao_eye_normals_comp_spv.h"
+#include "hbao_horizon_comp_spv.h"
+#include "hbao_normal_comp_spv.h"
+
+namespace aoeval {
+
+namespace {
+
+constexpr uint32_t kGroup = 8;  // local_size_x = local_size_y = 8 in every hbao shader
+
+// hbao_common.glsl's bindings, in order.
+const std::vector<VkDescriptorType> kPassBindings = {
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 0 depth
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 1 eye-space normal
+    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,  // 2 random texture
+    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,  // 3 directions
+    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,  // 4 horizons
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 5 O_T
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 6 raw AO
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 7 AO
+};
+
+struct EyeNormalsPush {
+  glm::vec4 right, up, forward;
+  int32_t width, height;
+};
+
+std::vector<glm::vec4> padded(const std::vector<glm::vec3>& v) {
+  std::vector<glm::vec4> out(v.size());
+  for (size_t k = 0; k < v.size(); ++k) out[k] = glm::vec4(v[k], 0.0f);
+  return out;
+}
+
+}  // namespace
+
+struct HbaoDevice::Impl {
+  vk::Context& vk;
+  HbaoSettings settings;
+  HbaoConstants constants{};
+  Camera camera;
+  int width = 0, height = 0;
+  HbaoFrame embree_frame;  // gbuffer=embree
+  std::unique_ptr<vk::RasterGBuffer> raster;
+  vk::DeviceGBuffer gbuffer;  // gbuffer=raster
+  vk::Image2D depth, normal, ot, raw_ao, ao;
+  vk::Buffer random, directions, horizons;
+  std::unique_ptr<vk::ComputePipeline> eye_normals, horizon, normal_pass, blur;
+  VkDescriptorSet eye_set = VK_NULL_HANDLE, horizon_set = VK_NULL_HANDLE,
+                  normal_set = VK_NULL_HANDLE, blur_set = VK_NULL_HANDLE;
+  vk::PassTimer timer;
+
+  Impl(vk::Context& context, const HbaoSettings& s, int w, int h, float focal)
+      : vk(context), settings(s), width(w), height(h), timer(context) {
+    constants = hbao_constants(s, w, h, focal);
+    normal = vk::Image2D(vk, w, h, VK_FORMAT_R32G32B32A32_SFLOAT);
+    ot = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
+    raw_ao = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
+    ao = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
+    const std::vector<glm::vec4> texels = padded(hbao_random_texture(s));
+    random = vk::Buffer(vk, texels.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    random.upload(texels);
+    const std::vector<glm::vec2> table = hbao_direction_table(s.directions);
+    directions =
+        vk::Buffer(vk, table.size() * sizeof(glm::vec2), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    directions.upload(table);
+    horizons = vk::Buffer(vk, static_cast<VkDeviceSize>(w) * h * s.directions * sizeof(float),
+                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  }
+
+  const vk::Image2D& depth_image() const { return raster ? gbuffer.depth : depth; }
+
+  void make_pipelines() {
+    const uint32_t push = sizeof(HbaoConstants);
+    horizon = std::make_unique<vk::ComputePipeline>(vk, "hbao horizon", hbao_horizon_comp_spv,
+                                                    kPassBindings, push);
+    normal_pass = std::make_unique<vk::ComputePipeline>(vk, "hbao normal", hbao_normal_comp_spv,
+                                                        kPassBindings, push);
+    blur = std::make_unique<vk::ComputePipeline>(vk, "hbao blur", hbao_blur_comp_spv, kPassBindings,
+                                                 push);
+    const std::vector<vk::Resource> resources = {depth_image(), normal, random, directions,
+                                                 horizons,      ot,     raw_ao, ao};
+    horizon_set = horizon->make_set(resources);
+    normal_set = normal_pass->make_set(resources);
+    blur_set = blur->make_set(resources);
+    if (raster) {
+      eye_normals = std::make_unique<vk::ComputePipeline>(
+          vk, "hbao eye normals", hbao_eye_normals_comp_spv,
+          std::vector<VkDescriptorType>{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                                        VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+          sizeof(EyeNormalsPush));
+      eye_set = eye_normals->make_set({gbuffer.normal, normal});
+    }
+  }
+};
+
+HbaoDevice::HbaoDevice(vk::Context& vk, const HbaoSettings& settings, const HbaoFrame& frame) {
+  validate_hbao_frame(frame);
+  impl_ = std::make_unique<Impl>(vk, settings, frame.width, frame.height, frame.focal);
+  impl_->embree_frame = frame;
+  impl_->depth = vk::Image2D(vk, frame.width, frame.height, VK_FORMAT_R32_SFLOAT);
+  impl_->depth.upload(frame.depth);
+  impl_->normal.upload(padded(frame.normal));
+  impl_->make_pipelines();
+}
+
+HbaoDevice::HbaoDevice(vk::Context& vk, const HbaoSettings& settings, const Scene& scene,
+                       const Camera& camera) {
+  const float focal = static_cast<float>(camera.height) / (2.0f * camera.tan_half_fov_y);
+  HbaoFrame shape;
+  shape.width = camera.width;
+  shape.height = camera.height;
+  shape.focal = focal;
+  validate_hbao_frame(shape);
+  impl_ = std::make_unique<Impl>(vk, settings, camera.width, camera.height, focal);
+  impl_->camera = camera;
+  impl_->raster = std::make_unique<vk::RasterGBuffer>(vk, scene);
+  impl_->gbuffer = vk::make_device_gbuffer(vk, camera.width, camera.height);
+  impl_->make_pipelines();
+}
+
+HbaoDevice::~HbaoDevice() = default;
+
+const vk::Image2D& HbaoDevice::depth_image() const {
+  return impl_->depth_image();
+}
+
+HbaoGpuResult HbaoDevice::run() {
+  Impl& m = *impl_;
+  const uint32_t gx = vk::group_count(static_cast<uint32_t>(m.width), kGroup);
+  const uint32_t gy = vk::group_count(static_cast<uint32_t>(m.height), kGroup);
+  m.vk.submit([&](VkCommandBuffer cmd) {
+    m.timer.reset(cmd);
+    if (m.raster) {
+      // The geometry stage: the raster G-buffer (timed as "geometry" by its record()) and its
+      // normals in eye space (timed as "geometry" too: the spans add up).
+      m.raster->record(cmd, m.camera, m.gbuffer, &m.timer);
+      EyeNormalsPush push{glm::vec4(m.camera.right, 0.0f), glm::vec4(m.camera.up, 0.0f),
+                          glm::vec4(m.camera.forward, 0.0f), m.width, m.height};
+      m.timer.begin(cmd, "geometry");
+      m.eye_normals->dispatch(cmd, m.eye_set, push, gx, gy);
+      m.timer.end(cmd);
+      vk::pass_barrier(cmd);
+    }
+    m.timer.begin(cmd, "horizon");
+    m.horizon->dispatch(cmd, m.horizon_set, m.constants, gx, gy);
+    m.timer.end(cmd);
+    vk::pass_barrier(cmd);
+    m.timer.begin(cmd, "normal");
+    m.normal_pass->dispatch(cmd, m.normal_set, m.constants, gx, gy);
+    m.timer.end(cmd);
+    vk::pass_barrier(cmd);
+    if (m.settings.blur) {
+      m.timer.begin(cmd, "blur");
+      m.blur->dispatch(cmd, m.blur_set, m.constants, gx, gy);
+      m.timer.end(cmd);
+      vk::pass_barrier(cmd);
+    }
+  });
+  HbaoGpuResult r;
+  r.pass_ms = m.timer.read();
+  r.raw_ao = m.raw_ao.download<float>();
+  r.ao = m.settings.blur ? m.ao.download<float>() : r.raw_ao;
+  const std::vector<float> ot = m.ot.download<float>();
+  const std::vector<float> z = m.depth_image().download<float>();
+  r.horizon_ao.assign(ot.size(), 0.0f);
+  for (size_t k = 0; k < ot.size(); ++k) r.horizon_ao[k] = z[k] > 0.0f ? 1.0f - ot[k] : 0.0f;
+  return r;
+}
+
+HbaoFrame HbaoDevice::frame() const {
+  const Impl& m = *impl_;
+  if (!m.raster) return m.embree_frame;
+  HbaoFrame f;
+  f.width = m.width;
+  f.height = m.height;
+  f.focal = m.constants.focal;
+  f.depth = m.gbuffer.depth.download<float>();
+  const std::vector<float> n = m.normal.download<float>();
+  f.normal.resize(f.depth.size());
+  for (size_t k = 0; k < f.normal.size(); ++k)
+    f.normal[k] = glm::vec3(n[4 * k], n[4 * k + 1], n[4 * k + 2]);
+  return f;
+}
+
+std::vector<double> bare_fetch_ms(vk::Context& vk, const vk::Image2D& depth, int walks, int steps,
+                                  float step_px, int repetitions) {
+  struct Push {
+    int32_t width, height, walks, steps;
+  } push{depth.width(), depth.height(), walks, steps};
+  std::vector<glm::vec2> table(static_cast<size_t>(walks));
+  for (int w = 0; w < walks; ++w) {
+    const double a = 2.0 * std::numbers::pi * (w + 0.5) / walks;
+    table[static_cast<size_t>(w)] = glm::vec2(static_cast<float>(step_px * std::cos(a)),
+                                              static_cast<float>(step_px * std::sin(a)));
+  }
+  vk::Buffer walk_buffer(vk, table.size() * sizeof(glm::vec2), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  walk_buffer.upload(table);
+  vk::Image2D sums(vk, depth.width(), depth.height(), VK_FORMAT_R32_SFLOAT);
+  vk::ComputePipeline bare(vk, "hbao bare fetch", hbao_bare_fetch_comp_spv,
+                           {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                            VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                           sizeof(Push));
+  const VkDescriptorSet set = bare.make_set({depth, sums, walk_buffer});
+  vk::PassTimer timer(vk);
+  std::vector<double> ms;
+  for (int r = 0; r < repetitions; ++r) {
+    vk.submit([&](VkCommandBuffer cmd) {
+      timer.reset(cmd);
+      timer.begin(cmd, "bare");
+      bare.dispatch(cmd, set, push, vk::group_count(static_cast<uint32_t>(depth.width()), kGroup),
+                    vk::group_count(static_cast<uint32_t>(depth.height()), kGroup));
+      timer.end(cmd);
+    });
+    ms.push_back(timer.read().at("bare_ms"));
+  }
+  return ms;
+}
+
+namespace {
+
+class HbaoVulkanEstimator : public Estimator {
+ public:
+  explicit HbaoVulkanEstimator(const ParamSet& p)
+      : settings_(hbao_settings_of(p)), raster_(p.choice("gbuffer") == "raster") {}
+  void prepare(const EstimateContext& context) override {
+    vk::Context& vk = vk::require_shared_context();
+    if (raster_)
+      device_ = std::make_unique<HbaoDevice>(vk, settings_, context.scene, context.gbuffer.camera);
+    else
+      device_ =
+          std::make_unique<HbaoDevice>(vk, settings_, hbao_frame_from_gbuffer(context.gbuffer));
+  }
+  EstimateResult run(const EstimateContext& context) override {
+    if (!device_) prepare(context);
+    HbaoGpuResult image = device_->run();
+    EstimateResult r;
+    r.ao = std::move(image.ao);
+    r.extra_channels["AO_horizon"] = std::move(image.horizon_ao);
+    r.pass_ms = std::move(image.pass_ms);
+    return r;
+  }
+
+ private:
+  HbaoSettings settings_;
+  bool raster_;
+  std::unique_ptr<HbaoDevice> device_;
+};
+
+}  // namespace
+
+EstimatorInfo hbao_split_estimator() {
+  EstimatorInfo info;
+  info.name = "hbao-split";
+  info.summary =
+      "horizon-split SSAO on Vulkan: horizon, normal-occlusion and blur compute passes, GPU "
+      "timestamps per pass";
+  info.paper = kHbaoPaper;
+  info.backend = Backend::vulkan;
+  info.inputs = {EstimatorInput::gbuffer, EstimatorInput::scene_geometry};
+  info.params = hbao_param_specs();
+  info.params.push_back(
+      {"gbuffer",
+       ParamType::choice,
+       "raster",
+       0,
+       0,
+       false,
+       "",
+       "raster: the scene rasterised on the device every frame (timed as geometry_ms, §5's "
+       "geometry pass); embree: the shared Embree G-buffer, uploaded once in prepare() (no "
+       "geometry_ms)",
+       {"raster", "embree"}});
+  info.definition_doc = kHbaoDefinitionDoc;
+  info.definition = [](const ParamSet& p) { return hbao_definition(hbao_settings_of(p)); };
+  info.create = [](const ParamSet& p) { return std::make_unique<HbaoVulkanEstimator>(p); };
+  return info;
+}
+
+}  // namespace aoeval
