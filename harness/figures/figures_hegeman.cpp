@@ -84,6 +84,10 @@ FigureResult fig2(FigureContext& ctx) {
       " pixel tiles (block_* columns): a leaf's eq. 6 value swings with its random "
       "normal, and the paper's 8xS-antialiased figure shows tile-scale appearance; "
       "per-pixel RMSE and r are in the CSV too.";
+  r.notes.push_back(
+      "alpha rho is derived from the leaves (3 lambda / (2 pi R^2), see "
+      "`aoeval estimators show tree-sphere`), not chosen by hand per object as in "
+      "§4; alpha_scale tunes it.");
   return r;
 }
 
