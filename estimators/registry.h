@@ -13,5 +13,9 @@ namespace aoeval {
 const std::vector<EstimatorInfo>& estimator_registry();
 // InputError listing the known estimators when `name` is unknown.
 const EstimatorInfo& find_estimator(const std::string& name);
+// The device an estimator of backend `b` runs on, for the results' `device` column: the Vulkan
+// device's description for vulkan (e.g. "llvmpipe (LLVM 15.0.6, 256 bits) [cpu, Mesa 22.3.6]"),
+// "" for the CPU backends (the caller uses the machine's CPU) and when there is no Vulkan device.
+std::string backend_device(Backend b);
 
 }  // namespace aoeval

@@ -160,7 +160,8 @@ void bench_estimators(const EstimatorBenchOptions& o) {
       row.precompute_ms = pre;
       for (const auto& [pass, values] : passes) row.pass_ms[pass] = median(values);
       row.machine = context.machine;
-      row.device = context.device;
+      row.device = backend_device(e->backend);
+      if (row.device.empty()) row.device = context.device;
       row.git_commit = context.git_commit;
       row.aoeval_version = kAoevalVersion;
       row.timestamp = context.started;

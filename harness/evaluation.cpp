@@ -6,6 +6,7 @@
 
 #include "corpus.h"
 #include "errors.h"
+#include "estimators/registry.h"
 #include "harness/metrics.h"
 #include "references/reference_cache.h"
 #include "version.h"
@@ -171,6 +172,7 @@ ResultRow EvaluationSession::evaluate(const EvaluationRequest& req,
   row.definition = definition.to_json().dump();
   row.reference = reference_spec_.to_json();
   row.backend = backend_name(e.backend);
+  row.device = backend_device(e.backend);  // "" = the CPU; runners fill in the machine's
   row.aoeval_version = kAoevalVersion;
 
   const EstimateContext context{s.scene, *s.embree, g};

@@ -98,7 +98,7 @@ int run_sweep(const SweepOptions& o) {
         session.evaluate(req, o.keep_estimates ? (fs::path(out) / estimate_rel).string() : "");
     row.run_id = context.run_id;
     row.machine = context.machine;
-    row.device = context.device;
+    if (row.device.empty()) row.device = context.device;
     row.git_commit = context.git_commit;
     if (o.keep_estimates && row.status == "ok") row.estimate_file = estimate_rel;
     folder.add(row);
