@@ -338,14 +338,15 @@ OIIO::ImageBuf abs_error_map(int w, int h, const float* ref, const float* est,
 }
 
 OIIO::ImageBuf signed_error_map(int w, int h, const float* ref, const float* est,
-                                const std::vector<uint8_t>& mask, float scale_max, MapScale* used) {
+                                const std::vector<uint8_t>& mask, float scale_max, MapScale* used,
+                                const std::string& title) {
   require_font();
   check_inputs(w, h, ref, est, mask);
   const Errors er = errors_of(w, h, ref, est, mask);
   const float s = chosen_scale(scale_max, er);
   if (used) *used = {-s, s};
   const Bar bar = signed_bar(s);
-  return decorate(error_panel(w, h, er, s, true), kSignedTitle, &bar);
+  return decorate(error_panel(w, h, er, s, true), title.empty() ? kSignedTitle : title, &bar);
 }
 
 OIIO::ImageBuf ao_image(int w, int h, const float* ao, const std::vector<uint8_t>& mask,

@@ -38,10 +38,11 @@ OIIO::ImageBuf abs_error_map(int w, int h, const float* ref, const float* est,
                              MapScale* used = nullptr);
 // est - ref through RdBu reversed (blue = estimate lower, near-white = 0, red = estimate higher),
 // symmetric [-s, s] with s chosen as above from |error|. Colour bar (-s, 0, +s), title
-// "estimate − reference". `used` receives {-s, s}.
+// "estimate − reference" (or `title` when not empty: the dashboard's "new − baseline").
+// `used` receives {-s, s}.
 OIIO::ImageBuf signed_error_map(int w, int h, const float* ref, const float* est,
                                 const std::vector<uint8_t>& mask, float scale_max,
-                                MapScale* used = nullptr);
+                                MapScale* used = nullptr, const std::string& title = "");
 // AO in [0, 1] (clamped) shown as sRGB-encoded grey (displayed luminance = AO), titled.
 OIIO::ImageBuf ao_image(int w, int h, const float* ao, const std::vector<uint8_t>& mask,
                         const std::string& title);

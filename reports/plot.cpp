@@ -62,11 +62,25 @@ std::string plot_python() {
 }
 
 void render_plot(const PlotSpec& spec, const std::string& out_path) {
-  check_lengths(spec);
-  const std::string spec_path = out_path + ".plot.json";
-  write_text(spec_path, to_json(spec).dump(1) + "\n");
+  render_plots({{spec, out_path}});
+}
+
+void render_plots(const std::vector<std::pair<PlotSpec, std::string>>& plots) {
+  if (plots.empty()) return;
+  std::vector<std::string> args = {plot_python(), script_path()};
+  for (const auto& [spec, out_path] : plots) {
+    check_lengths(spec);
+    const std::string spec_path = out_path + ".plot.json";
+    write_text(spec_path, to_json(spec).dump(1) + "\n");
+    args.push_back(spec_path);
+    args.push_back(out_path);
+  }
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
   // plot.py writes to a temporary name in the same folder and renames, so the image is atomic too.
-  const std::string log_path = out_path + ".plot.log";
+  const std::string& first_out = plots.front().second;
+  const std::string log_path = first_out + ".plot.log";
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("render_plot: fork failed");
   if (pid == 0) {
@@ -75,11 +89,8 @@ void render_plot(const PlotSpec& spec, const std::string& out_path) {
       dup2(fileno(log), STDOUT_FILENO);
       dup2(fileno(log), STDERR_FILENO);
     }
-    const std::string python = plot_python();
-    const std::string script = script_path();
-    execlp(python.c_str(), python.c_str(), script.c_str(), spec_path.c_str(), out_path.c_str(),
-           static_cast<char*>(nullptr));
-    std::fprintf(stderr, "cannot run %s\n", python.c_str());
+    execvp(argv[0], argv.data());
+    std::fprintf(stderr, "cannot run %s\n", argv[0]);
     _exit(127);
   }
   int status = 0;
@@ -99,7 +110,10 @@ void render_plot(const PlotSpec& spec, const std::string& out_path) {
     const auto last_line = log_text.substr(
         log_text.find_last_of('\n') == std::string::npos ? 0 : log_text.find_last_of('\n') + 1);
     throw std::runtime_error(
-        std::string("plot ") + out_path + ": " + plot_python() + " " + script_path() +
+        std::string("plot ") + first_out +
+        (plots.size() > 1 ? std::string(" (and ") + std::to_string(plots.size() - 1) + " more)"
+                          : std::string()) +
+        ": " + plot_python() + " " + script_path() +
         " failed: " + (last_line.empty() ? std::string("no output") : last_line));
   }
 }

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Draws one aoeval plot: plot.py SPEC.json OUT.png|OUT.svg (see reports/plot.h).
+"""Draws aoeval plots: plot.py SPEC.json OUT.png|OUT.svg [more pairs] (see reports/plot.h).
 
 matplotlib is the plotting library (Debian python3-matplotlib): proper axes, log scales, legends,
 error bars and vector output. The C++ side decides what to plot; this file only draws it.
@@ -81,11 +81,14 @@ def draw(spec, out_path):
 
 
 def main():
-    if len(sys.argv) != 3:
-        sys.exit("usage: plot.py SPEC.json OUT.png|OUT.svg")
-    with open(sys.argv[1], encoding="utf-8") as f:
-        spec = json.load(f)
-    draw(spec, sys.argv[2])
+    # Pairs of arguments: several plots from one process pay matplotlib's import once.
+    args = sys.argv[1:]
+    if not args or len(args) % 2:
+        sys.exit("usage: plot.py SPEC.json OUT.png|OUT.svg [SPEC.json OUT.png|OUT.svg ...]")
+    for spec_path, out_path in zip(args[0::2], args[1::2]):
+        with open(spec_path, encoding="utf-8") as f:
+            spec = json.load(f)
+        draw(spec, out_path)
 
 
 if __name__ == "__main__":

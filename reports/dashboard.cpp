@@ -1,0 +1,262 @@
+// `aoeval dashboard`: choosing the runs, pairing their rows, judging each pair (see dashboard.h).
+#include "reports/dashboard.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+#include "errors.h"
+#include "exr_io.h"
+#include "reports/regression_config.h"
+
+namespace aoeval {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using RunRows = std::pair<RunContext, std::vector<ResultRow>>;
+
+// The command without its `--set E:K=V` overrides: a run made with a parameter changed is still a
+// run of the same suite, judged against that suite's previous run and drawn in its history.
+std::string command_family(const std::string& command) {
+  std::string out, word;
+  bool skip_next = false;
+  std::istringstream in(command);
+  while (in >> word) {
+    if (skip_next) {
+      skip_next = false;
+    } else if (word == "--set") {
+      skip_next = true;
+    } else if (word.rfind("--set=", 0) != 0) {
+      if (!out.empty()) out += ' ';
+      out += word;
+    }
+  }
+  return out;
+}
+
+std::string loose_key(const ResultRow& r) {
+  return r.estimator + "|" + r.scene + "|" + r.view + "|" + std::to_string(r.width) + "x" +
+         std::to_string(r.height);
+}
+
+// "Ns: 16 -> 8, R: 0.2 -> 0.4" for the parameters whose values differ.
+std::string params_change(const nlohmann::json& before, const nlohmann::json& after) {
+  std::string out;
+  auto add = [&](const std::string& key, const std::string& b, const std::string& a) {
+    if (!out.empty()) out += ", ";
+    out += key + ": " + b + " -> " + a;
+  };
+  for (const auto& [key, value] : after.items()) {
+    if (!before.contains(key)) {
+      add(key, "(none)", value.dump());
+    } else if (before[key] != value) {
+      add(key, before[key].dump(), value.dump());
+    }
+  }
+  for (const auto& [key, value] : before.items())
+    if (!after.contains(key)) add(key, value.dump(), "(none)");
+  return out;
+}
+
+int severity_rank(Verdict v) {
+  switch (v) {
+    case Verdict::regressed:
+      return 0;
+    case Verdict::warning:
+      return 1;
+    case Verdict::improved:
+      return 2;
+    case Verdict::unchanged:
+      return 3;
+    case Verdict::not_compared:
+      return 4;
+  }
+  return 5;
+}
+
+RowReport report_for(const ResultRow* before, const ResultRow* after) {
+  const ResultRow& r = after ? *after : *before;
+  RowReport rep;
+  rep.estimator = r.estimator;
+  rep.scene = r.scene;
+  rep.view = r.view;
+  rep.resolution = std::to_string(r.width) + "x" + std::to_string(r.height);
+  rep.run_name = r.run_name;
+  if (before) rep.before = *before;
+  if (after) rep.after = *after;
+  return rep;
+}
+
+// Pairs the rows of the two runs (dashboard.h: by run_name, then by the loose key, in row order).
+std::vector<RowReport> pair_rows(const std::vector<ResultRow>& before,
+                                 const std::vector<ResultRow>& after) {
+  std::map<std::string, const ResultRow*> before_by_name;
+  for (const auto& r : before) before_by_name[r.run_name] = &r;
+  std::vector<RowReport> out;
+  std::vector<const ResultRow*> after_left;
+  std::map<std::string, bool> before_used;
+  for (const auto& r : after) {
+    const auto it = before_by_name.find(r.run_name);
+    if (it == before_by_name.end()) {
+      after_left.push_back(&r);
+    } else {
+      out.push_back(report_for(it->second, &r));
+      before_used[r.run_name] = true;
+    }
+  }
+  std::map<std::string, std::vector<const ResultRow*>> before_left, after_loose;
+  for (const auto& r : before)
+    if (!before_used.count(r.run_name)) before_left[loose_key(r)].push_back(&r);
+  for (const ResultRow* r : after_left) after_loose[loose_key(*r)].push_back(r);
+  for (auto& [key, rows] : after_loose) {
+    auto it = before_left.find(key);
+    if (it != before_left.end() && it->second.size() == rows.size()) {
+      for (size_t k = 0; k < rows.size(); ++k) {
+        RowReport rep = report_for(it->second[k], rows[k]);
+        rep.params_change = params_change(it->second[k]->params, rows[k]->params);
+        out.push_back(rep);
+      }
+      before_left.erase(it);
+    } else {
+      for (const ResultRow* r : rows) out.push_back(report_for(nullptr, r));
+    }
+  }
+  for (const auto& [key, rows] : before_left)
+    for (const ResultRow* r : rows) out.push_back(report_for(r, nullptr));
+  return out;
+}
+
+void judge(RowReport& rep, const Thresholds& t, std::optional<double> delta_rms) {
+  const bool before_ok = rep.before && rep.before->status == "ok";
+  const bool after_ok = rep.after && rep.after->status == "ok";
+  if (before_ok && after_ok) {
+    rep.checks = compare_rows(*rep.before, *rep.after, t, delta_rms);
+  } else if (before_ok) {
+    rep.checks = {missing_check(rep.after ? &*rep.after : nullptr, t)};
+  } else if (!rep.before) {
+    rep.note = "new row: no baseline to compare with";
+  } else if (after_ok) {
+    rep.note = "baseline row was \"" + rep.before->status + "\": nothing to compare with";
+  } else if (rep.after) {
+    rep.note = "not run in either: \"" + rep.after->status + "\"";
+  } else {
+    rep.note = "baseline row was \"" + rep.before->status + "\", absent now";
+  }
+  rep.verdict = worst(rep.checks);
+}
+
+const RunContext* find_run(const std::vector<RunContext>& runs, const std::string& id,
+                           const char* option) {
+  for (const auto& r : runs)
+    if (r.run_id == id) return &r;
+  throw InputError(std::string(option) + " " + id + ": no such run in the database");
+}
+
+}  // namespace
+
+Dashboard build_dashboard(const DashboardOptions& o) {
+  if (!fs::exists(o.database)) throw InputError("--db " + o.database + ": no such file");
+  const RegressionConfig config = RegressionConfig::load(
+      o.config_path.empty() ? default_regression_config_path() : o.config_path);
+  SqliteStore store(o.database);
+  const std::vector<RunContext> runs = store.runs();
+  std::map<std::string, std::vector<ResultRow>> rows_of;
+  for (const auto& r : runs) rows_of[r.run_id] = store.rows_of_run(r.run_id);
+
+  const RunContext* after = nullptr;
+  if (!o.new_run.empty()) {
+    after = find_run(runs, o.new_run, "--run");
+  } else {
+    for (auto it = runs.rbegin(); it != runs.rend() && !after; ++it)
+      if (!rows_of[it->run_id].empty()) after = &*it;
+    if (!after) throw InputError("--db " + o.database + ": holds no results rows");
+  }
+  const RunContext* before = nullptr;
+  if (!o.baseline_run.empty()) {
+    before = find_run(runs, o.baseline_run, "--baseline");
+    if (before->run_id == after->run_id)
+      throw InputError("--baseline " + o.baseline_run + ": is the run being judged");
+  } else {
+    for (const auto& r : runs) {
+      if (r.run_id == after->run_id) break;
+      if (command_family(r.command) == command_family(after->command) && !rows_of[r.run_id].empty())
+        before = &r;
+    }
+  }
+
+  Dashboard d;
+  d.after_run = *after;
+  d.config_source = config.source();
+  const std::vector<ResultRow> no_rows;
+  if (before) d.before_run = *before;
+  d.rows = pair_rows(before ? rows_of[before->run_id] : no_rows, rows_of[after->run_id]);
+  fs::create_directories(o.out_dir);
+  for (RowReport& rep : d.rows) {
+    std::optional<double> delta;
+    if (rep.before && rep.after && rep.before->status == "ok" && rep.after->status == "ok") {
+      const std::string b = estimate_path(*rep.before, *before);
+      const std::string a = estimate_path(*rep.after, *after);
+      if (b.empty() || a.empty()) {
+        rep.image_note = "estimate images were not kept (no estimate_file or output folder)";
+      } else {
+        delta = write_row_images(rep, b, a, o.out_dir);
+      }
+    }
+    judge(rep, config.thresholds(rep.estimator, rep.scene), delta);
+  }
+  std::stable_sort(d.rows.begin(), d.rows.end(), [](const RowReport& x, const RowReport& y) {
+    if (severity_rank(x.verdict) != severity_rank(y.verdict))
+      return severity_rank(x.verdict) < severity_rank(y.verdict);
+    return std::tie(x.estimator, x.scene, x.view) < std::tie(y.estimator, y.scene, y.view);
+  });
+  for (const auto& rep : d.rows) {
+    int* counter = rep.verdict == Verdict::regressed   ? &d.regressed
+                   : rep.verdict == Verdict::warning   ? &d.warnings
+                   : rep.verdict == Verdict::improved  ? &d.improved
+                   : rep.verdict == Verdict::unchanged ? &d.unchanged
+                                                       : &d.not_compared;
+    ++*counter;
+  }
+
+  // History: the runs of the same command up to the new one, the newest history_runs of them.
+  std::vector<RunRows> history;
+  for (const auto& r : runs) {
+    if (command_family(r.command) == command_family(after->command) && !rows_of[r.run_id].empty())
+      history.emplace_back(r, rows_of[r.run_id]);
+    if (r.run_id == after->run_id) break;
+  }
+  if (history.size() > o.history_runs)
+    history.erase(history.begin(), history.end() - static_cast<long>(o.history_runs));
+  if (o.charts) d.groups = write_history_charts(d, history, o.out_dir);
+
+  d.page = (fs::path(o.out_dir) / "index.html").string();
+  write_text(d.page, dashboard_html(d));
+  return d;
+}
+
+std::vector<std::string> console_lines(const Dashboard& d) {
+  std::vector<std::string> out;
+  for (const auto& rep : d.rows) {
+    if (rep.verdict != Verdict::regressed && rep.verdict != Verdict::warning) continue;
+    std::string line = std::string(rep.verdict == Verdict::regressed ? "REGRESSED " : "WARNING ") +
+                       rep.estimator + " scene " + rep.scene + " view " + rep.view + " " +
+                       rep.resolution + ":";
+    for (const auto& c : rep.checks) {
+      if (c.verdict != Verdict::regressed && c.verdict != Verdict::warning) continue;
+      char numbers[160];
+      std::snprintf(numbers, sizeof numbers, " %s %.4g -> %.4g (threshold %.3g);", c.figure.c_str(),
+                    c.before, c.after, c.threshold);
+      line += c.figure == "status" ? " " + c.detail + ";" : std::string(numbers);
+    }
+    if (!rep.params_change.empty()) line += " parameters changed: " + rep.params_change;
+    if (line.back() == ';') line.pop_back();
+    out.push_back(line);
+  }
+  return out;
+}
+
+}  // namespace aoeval

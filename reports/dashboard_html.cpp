@@ -1,0 +1,229 @@
+// The dashboard page: a verdict banner, the summary table (failures first), then one section per
+// (estimator, scene) with its history charts and, per row, the checks and the new | baseline |
+// difference images (hovering the new image shows the baseline in its place). Self-contained:
+// inline CSS and script, relative image paths, no external URL.
+#include <algorithm>
+#include <cstdio>
+#include <map>
+
+#include "reports/dashboard.h"
+
+namespace aoeval {
+
+namespace {
+
+std::string escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+std::string number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", v);
+  return text;
+}
+
+std::string css_class(Verdict v) {
+  switch (v) {
+    case Verdict::regressed:
+      return "regressed";
+    case Verdict::warning:
+      return "warning";
+    case Verdict::improved:
+      return "improved";
+    case Verdict::unchanged:
+      return "unchanged";
+    case Verdict::not_compared:
+      return "not-compared";
+  }
+  return "";
+}
+
+std::string run_line(const RunContext& r) {
+  return "<code>" + escape(r.run_id) + "</code> &middot; commit <code>" +
+         escape(r.git_commit.substr(0, 12)) + "</code> &middot; " + escape(r.started) +
+         " &middot; <code>" + escape(r.command) + "</code> &middot; " + escape(r.machine);
+}
+
+const char* kStyle = R"(
+body{font-family:"DejaVu Sans",sans-serif;margin:0;background:#f4f4f4;color:#222}
+main{padding:0 1.2em 2em}
+.verdict{padding:1em 1.2em;color:#fff}
+.verdict.fail{background:#b2182b}.verdict.pass{background:#1b7837}
+.verdict h1{margin:0 0 .3em;font-size:1.5em}.verdict p{margin:.2em 0}
+.verdict code{color:#fff}
+table{border-collapse:collapse;background:#fff;margin:.6em 0}
+td,th{border:1px solid #ccc;padding:.25em .5em;font-size:.88em;text-align:left;vertical-align:top}
+th{background:#eee}
+.regressed{background:#fbe3e4}.warning{background:#fff4d6}.improved{background:#e3f4e5}
+.unchanged{background:#fff}.not-compared{background:#f0f0f0;color:#666}
+section.group{background:#fff;border:1px solid #ddd;margin:1.2em 0;padding:.4em 1em}
+section.group h2{font-size:1.2em}
+article.row{border-top:1px solid #ddd;padding:.5em 0}
+article.row h3{font-size:1em;margin:.3em 0}
+.images{display:flex;flex-wrap:wrap;gap:.6em}
+figure{margin:0}figcaption{font-size:.8em;color:#555}
+.images img{width:340px;max-width:31vw;height:auto;image-rendering:pixelated}
+img.swap{cursor:crosshair;outline:2px solid #2166ac}
+img.chart{max-width:48%;margin:.2em}
+.note{color:#555;font-size:.88em}
+)";
+
+// Hovering a new image shows its baseline in its place (the browser test checks the swap).
+const char* kScript = R"(
+document.querySelectorAll('img.swap').forEach(function (img) {
+  img.addEventListener('mouseenter', function () { img.src = img.dataset.baseline; });
+  img.addEventListener('mouseleave', function () { img.src = img.dataset.new; });
+});
+)";
+
+std::string checks_table(const RowReport& rep) {
+  std::string h =
+      "<table class=\"checks\"><tr><th>figure</th><th>baseline</th><th>new</th><th>verdict</th>"
+      "<th>why</th></tr>\n";
+  for (const auto& c : rep.checks) {
+    const bool numbers = c.figure != "status";
+    h += "<tr class=\"" + css_class(c.verdict) + "\"><td>" + escape(c.figure) + "</td><td>" +
+         (numbers ? number(c.before) : "") + "</td><td>" + (numbers ? number(c.after) : "") +
+         "</td><td>" + to_string(c.verdict) + "</td><td>" + escape(c.detail) + "</td></tr>\n";
+  }
+  return h + "</table>\n";
+}
+
+std::string images(const RowReport& rep) {
+  std::string h;
+  if (!rep.new_png.empty()) {
+    h += "<div class=\"images\">\n<figure><img class=\"swap\" src=\"" + escape(rep.new_png) +
+         "\" data-new=\"" + escape(rep.new_png) + "\" data-baseline=\"" + escape(rep.baseline_png) +
+         "\" alt=\"new estimate\"><figcaption>new (hover: baseline)"
+         "</figcaption></figure>\n";
+    h += "<figure><img class=\"baseline\" src=\"" + escape(rep.baseline_png) +
+         "\" alt=\"baseline estimate\"><figcaption>baseline</figcaption></figure>\n";
+    if (!rep.diff_png.empty()) {
+      h += "<figure><img class=\"difference\" src=\"" + escape(rep.diff_png) +
+           "\" alt=\"new minus baseline\"><figcaption>new &minus; baseline (red: new brighter, "
+           "blue: new darker)</figcaption></figure>\n";
+    }
+    h += "</div>\n";
+  }
+  if (!rep.image_note.empty()) h += "<p class=\"note\">" + escape(rep.image_note) + "</p>\n";
+  return h;
+}
+
+}  // namespace
+
+std::string dashboard_html(const Dashboard& d) {
+  const bool fail = d.regressed > 0;
+  std::string h =
+      "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
+      "<title>aoeval dashboard</title>\n<style>";
+  h += kStyle;
+  h += "</style></head><body>\n";
+  h += std::string("<header class=\"verdict ") + (fail ? "fail" : "pass") + "\" id=\"verdict\">";
+  // The banner names what regressed: (estimator on scene), each once, in page order.
+  std::string names;
+  std::vector<std::string> named;
+  for (const auto& rep : d.rows) {
+    if (rep.verdict != Verdict::regressed) continue;
+    const std::string name = rep.estimator + " on " + rep.scene;
+    if (std::find(named.begin(), named.end(), name) != named.end()) continue;
+    named.push_back(name);
+    if (!names.empty()) names += ", ";
+    names += name;
+  }
+  h += "<h1>" +
+       (fail ? "REGRESSED (" + std::to_string(d.regressed) + (d.regressed == 1 ? " row" : " rows") +
+                   "): " + escape(names)
+             : std::string("No regression")) +
+       "</h1>\n";
+  h += "<p>" + std::to_string(d.regressed) + " regressed, " + std::to_string(d.warnings) +
+       " warnings, " + std::to_string(d.improved) + " improved, " + std::to_string(d.unchanged) +
+       " unchanged, " + std::to_string(d.not_compared) + " not compared</p>\n";
+  // Timing that could not be judged is said once at the top, with the reason on each row.
+  int untimed = 0;
+  for (const auto& rep : d.rows)
+    for (const auto& c : rep.checks)
+      untimed += c.figure == "time_ms_median" && c.verdict == Verdict::not_compared;
+  if (untimed > 0) {
+    h += "<p>timing not judged on " + std::to_string(untimed) +
+         " rows (too few repetitions for the rank test, no samples, or another device: see each "
+         "row)</p>\n";
+  }
+  h += "<p>new: " + run_line(d.after_run) + "</p>\n";
+  h += d.before_run ? "<p>baseline: " + run_line(*d.before_run) + "</p>\n"
+                    : std::string("<p>baseline: none (the first run of this command)</p>\n");
+  h += "<p>thresholds: " + escape(d.config_source) + "</p></header>\n<main>\n";
+
+  // Summary: every row, in verdict order, linking to its section.
+  h += "<h2>Rows</h2>\n<table class=\"summary\"><tr><th>verdict</th><th>estimator</th>"
+       "<th>scene</th><th>view</th><th>resolution</th><th>what</th></tr>\n";
+  std::map<const RowReport*, std::string> anchors;
+  for (size_t i = 0; i < d.rows.size(); ++i) anchors[&d.rows[i]] = "row-" + std::to_string(i);
+  for (const auto& rep : d.rows) {
+    std::string what = rep.note;
+    for (const auto& c : rep.checks)
+      if (c.verdict == rep.verdict && rep.verdict != Verdict::unchanged)
+        what += (what.empty() ? "" : "; ") + c.figure;
+    if (!rep.params_change.empty()) what += (what.empty() ? "" : "; ") + rep.params_change;
+    h += "<tr class=\"" + css_class(rep.verdict) + "\"><td><a href=\"#" + anchors[&rep] + "\">" +
+         to_string(rep.verdict) + "</a></td><td>" + escape(rep.estimator) + "</td><td>" +
+         escape(rep.scene) + "</td><td>" + escape(rep.view) + "</td><td>" + escape(rep.resolution) +
+         "</td><td>" + escape(what) + "</td></tr>\n";
+  }
+  h += "</table>\n";
+
+  // One section per (estimator, scene), in the order their first row appears (failures first).
+  std::vector<std::pair<std::string, std::string>> order;
+  std::map<std::pair<std::string, std::string>, std::vector<const RowReport*>> members;
+  for (const auto& rep : d.rows) {
+    const auto key = std::make_pair(rep.estimator, rep.scene);
+    if (!members.count(key)) order.push_back(key);
+    members[key].push_back(&rep);
+  }
+  for (const auto& key : order) {
+    h += "<section class=\"group\"><h2>" + escape(key.first) + " on " + escape(key.second) +
+         "</h2>\n<div class=\"charts\">";
+    for (const auto& g : d.groups)
+      if (g.estimator == key.first && g.scene == key.second)
+        for (const auto& chart : g.charts)
+          h += "<img class=\"chart\" src=\"" + escape(chart) + "\" alt=\"history chart\">";
+    h += "</div>\n";
+    for (const RowReport* rep : members[key]) {
+      h += "<article class=\"row " + css_class(rep->verdict) + "\" id=\"" + anchors[rep] +
+           "\"><h3>" + escape(rep->view) + " " + escape(rep->resolution) + ": " +
+           to_string(rep->verdict) + "</h3>\n<p class=\"note\"><code>" + escape(rep->run_name) +
+           "</code></p>\n";
+      if (!rep->params_change.empty())
+        h += "<p>parameters changed: <code>" + escape(rep->params_change) + "</code></p>\n";
+      if (!rep->note.empty()) h += "<p class=\"note\">" + escape(rep->note) + "</p>\n";
+      if (!rep->checks.empty()) h += checks_table(*rep);
+      h += images(*rep);
+      h += "</article>\n";
+    }
+    h += "</section>\n";
+  }
+  h += "</main>\n<script>";
+  h += kScript;
+  h += "</script>\n</body></html>\n";
+  return h;
+}
+
+}  // namespace aoeval

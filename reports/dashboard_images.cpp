@@ -1,0 +1,215 @@
+// The dashboard's pictures: new | baseline | difference PNGs from the runs' estimate EXRs (through
+// harness/error_maps: grey AO panels and the diverging signed map), and the history charts of the
+// tracked figures (reports/plot.h, matplotlib), rendered a few at a time.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <thread>
+
+#include "errors.h"
+#include "exr_io.h"
+#include "harness/error_maps.h"
+#include "harness/sweep_runner.h"
+#include "reports/dashboard.h"
+#include "reports/plot.h"
+
+namespace aoeval {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct AoPlanes {
+  int w = 0, h = 0;
+  std::vector<float> ao;
+  std::vector<uint8_t> covered;
+};
+
+AoPlanes read_planes(const std::string& path) {
+  const OIIO::ImageBuf image = read_image(path);
+  const int ao = channel_index(image, "AO", path), a = channel_index(image, "A", path);
+  const OIIO::ImageSpec& spec = image.spec();
+  AoPlanes p;
+  p.w = spec.width;
+  p.h = spec.height;
+  const size_t n = static_cast<size_t>(p.w) * p.h, nc = spec.nchannels;
+  std::vector<float> all(n * nc);
+  if (!image.get_pixels(OIIO::ROI::All(), OIIO::TypeFloat, all.data()))
+    throw InputError(path + ": cannot read its pixels: " + image.geterror());
+  p.ao.resize(n);
+  p.covered.resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    p.ao[k] = all[k * nc + ao];
+    p.covered[k] = all[k * nc + a] > 0.5f;
+  }
+  return p;
+}
+
+std::string short_commit(const RunContext& r) {
+  return r.git_commit.size() >= 7 && r.git_commit != "unknown" ? r.git_commit.substr(0, 7) : "?";
+}
+
+// "3f9a1c2 05-01 12:34": commit and start time, the x tick of a history chart.
+std::string run_label(const RunContext& r) {
+  const std::string when = r.started.size() >= 16 ? r.started.substr(5, 11) : r.started;
+  std::string label = short_commit(r) + "\n" + when;
+  std::replace(label.begin(), label.end(), 'T', ' ');
+  return label;
+}
+
+const ResultRow* find_row(const std::vector<ResultRow>& rows, const RowReport& rep) {
+  const ResultRow* loose = nullptr;
+  int loose_count = 0;
+  for (const auto& r : rows) {
+    if (r.status != "ok") continue;
+    if (r.run_name == rep.run_name) return &r;
+    if (r.estimator == rep.estimator && r.scene == rep.scene && r.view == rep.view &&
+        std::to_string(r.width) + "x" + std::to_string(r.height) == rep.resolution) {
+      loose = &r;
+      ++loose_count;
+    }
+  }
+  return loose_count == 1 ? loose : nullptr;
+}
+
+double figure_of(const ResultRow& r, const std::string& figure, bool* ok) {
+  if (figure == "time_ms_median") return r.time_ms_median;
+  const auto it = r.metrics.find(figure);
+  *ok = it != r.metrics.end() && it->is_number();
+  return *ok ? it->get<double>() : 0.0;
+}
+
+// Renders every chart: a few python processes (render_plots: matplotlib's import once per
+// process), one per core, each drawing its share; rethrows the first failure after all finished.
+void render_all(const std::vector<std::pair<PlotSpec, std::string>>& charts) {
+  const size_t workers =
+      std::min<size_t>(charts.size(), std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<std::vector<std::pair<PlotSpec, std::string>>> shares(workers);
+  for (size_t i = 0; i < charts.size(); ++i) shares[i % workers].push_back(charts[i]);
+  std::vector<std::string> failures(workers);
+  std::vector<std::thread> threads;
+  for (size_t k = 0; k < workers; ++k) {
+    threads.emplace_back([&, k] {
+      try {
+        render_plots(shares[k]);
+      } catch (const std::exception& e) {
+        failures[k] = e.what();
+      }
+    });
+  }
+  for (auto& t : threads) t.join();
+  for (const auto& f : failures)
+    if (!f.empty()) throw std::runtime_error("dashboard charts: " + f);
+}
+
+}  // namespace
+
+std::string estimate_path(const ResultRow& row, const RunContext& run) {
+  if (row.estimate_file.empty()) return "";
+  const fs::path file(row.estimate_file);
+  if (file.is_absolute()) return file.string();
+  if (run.output_dir.empty()) return "";
+  return (fs::path(run.output_dir) / file).string();
+}
+
+std::optional<double> write_row_images(RowReport& row, const std::string& before_exr,
+                                       const std::string& after_exr, const std::string& out_dir) {
+  AoPlanes before, after;
+  try {
+    before = read_planes(before_exr);
+    after = read_planes(after_exr);
+  } catch (const InputError& e) {
+    row.image_note = std::string("estimate image unreadable: ") + e.what();
+    return std::nullopt;
+  }
+  const fs::path rel = fs::path("images") / file_stem_for(row.run_name);
+  fs::create_directories(fs::path(out_dir) / rel);
+  auto put = [&](const char* name, const OIIO::ImageBuf& image) {
+    write_image((fs::path(out_dir) / rel / name).string(), image);
+    return (rel / name).string();
+  };
+  row.new_png = put("new.png", ao_image(after.w, after.h, after.ao.data(), after.covered, "new"));
+  row.baseline_png = put(
+      "baseline.png", ao_image(before.w, before.h, before.ao.data(), before.covered, "baseline"));
+  if (before.w != after.w || before.h != after.h) {
+    row.image_note = "the images differ in size: no difference image";
+    return std::nullopt;
+  }
+  std::vector<uint8_t> both(before.covered.size());
+  double sum = 0.0;
+  size_t count = 0;
+  for (size_t k = 0; k < both.size(); ++k) {
+    both[k] = before.covered[k] && after.covered[k];
+    if (!both[k]) continue;
+    const double e = static_cast<double>(after.ao[k]) - before.ao[k];
+    if (!std::isfinite(e)) continue;
+    sum += e * e;
+    ++count;
+  }
+  row.diff_png =
+      put("difference.png", signed_error_map(after.w, after.h, before.ao.data(), after.ao.data(),
+                                             both, 0.0f, nullptr, "new \xE2\x88\x92 baseline"));
+  if (count == 0) return std::nullopt;
+  return std::sqrt(sum / static_cast<double>(count));
+}
+
+std::vector<GroupCharts> write_history_charts(
+    const Dashboard& d, const std::vector<std::pair<RunContext, std::vector<ResultRow>>>& history,
+    const std::string& out_dir) {
+  // Groups in page order (failures first): the first row of each (estimator, scene) places it.
+  std::vector<GroupCharts> groups;
+  std::map<std::string, std::vector<const RowReport*>> members;
+  for (const auto& rep : d.rows) {
+    if (!rep.after) continue;
+    const std::string key = rep.estimator + "\n" + rep.scene;
+    if (!members.count(key)) groups.push_back({rep.estimator, rep.scene, {}});
+    members[key].push_back(&rep);
+  }
+  std::vector<std::string> labels;
+  for (const auto& [run, rows] : history) {
+    std::string label = run_label(run);
+    if (d.before_run && run.run_id == d.before_run->run_id) label += "\nbaseline";
+    if (run.run_id == d.after_run.run_id) label += "\nnew";
+    labels.push_back(label);
+  }
+  const fs::path charts_dir = fs::path(out_dir) / "charts";
+  fs::create_directories(charts_dir);
+  std::vector<std::pair<PlotSpec, std::string>> charts;
+  for (auto& g : groups) {
+    const auto& reps = members[g.estimator + "\n" + g.scene];
+    for (const char* figure : {"rmse_excess", "time_ms_median"}) {
+      PlotSpec spec;
+      spec.title = g.estimator + " on " + g.scene + ": " + figure;
+      spec.x_label = "run (commit, UTC start)";
+      spec.y_label = std::string(figure) == "time_ms_median" ? "median time (ms)" : figure;
+      spec.categories = labels;
+      spec.width_in = 5.6;
+      spec.height_in = 3.2;
+      spec.dpi = 90;
+      for (const RowReport* rep : reps) {
+        PlotSeries s;
+        s.kind = "line";
+        s.marker = "o";
+        // Legend only where it stays readable (a sweep can put dozens of rows in one group).
+        if (reps.size() <= 6) s.label = rep->view + " " + rep->resolution;
+        for (size_t i = 0; i < history.size(); ++i) {
+          const ResultRow* r = find_row(history[i].second, *rep);
+          bool ok = true;
+          const double v = r ? figure_of(*r, figure, &ok) : 0.0;
+          if (!r || !ok || !std::isfinite(v)) continue;
+          s.x.push_back(static_cast<double>(i));
+          s.y.push_back(v);
+        }
+        if (!s.x.empty()) spec.series.push_back(s);
+      }
+      const std::string name = file_stem_for(g.estimator + "/" + g.scene) + "__" + figure + ".png";
+      charts.emplace_back(spec, (charts_dir / name).string());
+      g.charts.push_back((fs::path("charts") / name).string());
+    }
+  }
+  render_all(charts);
+  return groups;
+}
+
+}  // namespace aoeval

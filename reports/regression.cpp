@@ -1,0 +1,333 @@
+// Regression rules (see regression.h).
+//
+// Accuracy noise. Per compared pixel i let t_i be the true AO, r_i = t_i + n_i the reference with
+// Monte-Carlo noise n_i (mean 0, variance sigma_i^2, independent across pixels: every pixel has
+// its own randomisation, references/samplers.h), e_i the estimate and d_i = e_i - t_i its error.
+// CONTRACT §4: rmse^2 = (1/N) sum (d_i - n_i)^2 and rmse_excess^2 = rmse^2 - (1/N) sum sigma_i^2,
+// an unbiased estimate of D^2 = (1/N) sum d_i^2. Taking n_i Gaussian (E n^4 = 3 sigma^4):
+//   Var(rmse_excess^2) = (1/N^2) sum Var((d_i - n_i)^2) = (1/N^2) sum (4 d_i^2 sigma_i^2 + 2
+//   sigma_i^4)
+//                      ~= (4 D^2 s^2 + 2 s^4) / N,     s = ref_stderr_rms, N = pixels,
+// (replacing sigma_i by their rms assumes the error does not concentrate where the reference is
+// noisiest). The delta method, sigma(D) = sigma(D^2) / (2 D), gives
+//   sigma(D) = s sqrt(D^2 + s^2 / 2) / (D sqrt(N)),
+// which diverges as D -> 0; there D^2 itself has sigma s^2 sqrt(2/N), so D is known to within
+// s (2/N)^(1/4). rmse_excess_sigma() takes the smaller of the two. Two runs scored against
+// independent references add variances.
+// The same reference on both sides (a cached reference: same content, same draw n_i): the change
+//   D_a^2 - D_b^2 = (1/N) sum (d'_i^2 - d_i^2) - (2/N) sum n_i (d'_i - d_i)
+// has reference noise only in the second term, variance (4/N^2) sum sigma_i^2 (e'_i - e_i)^2
+// ~= 4 s^2 delta^2 / N with delta the rms of the estimates' difference; and since
+// D_a^2 - D_b^2 = (D_a - D_b)(D_a + D_b), sigma(D_a - D_b) = 2 s delta / (sqrt(N) (D_a + D_b)).
+// An unchanged deterministic estimator (delta = 0) therefore has exactly zero noise, and what is
+// left is the absolute floor for round-off. Bias: (1/N) sum (e_i - r_i) has reference noise of
+// variance s^2 / N per run, independent references add; with the same reference it cancels
+// exactly (bias_a - bias_b = mean(e' - e)).
+// Not modelled: an estimator's own randomness across seeds (rows do not carry it; deterministic
+// estimators repeat bit for bit, CONTRACT "same seed, same bits").
+#include "reports/regression.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace aoeval {
+
+namespace {
+
+// Mid-ranks (1-based) of the pooled sample, doubled so that they are integers.
+std::vector<long> doubled_midranks(const std::vector<double>& pooled) {
+  const size_t n = pooled.size();
+  std::vector<size_t> order(n);
+  for (size_t i = 0; i < n; ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return pooled[a] < pooled[b]; });
+  std::vector<long> rank2(n);
+  for (size_t i = 0; i < n;) {
+    size_t j = i;
+    while (j + 1 < n && pooled[order[j + 1]] == pooled[order[i]]) ++j;
+    const long r2 = static_cast<long>(i + 1 + j + 1);  // 2 * mean of ranks i+1 .. j+1
+    for (size_t k = i; k <= j; ++k) rank2[order[k]] = r2;
+    i = j + 1;
+  }
+  return rank2;
+}
+
+// Exact permutation distribution of the doubled rank sum of `n` items drawn from `rank2`:
+// ways[s] = number of n-subsets with doubled rank sum s (the conditional distribution given the
+// ties, so ties need no approximation).
+std::vector<double> rank_sum_counts(const std::vector<long>& rank2, int n) {
+  long max_sum = 0;
+  for (long r : rank2) max_sum += r;
+  std::vector<std::vector<double>> ways(n + 1, std::vector<double>(max_sum + 1, 0.0));
+  ways[0][0] = 1.0;
+  int seen = 0;
+  for (long r : rank2) {
+    ++seen;
+    for (int c = std::min(seen, n); c >= 1; --c)
+      for (long s = max_sum; s >= r; --s) ways[c][s] += ways[c - 1][s - r];
+  }
+  return ways[n];
+}
+
+double normal_upper(double z) {
+  return 0.5 * std::erfc(z / std::sqrt(2.0));
+}
+
+double median_of(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+template <typename... Args>
+std::string format(const char* fmt, Args... args) {
+  char text[320];
+  std::snprintf(text, sizeof text, fmt, args...);
+  return text;
+}
+
+double metric(const nlohmann::json& metrics, const char* key, bool* ok) {
+  const auto it = metrics.find(key);
+  if (it == metrics.end() || !it->is_number()) {
+    *ok = false;
+    return 0.0;
+  }
+  return it->get<double>();
+}
+
+// The usual shape of a threshold check: a rise of `after - before` beyond max(rel * |before|,
+// k * sigma, absolute) regresses, the same fall improves.
+Check threshold_check(const std::string& figure, double before, double after, double relative,
+                      double sigmas, double sigma, double absolute, const std::string& noise) {
+  Check c;
+  c.figure = figure;
+  c.before = before;
+  c.after = after;
+  c.threshold = std::max({relative * std::abs(before), sigmas * sigma, absolute});
+  const double change = after - before;
+  c.verdict = change > c.threshold    ? Verdict::regressed
+              : -change > c.threshold ? Verdict::improved
+                                      : Verdict::unchanged;
+  c.detail = format(
+                 "change %+.3g, threshold %.3g = max(%g%% of baseline, %g sigma = %.3g, "
+                 "floor %g); ",
+                 change, c.threshold, relative * 100, sigmas, sigmas * sigma, absolute) +
+             noise;
+  return c;
+}
+
+}  // namespace
+
+RankTest mann_whitney(const std::vector<double>& before, const std::vector<double>& after,
+                      int exact_limit) {
+  const int m = static_cast<int>(before.size()), n = static_cast<int>(after.size());
+  if (m == 0 || n == 0) throw std::invalid_argument("mann_whitney: a sample is empty");
+  std::vector<double> pooled = before;
+  pooled.insert(pooled.end(), after.begin(), after.end());
+  const std::vector<long> rank2 = doubled_midranks(pooled);
+  long after_sum2 = 0;
+  for (int j = 0; j < n; ++j) after_sum2 += rank2[m + j];
+  RankTest t;
+  t.u = 0.5 * static_cast<double>(after_sum2) - 0.5 * n * (n + 1.0);
+  const int total = m + n;
+  if (total <= exact_limit) {
+    const std::vector<double> ways = rank_sum_counts(rank2, n);
+    double all = 0.0, ge = 0.0, le = 0.0;
+    for (size_t s = 0; s < ways.size(); ++s) {
+      all += ways[s];
+      if (static_cast<long>(s) >= after_sum2) ge += ways[s];
+      if (static_cast<long>(s) <= after_sum2) le += ways[s];
+    }
+    t.p_greater = ge / all;
+    t.p_less = le / all;
+    t.exact = true;
+  } else {
+    // Normal approximation: E U = mn/2, Var U = mn/12 ((N+1) - sum(t^3 - t) / (N (N-1))) over tie
+    // groups of size t; continuity correction 1/2.
+    std::vector<long> sorted = rank2;
+    std::sort(sorted.begin(), sorted.end());
+    double tie_term = 0.0;
+    for (size_t i = 0; i < sorted.size();) {
+      size_t j = i;
+      while (j < sorted.size() && sorted[j] == sorted[i]) ++j;
+      const double g = static_cast<double>(j - i);
+      tie_term += g * g * g - g;
+      i = j;
+    }
+    const double mean = 0.5 * m * n;
+    const double var = m * n / 12.0 * ((total + 1.0) - tie_term / (total * (total - 1.0)));
+    if (var <= 0.0) {
+      t.p_greater = t.p_less = 1.0;
+    } else {
+      const double sd = std::sqrt(var);
+      t.p_greater = normal_upper((t.u - mean - 0.5) / sd);
+      t.p_less = normal_upper((mean - t.u - 0.5) / sd);
+    }
+  }
+  t.p_greater = std::min(1.0, t.p_greater);
+  t.p_less = std::min(1.0, t.p_less);
+  t.p_two_sided = std::min(1.0, 2.0 * std::min(t.p_greater, t.p_less));
+  return t;
+}
+
+double smallest_one_sided_p(int m, int n) {
+  double c = 1.0;  // C(m+n, m) built up as a product, exact in double for the sizes used here
+  for (int k = 1; k <= m; ++k) c = c * (n + k) / k;
+  return 1.0 / c;
+}
+
+std::optional<AccuracySample> accuracy_sample(const ResultRow& row) {
+  bool ok = true;
+  AccuracySample s;
+  s.rmse_excess = metric(row.metrics, "rmse_excess", &ok);
+  s.ref_stderr_rms = metric(row.metrics, "ref_stderr_rms", &ok);
+  s.bias = metric(row.metrics, "bias", &ok);
+  s.pixels = metric(row.metrics, "pixels", &ok);
+  if (!ok) return std::nullopt;
+  return s;
+}
+
+double rmse_excess_sigma(const AccuracySample& a) {
+  const double s = a.ref_stderr_rms, n = a.pixels, d = a.rmse_excess;
+  if (n <= 0.0 || s <= 0.0) return 0.0;
+  const double near_zero = s * std::pow(2.0 / n, 0.25);
+  if (d <= 0.0) return near_zero;
+  return std::min(near_zero, s * std::sqrt(d * d + 0.5 * s * s) / (d * std::sqrt(n)));
+}
+
+AccuracyNoise accuracy_noise(const AccuracySample& b, const AccuracySample& a, bool same_ref,
+                             std::optional<double> delta_rms) {
+  AccuracyNoise noise;
+  if (same_ref) {
+    noise.bias_sigma = 0.0;  // bias_a - bias_b = mean(e' - e): the reference cancels
+    if (delta_rms) {
+      const double sum = b.rmse_excess + a.rmse_excess;
+      noise.rmse_excess_sigma = sum > 0.0 && b.pixels > 0.0 ? 2.0 * b.ref_stderr_rms * *delta_rms /
+                                                                  (std::sqrt(b.pixels) * sum)
+                                                            : 0.0;
+      noise.model = format("same reference on both sides; rms(new - baseline) = %.3g", *delta_rms);
+      return noise;
+    }
+    noise.model = "same reference, estimate images unavailable: independent-reference sigma";
+  } else {
+    noise.model = "independent references: variances add";
+    const double vb = b.pixels > 0 ? b.ref_stderr_rms * b.ref_stderr_rms / b.pixels : 0.0;
+    const double va = a.pixels > 0 ? a.ref_stderr_rms * a.ref_stderr_rms / a.pixels : 0.0;
+    noise.bias_sigma = std::sqrt(vb + va);
+  }
+  noise.rmse_excess_sigma = std::hypot(rmse_excess_sigma(b), rmse_excess_sigma(a));
+  return noise;
+}
+
+bool same_reference(const ResultRow& b, const ResultRow& a) {
+  if (b.scene != a.scene || b.view != a.view || b.width != a.width || b.height != a.height ||
+      b.definition != a.definition || b.reference != a.reference)
+    return false;
+  const auto sb = accuracy_sample(b), sa = accuracy_sample(a);
+  return sb && sa && sb->pixels == sa->pixels && sb->ref_stderr_rms == sa->ref_stderr_rms;
+}
+
+const char* to_string(Verdict v) {
+  switch (v) {
+    case Verdict::regressed:
+      return "regressed";
+    case Verdict::warning:
+      return "warning";
+    case Verdict::improved:
+      return "improved";
+    case Verdict::unchanged:
+      return "unchanged";
+    case Verdict::not_compared:
+      return "not compared";
+  }
+  return "?";
+}
+
+std::vector<Check> compare_rows(const ResultRow& before, const ResultRow& after,
+                                const Thresholds& t, std::optional<double> delta_rms) {
+  std::vector<Check> checks;
+  const auto sb = accuracy_sample(before), sa = accuracy_sample(after);
+  if (sb && sa) {
+    const bool same = same_reference(before, after);
+    const AccuracyNoise noise = accuracy_noise(*sb, *sa, same, delta_rms);
+    checks.push_back(threshold_check("rmse_excess", sb->rmse_excess, sa->rmse_excess,
+                                     t.rmse_excess_relative, t.rmse_excess_sigmas,
+                                     noise.rmse_excess_sigma, t.rmse_excess_absolute, noise.model));
+    checks.push_back(threshold_check("|bias|", std::abs(sb->bias), std::abs(sa->bias),
+                                     t.bias_relative, t.bias_sigmas, noise.bias_sigma,
+                                     t.bias_absolute, noise.model));
+  } else {
+    Check c;
+    c.figure = "rmse_excess";
+    c.detail = "a row lacks rmse_excess, ref_stderr_rms, bias or pixels";
+    checks.push_back(c);
+  }
+
+  Check time;
+  time.figure = "time_ms_median";
+  time.before = before.time_ms_median;
+  time.after = after.time_ms_median;
+  time.threshold = t.time_relative * before.time_ms_median;
+  const auto& xb = before.time_ms_samples;
+  const auto& xa = after.time_ms_samples;
+  if (xb.empty() || xa.empty()) {
+    time.detail = "no timed repetitions stored";
+  } else if (before.device != after.device) {
+    time.detail = "different devices (" + before.device + " vs " + after.device + ")";
+  } else {
+    const RankTest r = mann_whitney(xb, xa);
+    const double ratio = median_of(xa) / median_of(xb);
+    const bool slower = r.p_greater < t.time_alpha && ratio > 1.0 + t.time_relative;
+    const bool faster = r.p_less < t.time_alpha && ratio < 1.0 / (1.0 + t.time_relative);
+    time.verdict = slower ? Verdict::regressed : faster ? Verdict::improved : Verdict::unchanged;
+    time.detail = format(
+        "median x%.3f (limit x%.2f); Mann-Whitney U = %g, p(slower) = %.3g, "
+        "p(faster) = %.3g, alpha %g, %s, n = %zu vs %zu",
+        ratio, 1.0 + t.time_relative, r.u, r.p_greater, r.p_less, t.time_alpha,
+        r.exact ? "exact" : "normal approximation", xb.size(), xa.size());
+    const double floor_p =
+        smallest_one_sided_p(static_cast<int>(xb.size()), static_cast<int>(xa.size()));
+    if (floor_p >= t.time_alpha) {
+      // No outcome could reach alpha: say so rather than pass silently (or warn on every row of
+      // a suite timed with 3 repetitions).
+      time.verdict = Verdict::not_compared;
+      time.detail += format("; too few repetitions: the smallest possible p is %.3g", floor_p);
+    }
+  }
+  checks.push_back(time);
+  return checks;
+}
+
+Check missing_check(const ResultRow* after, const Thresholds& t) {
+  Check c;
+  c.figure = "status";
+  c.verdict = t.missing_fails ? Verdict::regressed : Verdict::warning;
+  c.detail = after ? "ok in the baseline, now \"" + after->status + "\""
+                   : "ok in the baseline, absent from the new run";
+  return c;
+}
+
+Verdict worst(const std::vector<Check>& checks) {
+  auto rank = [](Verdict v) {
+    switch (v) {
+      case Verdict::regressed:
+        return 4;
+      case Verdict::warning:
+        return 3;
+      case Verdict::improved:
+        return 2;
+      case Verdict::unchanged:
+        return 1;
+      case Verdict::not_compared:
+        return 0;
+    }
+    return 0;
+  };
+  Verdict w = Verdict::not_compared;
+  for (const auto& c : checks)
+    if (rank(c.verdict) > rank(w)) w = c.verdict;
+  return w;
+}
+
+}  // namespace aoeval

@@ -1,0 +1,115 @@
+// Regression rules of `aoeval dashboard` (issue #7): when does a change between a baseline row and
+// a new row of the same (estimator, parameters, scene, view, resolution) count as a regression?
+// A change counts only when it is larger than the noise that the rows themselves say they carry
+// and larger than a configured threshold:
+//   accuracy  rmse_excess rises by more than max(relative * baseline, sigmas * sigma, absolute),
+//             sigma the standard deviation of the change that the reference's Monte-Carlo noise
+//             alone would cause (accuracy_sigma below derives it);
+//   bias      |bias| rises by more than max(relative * |baseline|, sigmas * sigma, absolute);
+//   timing    a one-sided Mann-Whitney rank test over the timed repetitions says "slower" at level
+//             alpha AND the median time rose by more than `relative`.
+// Every function here is pure: rows and numbers in, verdicts out (reports/dashboard.* does I/O).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "harness/result_row.h"
+
+namespace aoeval {
+
+// Thresholds of one (estimator, scene); reports/regression_config.h reads them from JSON.
+struct Thresholds {
+  double rmse_excess_relative = 0.05;  // fraction of the baseline's rmse_excess
+  double rmse_excess_sigmas = 3.0;     // multiples of the change's noise sigma
+  double rmse_excess_absolute = 1e-4;  // AO units: float and driver round-off floor
+  // |bias| catches a uniform darkening that rmse_excess may hide behind other errors; the floor is
+  // about one 8-bit grey level (1/255 ~ 0.004), below which nobody sees a shift.
+  double bias_relative = 0.10;
+  double bias_sigmas = 3.0;
+  double bias_absolute = 0.005;
+  double time_relative = 0.10;  // median time may grow by this fraction
+  double time_alpha = 0.01;     // one-sided rank-test level
+  bool missing_fails = true;  // a row ok in the baseline, now skipped or absent: failure or warning
+};
+
+// ---------------------------------------------------------------- rank test
+
+// Mann-Whitney U (Wilcoxon rank-sum) test of `after` against `before`. u is the U statistic of
+// `after`: the number of pairs (before_i, after_j) with after_j > before_i, ties counting 1/2
+// (u = R_after - n_after (n_after + 1) / 2 with mid-ranks). p_greater = P(U >= u) under H0
+// (after is stochastically larger: "slower" for times), p_less = P(U <= u), p_two_sided =
+// min(1, 2 min(p_greater, p_less)). Exact (the
+// permutation distribution of the mid-rank sum, counted by dynamic programming, so ties are exact
+// too) when n_before + n_after <= exact_limit; otherwise the normal approximation with
+// tie-corrected variance and continuity correction. Needs at least one sample on each side
+// (std::invalid_argument otherwise).
+struct RankTest {
+  double u = 0.0;
+  double p_greater = 1.0, p_less = 1.0, p_two_sided = 1.0;
+  bool exact = false;
+};
+RankTest mann_whitney(const std::vector<double>& before, const std::vector<double>& after,
+                      int exact_limit = 60);
+
+// The smallest one-sided p-value the exact test can give for sample sizes m and n: 1 / C(m+n, m).
+// Below time_alpha no rank test can say "slower", whatever the times (reported, never silent).
+double smallest_one_sided_p(int m, int n);
+
+// ---------------------------------------------------------------- accuracy noise
+
+// What accuracy_sigma needs from a row (its matched-reference metrics).
+struct AccuracySample {
+  double rmse_excess = 0.0;     // D: the estimate's error with the reference noise removed
+  double ref_stderr_rms = 0.0;  // s: rms of the reference's per-pixel standard error
+  double bias = 0.0;
+  double pixels = 0.0;  // N: compared pixels
+};
+std::optional<AccuracySample> accuracy_sample(const ResultRow& row);  // none if a metric is absent
+
+// Standard deviation of the change of rmse_excess (and of bias) between two rows that is due to
+// the references' Monte-Carlo noise (derivation in regression.cpp).
+//   independent references: sqrt(sigma(D_before)^2 + sigma(D_after)^2);
+//   the identical reference (same_reference): the noise is the same draw on both sides and
+//   cancels except for a cross term 2 s delta / (sqrt(N) (D_before + D_after)), delta = rms of
+//   (after - before) estimate over compared pixels; when delta is unknown (images not kept) the
+//   independent-reference sigma is used.
+struct AccuracyNoise {
+  double rmse_excess_sigma = 0.0, bias_sigma = 0.0;
+  std::string model;  // one line: which of the cases above, for the page
+};
+AccuracyNoise accuracy_noise(const AccuracySample& before, const AccuracySample& after,
+                             bool same_reference, std::optional<double> delta_rms);
+// sigma of one row's rmse_excess from reference noise alone.
+double rmse_excess_sigma(const AccuracySample& s);
+
+// True when both rows were scored against the same reference image: same scene, view,
+// resolution, AO definition, reference settings (spp, sampler, seed), pixel count and a
+// bit-identical ref_stderr_rms (a fingerprint of the reference image itself).
+bool same_reference(const ResultRow& before, const ResultRow& after);
+
+// ---------------------------------------------------------------- verdicts
+
+enum class Verdict { regressed, warning, improved, unchanged, not_compared };
+const char* to_string(Verdict v);
+
+// One tracked figure of one row pair.
+struct Check {
+  std::string figure;  // "rmse_excess", "|bias|", "time_ms_median", "status"
+  Verdict verdict = Verdict::not_compared;
+  double before = 0.0, after = 0.0;
+  double threshold = 0.0;  // the change that had to be exceeded
+  std::string detail;      // one line: why (sigma, p-value, the rule that decided)
+};
+
+// Compares one matched pair. `delta_rms`: rms of (after - before) AO over pixels compared in both,
+// when both estimate images could be read.
+std::vector<Check> compare_rows(const ResultRow& before, const ResultRow& after,
+                                const Thresholds& t, std::optional<double> delta_rms);
+// A row present and ok in the baseline but skipped or absent now.
+Check missing_check(const ResultRow* after, const Thresholds& t);
+// The worst verdict of a list (regressed > warning > improved > unchanged > not_compared).
+Verdict worst(const std::vector<Check>& checks);
+
+}  // namespace aoeval
