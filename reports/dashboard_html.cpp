@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <sstream>
 
 #include "reports/dashboard.h"
 
@@ -55,6 +56,23 @@ std::string css_class(Verdict v) {
       return "not-compared";
   }
   return "";
+}
+
+// The explicitly set parameters of a run name ("hbao-split/Nd:4/Ns:6/scene:bunny/view:main/
+// 320x240" -> "Nd:4 Ns:6"): what tells apart rows of one estimator, scene and view.
+std::string point_of(const std::string& run_name) {
+  std::string out, part;
+  std::istringstream in(run_name);
+  bool first = true;
+  while (std::getline(in, part, '/')) {
+    const bool skip = first || part.rfind("scene:", 0) == 0 || part.rfind("view:", 0) == 0 ||
+                      part.find(':') == std::string::npos;  // estimator, scene, view, WxH
+    first = false;
+    if (skip) continue;
+    if (!out.empty()) out += ' ';
+    out += part;
+  }
+  return out;
 }
 
 std::string run_line(const RunContext& r) {
@@ -174,7 +192,7 @@ std::string dashboard_html(const Dashboard& d) {
 
   // Summary: every row, in verdict order, linking to its section.
   h += "<h2>Rows</h2>\n<table class=\"summary\"><tr><th>verdict</th><th>estimator</th>"
-       "<th>scene</th><th>view</th><th>resolution</th><th>what</th></tr>\n";
+       "<th>scene</th><th>view</th><th>resolution</th><th>parameters set</th><th>what</th></tr>\n";
   std::map<const RowReport*, std::string> anchors;
   for (size_t i = 0; i < d.rows.size(); ++i) anchors[&d.rows[i]] = "row-" + std::to_string(i);
   for (const auto& rep : d.rows) {
@@ -186,7 +204,7 @@ std::string dashboard_html(const Dashboard& d) {
     h += "<tr class=\"" + css_class(rep.verdict) + "\"><td><a href=\"#" + anchors[&rep] + "\">" +
          to_string(rep.verdict) + "</a></td><td>" + escape(rep.estimator) + "</td><td>" +
          escape(rep.scene) + "</td><td>" + escape(rep.view) + "</td><td>" + escape(rep.resolution) +
-         "</td><td>" + escape(what) + "</td></tr>\n";
+         "</td><td>" + escape(point_of(rep.run_name)) + "</td><td>" + escape(what) + "</td></tr>\n";
   }
   h += "</table>\n";
 
