@@ -1,0 +1,96 @@
+#!/usr/bin/env bash
+# ctest "browser_test" (reports/CMakeLists.txt): builds a tiny suite report and two dashboards in a
+# temporary folder with the aoeval binary, then opens them in Debian's headless chromium
+# (check_pages.js, playwright-core) and fails on console errors, images that do not load, charts
+# that did not render, a hover swap that does not swap, or a verdict other than expected; and first
+# shows that the checker catches a deliberately broken copy of a dashboard.
+# Screenshots are kept in <build>/test-artifacts/.
+#
+#   run_browser_test.sh AOEVAL BUILD_DIR
+#
+# playwright-core is pinned by package-lock.json and installed with `npm ci` into
+# <build>/browser_test/node_modules (never into the source tree), again only when the lock changes.
+# Exit 77 (ctest: skipped) when chromium or node is absent: ./test.sh installs both.
+set -euo pipefail
+aoeval="$(realpath "$1")"
+build="$(realpath "$2")"
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+chromium="${AOEVAL_CHROMIUM:-/usr/bin/chromium}"
+
+if [ ! -x "$chromium" ]; then
+  echo "browser_test: skipped: $chromium is not installed (./test.sh installs Debian's chromium)"
+  exit 77
+fi
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+  echo "browser_test: skipped: node and npm are not installed (./test.sh installs them)"
+  exit 77
+fi
+
+modules="$build/browser_test"
+if ! cmp -s "$here/package-lock.json" "$modules/package-lock.json" ||
+   [ ! -f "$modules/node_modules/playwright-core/package.json" ]; then
+  rm -rf "$modules"
+  mkdir -p "$modules"
+  cp "$here/package.json" "$here/package-lock.json" "$modules/"
+  (cd "$modules" && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error)
+fi
+
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+export AOEVAL_CACHE="$work/cache"  # its own reference cache
+cd "$work"
+cat >tiny.json <<'JSON'
+[{"name": "tiny", "scenes": ["cornell-box"], "res": [64, 48],
+  "reference": {"spp": 16, "sampler": "sobol"},
+  "timing": {"warmup": 1, "repetitions": 5},
+  "runs": [{"estimator": "constant"}, {"estimator": "raytraced", "fixed": {"rays": 8}}]}]
+JSON
+# Timing is not what this test checks (a shared CI machine); accuracy rules decide the verdicts.
+echo '{"defaults": {"time_relative": 1000}}' >accuracy_only.json
+
+expect_status() {  # expect_status CODE COMMAND...
+  local want="$1"
+  shift
+  set +e
+  "$@" >"$work/out.txt" 2>&1
+  local got=$?
+  set -e
+  if [ "$got" -ne "$want" ]; then
+    echo "browser_test: '$*' exited $got, expected $want:"
+    cat "$work/out.txt"
+    exit 1
+  fi
+}
+
+expect_status 0 "$aoeval" run --suite tiny.json --out suite-a --db r.sqlite
+# raytraced made worse (1 ray instead of 8): the dashboard fails and names it.
+expect_status 0 "$aoeval" run --suite tiny.json --out suite-b --db r.sqlite --set raytraced:rays=1
+expect_status 1 "$aoeval" dashboard --db r.sqlite --out dash-fail --config accuracy_only.json
+grep -q "REGRESSED raytraced scene cornell-box" "$work/out.txt"
+# Back to 8 rays: an improvement, no regression.
+expect_status 0 "$aoeval" run --suite tiny.json --out suite-c --db r.sqlite
+expect_status 0 "$aoeval" dashboard --db r.sqlite --out dash-pass --config accuracy_only.json
+
+# The checker itself must catch a broken page: a missing image, a console error, no hover swap.
+cp -r dash-fail broken
+rm "$(find broken/images -name baseline.png | head -n 1)"
+sed -i -e 's|img.addEventListener|void|g' -e 's|</body>|<script>console.error("planted")</script></body>|' \
+  broken/index.html
+set +e
+NODE_PATH="$modules/node_modules" node "$here/check_pages.js" --screenshots "$work/shots" \
+  dashboard-fail:broken/index.html >checker.txt 2>&1
+checker=$?
+set -e
+for expected in "image did not load" "console error: planted" "did not show"; do
+  if [ "$checker" -ne 1 ] || ! grep -q "$expected" checker.txt; then
+    echo "browser_test: the checker missed \"$expected\" on a broken page (exit $checker):"
+    cat checker.txt
+    exit 1
+  fi
+done
+
+NODE_PATH="$modules/node_modules" node "$here/check_pages.js" \
+  --screenshots "$build/test-artifacts" \
+  page:suite-b/index.html \
+  dashboard-fail=raytraced:dash-fail/index.html \
+  dashboard-pass:dash-pass/index.html
