@@ -108,8 +108,8 @@ std::string write_gbuffer_gallery(const std::string& out_dir, const std::string&
       << "<p>The shared G-buffer of every corpus scene and view: shading normals (RGB = N &times; "
          "0.5 + "
          "0.5) and linear view depth (inferno colour map, near = bright). Each image links to its "
-         "OpenEXR file (channels A, Z, P, N, Ng, objectId). References and estimators are added to "
-         "this report by later stages.</p>\n";
+         "OpenEXR file (channels A, Z, P, N, Ng, objectId). The suite's report (references, "
+         "estimates, errors, timings) is <a href=\"../index.html\">../index.html</a>.</p>\n";
   html << "<table><tr><th>scene</th><th>triangles</th><th>objects</th><th>load ms</th><th>BVH "
           "ms</th></tr>\n";
   std::string last;

@@ -1,0 +1,277 @@
+#include "reports/suite_report.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "exr_io.h"
+#include "reports/suite_report_charts.h"
+
+namespace aoeval {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string esc(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    switch (c) {
+      case '<':
+        o += "&lt;";
+        break;
+      case '>':
+        o += "&gt;";
+        break;
+      case '&':
+        o += "&amp;";
+        break;
+      case '"':
+        o += "&quot;";
+        break;
+      default:
+        o += c;
+    }
+  }
+  return o;
+}
+
+// An id fragment: letters, digits and '-' only.
+std::string slug(const std::string& s) {
+  std::string o;
+  for (char c : s) o += std::isalnum(static_cast<unsigned char>(c)) ? c : '-';
+  return o;
+}
+
+std::string num(double v, const char* format = "%.4g") {
+  if (std::isnan(v)) return "&ndash;";
+  char buf[48];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+std::string metric(const nlohmann::json& metrics, const std::string& key) {
+  const auto it = metrics.find(key);
+  if (it == metrics.end() || it->is_null()) return "&ndash;";
+  return it->is_number() ? num(it->get<double>()) : esc(it->dump());
+}
+
+void append_listed(std::string& list, const char* separator, const std::string& item) {
+  if (!list.empty()) list.append(separator);
+  list.append(item);
+}
+
+std::string link(const std::string& href, const std::string& text) {
+  if (href.empty()) return "";
+  return std::string("<a href=\"").append(esc(href)).append("\">").append(esc(text)).append("</a>");
+}
+
+// The parameters set explicitly, as in the run name: "rays:16" ("defaults" when none).
+std::string params_of(const ResultRow& r) {
+  std::string name = r.run_name;
+  const auto first = name.find('/'), scene = name.find("/scene:");
+  if (first == std::string::npos || scene == std::string::npos || scene <= first) return "defaults";
+  return name.substr(first + 1, scene - first - 1);
+}
+
+std::string view_of(const ResultRow& r) {
+  return r.view + " " + std::to_string(r.width) + "&times;" + std::to_string(r.height);
+}
+
+// {"weighting":"cosine","dmax":null,"falloff":"none"} -> "cosine, unbounded";
+// {"weighting":"cosine","dmax":1.0,"falloff":"sqrt"} -> "cosine, dmax 1, sqrt falloff".
+std::string definition_text(const std::string& definition) {
+  const auto j = nlohmann::json::parse(definition, nullptr, false);
+  if (!j.is_object()) return definition;
+  std::string text = j.value("weighting", std::string("?"));
+  const auto dmax = j.find("dmax");
+  if (dmax == j.end() || !dmax->is_number()) return text + ", unbounded";
+  text += ", dmax " + num(dmax->get<double>());
+  const std::string falloff = j.value("falloff", std::string("none"));
+  return falloff == "none" ? text : text + ", " + falloff + " falloff";
+}
+
+const char* kStyle =
+    "body{font-family:sans-serif;margin:1.5em;background:#fafafa;color:#222;max-width:110em}"
+    "table{border-collapse:collapse;margin:.5em 0 1em}td,th{padding:2px 8px;border-bottom:1px "
+    "solid #ddd;text-align:right;font-size:.9em}th{background:#eee}td.l,th.l{text-align:left}"
+    "table.summary th{text-align:left}section{border-top:2px solid #ccc;margin-top:1.5em}"
+    "figure{margin:.6em 0}figcaption{font-size:.85em;color:#444}img.mosaic{max-width:100%;"
+    "border:1px solid #ccc}img.chart{max-width:100%;border:1px solid #ccc;background:#fff}"
+    "tr.front td{font-weight:bold}.skipped{color:#a60}nav a{margin-right:.8em}";
+
+void summary(std::ostringstream& h, const SuiteReport& r, const std::vector<std::string>& scenes,
+             const std::vector<EstimatorChart>& charts) {
+  std::set<std::string> references;
+  size_t ok = 0;
+  for (const auto& e : r.entries) {
+    if (e.row.status == "ok") ++ok;
+    references.insert(e.row.reference.dump());
+  }
+  std::string scene_list, estimator_list, reference_list;
+  for (const auto& s : scenes) append_listed(scene_list, ", ", s);
+  for (const auto& c : charts)
+    append_listed(estimator_list, ", ", c.estimator + " (" + std::to_string(c.rows.size()) + ")");
+  for (const auto& ref : references) {
+    const auto j = nlohmann::json::parse(ref);
+    append_listed(reference_list, "; ",
+                  std::to_string(j.value("spp", 0)) + " spp, " +
+                      j.value("sampler", std::string("?")) + " sampler, seed " +
+                      std::to_string(j.value("seed", 0)));
+  }
+  std::string sets;
+  for (const auto& s : r.overrides) append_listed(sets, " ", std::string("--set ").append(s));
+  auto row = [&](const std::string& k, const std::string& v) {
+    h << "<tr><th>" << k << "</th><td class=\"l\">" << v << "</td></tr>\n";
+  };
+  h << "<table class=\"summary\" id=\"summary\">\n";
+  row("suite", esc(r.suite) + " (" + esc(r.suite_file) + ")");
+  if (!sets.empty()) row("overrides", esc(sets));
+  row("scenes", std::to_string(scenes.size()) + ": " + esc(scene_list));
+  row("estimators", std::to_string(charts.size()) + " (rows): " + esc(estimator_list));
+  row("rows", std::to_string(r.entries.size()) + " (" + std::to_string(ok) + " ok, " +
+                  std::to_string(r.entries.size() - ok) + " skipped)");
+  row("references", "Embree ray-traced, " + esc(reference_list));
+  row("run id", esc(r.context.run_id));
+  row("started", esc(r.context.started));
+  row("git commit", esc(r.context.git_commit));
+  row("aoeval version", esc(r.context.aoeval_version));
+  row("machine", esc(r.context.machine));
+  row("Embree", esc(r.context.embree_version));
+  row("wall time", num(r.wall_s, "%.1f") + " s (before the report)");
+  row("files", link("results.csv", "results.csv") + " " + link("results.json", "results.json") +
+                   " " + link(r.gbuffer_gallery, "G-buffer gallery"));
+  h << "</table>\n";
+}
+
+void scene_section(std::ostringstream& h, const std::string& scene,
+                   const std::vector<const SuiteReportEntry*>& rows) {
+  h << "<section class=\"scene\" id=\"scene-" << slug(scene) << "\"><h2>Scene " << esc(scene)
+    << "</h2>\n";
+  for (const auto* e : rows) {
+    const ResultRow& r = e->row;
+    if (r.status != "ok" || e->mosaic_png.empty()) continue;
+    h << "<figure id=\"mosaic-" << slug(r.run_name) << "\"><a href=\"" << esc(r.estimate_file)
+      << "\"><img class=\"mosaic\" src=\"" << esc(e->mosaic_png) << "\" alt=\"" << esc(r.run_name)
+      << "\"></a>\n<figcaption><b>" << esc(r.estimator) << "</b> " << esc(params_of(r)) << ", view "
+      << view_of(r)
+      << ": reference | estimate | |estimate &minus; reference| | estimate &minus; reference. "
+      << link(r.estimate_file, "estimate EXR") << " &middot; "
+      << link(e->reference_exr, "reference EXR") << " (" << esc(definition_text(r.definition))
+      << ") &middot; " << link(e->true_reference_exr, "true-AO reference EXR")
+      << "</figcaption></figure>\n";
+  }
+  h << "<h3>Metrics</h3>\n<table class=\"metrics\"><tr><th class=\"l\">estimator</th><th "
+       "class=\"l\">parameters</th><th class=\"l\">view</th><th class=\"l\">matched "
+       "definition</th><th>rmse</th><th>rmse_excess</th>"
+       "<th>ssim</th><th>flip_mean</th><th>bias</th><th>true_rmse</th><th>true_ssim</th></tr>\n";
+  for (const auto* e : rows) {
+    const ResultRow& r = e->row;
+    h << "<tr><td class=\"l\">" << esc(r.estimator) << "</td><td class=\"l\">" << esc(params_of(r))
+      << "</td><td class=\"l\">" << view_of(r) << "</td><td class=\"l\">"
+      << esc(definition_text(r.definition)) << "</td>";
+    if (r.status != "ok") {
+      h << "<td colspan=\"7\" class=\"l skipped\">" << esc(r.status) << "</td></tr>\n";
+      continue;
+    }
+    for (const char* k : {"rmse", "rmse_excess", "ssim", "flip_mean", "bias"})
+      h << "<td>" << metric(r.metrics, k) << "</td>";
+    for (const char* k : {"rmse", "ssim"}) h << "<td>" << metric(r.true_metrics, k) << "</td>";
+    h << "</tr>\n";
+  }
+  h << "</table>\n";
+  std::set<std::string> passes;
+  for (const auto* e : rows)
+    for (const auto& [pass, ms] : e->row.pass_ms) passes.insert(pass);
+  h << "<h3>Timing (ms)</h3>\n<table class=\"timing\"><tr><th class=\"l\">estimator</th><th "
+       "class=\"l\">parameters</th><th class=\"l\">view</th><th>median</th><th>min</th>"
+       "<th>max</th><th>reps</th><th>precompute</th>";
+  for (const auto& p : passes) h << "<th>" << esc(p) << "</th>";
+  h << "</tr>\n";
+  for (const auto* e : rows) {
+    const ResultRow& r = e->row;
+    if (r.status != "ok") continue;
+    h << "<tr><td class=\"l\">" << esc(r.estimator) << "</td><td class=\"l\">" << esc(params_of(r))
+      << "</td><td class=\"l\">" << view_of(r) << "</td><td>" << num(r.time_ms_median)
+      << "</td><td>" << num(r.time_ms_min) << "</td><td>" << num(r.time_ms_max) << "</td><td>"
+      << r.repetitions << "</td><td>" << num(r.precompute_ms) << "</td>";
+    for (const auto& p : passes) {
+      const auto it = r.pass_ms.find(p);
+      h << "<td>" << (it == r.pass_ms.end() ? "&ndash;" : num(it->second)) << "</td>";
+    }
+    h << "</tr>\n";
+  }
+  h << "</table>\n</section>\n";
+}
+
+void estimator_section(std::ostringstream& h, const EstimatorChart& c) {
+  h << "<section class=\"estimator\" id=\"estimator-" << slug(c.estimator) << "\"><h2>Estimator "
+    << esc(c.estimator) << "</h2>\n";
+  if (c.png.empty()) {
+    h << "<p class=\"skipped\">Every run was skipped: "
+      << esc(c.rows.empty() ? std::string() : c.rows.front()->row.status) << "</p>\n</section>\n";
+    return;
+  }
+  h << "<figure><a href=\"" << esc(c.png) << ".plot.json\"><img class=\"chart\" src=\""
+    << esc(c.png) << "\" alt=\"" << esc(c.estimator) << ": error against time\"></a><figcaption>"
+    << kChartMetric
+    << " against the median time per frame, one series per scene view; the Pareto front (no "
+       "other point of the series is both faster and more accurate) is marked and listed in "
+       "bold below. The image links to the plotted data, each run name to its estimate "
+       "EXR.</figcaption></figure>\n";
+  h << "<details><summary>" << c.rows.size()
+    << " rows</summary>\n<table class=\"sweep\"><tr><th class=\"l\">run</th><th>" << kChartMetric
+    << "</th><th>rmse</th><th>true_rmse</th><th>median ms</th><th>Pareto</th></tr>\n";
+  for (size_t i = 0; i < c.rows.size(); ++i) {
+    const ResultRow& r = c.rows[i]->row;
+    h << "<tr" << (c.on_front[i] ? " class=\"front\"" : "") << "><td class=\"l\">"
+      << (r.estimate_file.empty() ? esc(r.run_name) : link(r.estimate_file, r.run_name)) << "</td>";
+    if (r.status != "ok") {
+      h << "<td colspan=\"5\" class=\"l skipped\">" << esc(r.status) << "</td></tr>\n";
+      continue;
+    }
+    h << "<td>" << metric(r.metrics, kChartMetric) << "</td><td>" << metric(r.metrics, "rmse")
+      << "</td><td>" << metric(r.true_metrics, "rmse") << "</td><td>" << num(r.time_ms_median)
+      << "</td><td>" << (c.on_front[i] ? "yes" : "") << "</td></tr>\n";
+  }
+  h << "</table></details>\n</section>\n";
+}
+
+}  // namespace
+
+std::string write_suite_report(const std::string& out_dir, const SuiteReport& r) {
+  const std::vector<EstimatorChart> charts = write_estimator_charts(out_dir, r);
+  std::vector<std::string> scenes;
+  std::map<std::string, std::vector<const SuiteReportEntry*>> featured;
+  for (const auto& e : r.entries) {
+    if (!featured.count(e.row.scene)) scenes.push_back(e.row.scene);
+    auto& list = featured[e.row.scene];
+    if (e.featured) list.push_back(&e);
+  }
+  std::ostringstream h;
+  h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>aoeval "
+    << esc(r.suite) << " suite, run " << esc(r.context.run_id) << "</title>\n<style>" << kStyle
+    << "</style></head><body>\n<h1>aoeval: " << esc(r.suite) << " suite</h1>\n";
+  summary(h, r, scenes, charts);
+  h << "<nav>Scenes: ";
+  for (const auto& s : scenes) h << "<a href=\"#scene-" << slug(s) << "\">" << esc(s) << "</a>";
+  h << "<br>Estimators: ";
+  for (const auto& c : charts)
+    h << "<a href=\"#estimator-" << slug(c.estimator) << "\">" << esc(c.estimator) << "</a>";
+  h << "</nav>\n<p>Each scene shows every estimator's featured run (its default point unless the "
+       "suite says otherwise). Metrics compare the estimate with the reference of the AO "
+       "definition the estimator declares (&ldquo;matched&rdquo;) and, as true_*, with unbounded "
+       "cosine AO; rmse_excess is the RMSE with the reference's own Monte-Carlo noise removed. "
+       "Each mosaic links to the estimate EXR; its caption links to the reference EXRs.</p>\n";
+  for (const auto& s : scenes) scene_section(h, s, featured[s]);
+  for (const auto& c : charts) estimator_section(h, c);
+  h << "</body></html>\n";
+  const std::string page = (fs::path(out_dir) / "index.html").string();
+  write_text(page, h.str());
+  return page;
+}
+
+}  // namespace aoeval

@@ -1,0 +1,45 @@
+// The HTML report of `aoeval run`: one static, self-contained page (no scripts, no external URLs)
+// over the rows of one run and the images the runner kept. Top: a summary table (suite, scenes,
+// estimators, references, run id, git commit, machine, wall time). Per scene: a mosaic per featured
+// row (reference | estimate | |error| | signed error, linked to the estimate and reference EXRs), a
+// metrics table (matched and true AO) and a timing table. Per estimator: error against time over
+// its sweep with the Pareto front marked, and the sweep's rows. Reads rows; runs nothing.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "harness/result_row.h"
+#include "harness/results_store.h"
+
+namespace aoeval {
+
+struct SuiteReportEntry {
+  ResultRow row;          // row.estimate_file is relative to the output folder ("" = not kept)
+  bool featured = false;  // shown as a mosaic and in the per-scene tables
+  // Relative to the output folder; "" where there is none (a skipped row).
+  std::string mosaic_png;
+  std::string reference_exr;       // the matched reference
+  std::string true_reference_exr;  // the unbounded cosine reference ("true AO")
+};
+
+struct SuiteReport {
+  std::string suite;       // "default"
+  std::string suite_file;  // where it was read from
+  RunContext context;
+  double wall_s = 0.0;
+  std::vector<std::string> overrides;  // the --set assignments, as given
+  std::vector<SuiteReportEntry> entries;
+  std::string gbuffer_gallery;  // relative path of the G-buffer gallery page, "" = none
+};
+
+// Writes the error-against-time charts under <out_dir>/runs/<run_id>/plots/ and
+// <out_dir>/index.html (atomically); returns the page's path.
+std::string write_suite_report(const std::string& out_dir, const SuiteReport& report);
+
+// The Pareto front of points (cost, error), both lower is better: true where no other point has
+// cost <= and error <= with at least one of them strictly lower. Points with a NaN coordinate are
+// never on the front. Equal points are all on it.
+std::vector<bool> pareto_front(const std::vector<double>& cost, const std::vector<double>& error);
+
+}  // namespace aoeval

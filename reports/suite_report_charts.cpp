@@ -1,0 +1,177 @@
+#include "reports/suite_report_charts.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+#include "estimators/estimator.h"
+#include "harness/sweep_runner.h"
+#include "reports/plot.h"
+
+namespace aoeval {
+
+namespace fs = std::filesystem;
+
+std::vector<bool> pareto_front(const std::vector<double>& cost, const std::vector<double>& error) {
+  if (cost.size() != error.size())
+    throw std::invalid_argument("pareto_front: cost and error differ in length");
+  const size_t n = cost.size();
+  std::vector<bool> front(n, false);
+  for (size_t i = 0; i < n; ++i) {
+    if (std::isnan(cost[i]) || std::isnan(error[i])) continue;
+    bool dominated = false;
+    for (size_t j = 0; j < n && !dominated; ++j) {
+      if (j == i || std::isnan(cost[j]) || std::isnan(error[j])) continue;
+      dominated =
+          cost[j] <= cost[i] && error[j] <= error[i] && (cost[j] < cost[i] || error[j] < error[i]);
+    }
+    front[i] = !dominated;
+  }
+  return front;
+}
+
+namespace {
+
+double metric_of(const ResultRow& row, const char* key) {
+  const auto it = row.metrics.find(key);
+  return it != row.metrics.end() && it->is_number() ? it->get<double>() : std::nan("");
+}
+
+// The parameters whose values differ between `rows` ("derived" is not a parameter).
+std::vector<std::string> swept_parameters(const std::vector<const SuiteReportEntry*>& rows) {
+  std::vector<std::string> swept;
+  if (rows.empty()) return swept;
+  for (const auto& [key, value] : rows.front()->row.params.items()) {
+    if (key == "derived") continue;
+    for (const auto* e : rows)
+      if (!e->row.params.contains(key) || e->row.params[key] != value) {
+        swept.push_back(key);
+        break;
+      }
+  }
+  return swept;
+}
+
+std::string point_label(const ResultRow& row, const std::vector<std::string>& swept) {
+  std::string label;
+  for (const auto& key : swept) {
+    if (!label.empty()) label += " ";
+    label += key + "=" + format_param_value(row.params[key]);
+  }
+  return label;
+}
+
+void append_listed(std::string& list, const char* separator, const std::string& item) {
+  if (!list.empty()) list.append(separator);
+  list.append(item);
+}
+
+void render_all(const std::vector<std::pair<PlotSpec, std::string>>& plots) {
+  std::atomic<size_t> next{0};
+  std::mutex mutex;
+  std::string failure;
+  auto work = [&] {
+    for (size_t i = next++; i < plots.size(); i = next++) {
+      try {
+        render_plot(plots[i].first, plots[i].second);
+      } catch (const std::exception& e) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (failure.empty()) failure = e.what();
+      }
+    }
+  };
+  const size_t workers =
+      std::min<size_t>(plots.size(), std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<std::thread> threads;
+  for (size_t k = 0; k < workers; ++k) threads.emplace_back(work);
+  for (auto& t : threads) t.join();
+  if (!failure.empty()) throw std::runtime_error("suite report charts: " + failure);
+}
+
+}  // namespace
+
+std::vector<EstimatorChart> write_estimator_charts(const std::string& out_dir,
+                                                   const SuiteReport& report) {
+  std::vector<EstimatorChart> charts;
+  std::map<std::string, size_t> index;
+  for (const auto& e : report.entries) {
+    auto [it, fresh] = index.emplace(e.row.estimator, charts.size());
+    if (fresh) {
+      charts.emplace_back();
+      charts.back().estimator = e.row.estimator;
+      charts.back().metric = kChartMetric;
+    }
+    charts[it->second].rows.push_back(&e);
+  }
+  const std::string plots_rel = "runs/" + report.context.run_id + "/plots";
+  std::vector<std::pair<PlotSpec, std::string>> plots;
+  for (auto& chart : charts) {
+    chart.on_front.assign(chart.rows.size(), false);
+    std::vector<const SuiteReportEntry*> ok;
+    for (const auto* e : chart.rows)
+      if (e->row.status == "ok") ok.push_back(e);
+    chart.swept = swept_parameters(ok);
+    if (ok.empty()) continue;
+    // One series per scene view and resolution, in order of first appearance.
+    std::vector<std::string> series_keys;
+    std::map<std::string, std::vector<size_t>> members;  // key -> indices into chart.rows
+    for (size_t i = 0; i < chart.rows.size(); ++i) {
+      const ResultRow& r = chart.rows[i]->row;
+      if (r.status != "ok") continue;
+      const std::string key =
+          r.scene + "/" + r.view + " " + std::to_string(r.width) + "x" + std::to_string(r.height);
+      if (!members.count(key)) series_keys.push_back(key);
+      members[key].push_back(i);
+    }
+    PlotSpec spec;
+    spec.title = chart.estimator + ": error against time";
+    spec.x_label = "time per frame, median (ms)";
+    spec.y_label = std::string(kChartMetric) + " (matched reference)";
+    spec.width_in = 7.5;
+    spec.height_in = 4.6;
+    if (!chart.swept.empty()) {
+      std::string swept;
+      for (const auto& k : chart.swept) append_listed(swept, ", ", k);
+      spec.title += " (swept: " + swept + ")";
+    }
+    for (const auto& key : series_keys) {
+      PlotSeries s;
+      s.label = key;
+      s.kind = "scatter";
+      for (size_t i : members[key]) {
+        s.x.push_back(chart.rows[i]->row.time_ms_median);
+        s.y.push_back(metric_of(chart.rows[i]->row, kChartMetric));
+      }
+      const std::vector<bool> front = pareto_front(s.x, s.y);
+      for (size_t k = 0; k < front.size(); ++k) {
+        const size_t i = members[key][k];
+        chart.on_front[i] = front[k];
+        s.highlight.push_back(front[k]);
+        s.point_labels.push_back(front[k] ? point_label(chart.rows[i]->row, chart.swept) : "");
+      }
+      spec.series.push_back(std::move(s));
+    }
+    // Log time where the times span a factor of 4 or more; a narrower span reads better linear.
+    double lo = INFINITY, hi = 0.0;
+    for (const auto& s : spec.series)
+      for (double x : s.x)
+        if (x > 0.0) {
+          lo = std::min(lo, x);
+          hi = std::max(hi, x);
+        }
+    spec.log_x = hi >= 4.0 * lo;
+    if (!spec.log_x) spec.x_label += ", linear axis";
+    chart.png = plots_rel + "/" + file_stem_for(chart.estimator) + ".png";
+    plots.emplace_back(std::move(spec), (fs::path(out_dir) / chart.png).string());
+  }
+  fs::create_directories(fs::path(out_dir) / plots_rel);
+  render_all(plots);
+  return charts;
+}
+
+}  // namespace aoeval

@@ -1,0 +1,30 @@
+// The suite report's error-against-time charts (reports/plot.h, matplotlib): one per estimator,
+// one series per scene view, each series' Pareto front marked. Internal to reports/suite_report.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "reports/suite_report.h"
+
+namespace aoeval {
+
+struct EstimatorChart {
+  std::string estimator;
+  std::string png;     // relative to the output folder; "" when no row of it ran ("skipped")
+  std::string metric;  // the error on the y axis: "rmse_excess"
+  std::vector<const SuiteReportEntry*> rows;  // every row of the estimator, in run order
+  std::vector<bool> on_front;                 // per row: on its series' Pareto front
+  std::vector<std::string> swept;             // the parameters that vary over its rows
+};
+
+// The error every chart plots: rmse_excess against the matched reference (the RMSE with the
+// reference's own noise removed, CONTRACT §4), against time_ms_median on a log axis.
+inline constexpr const char* kChartMetric = "rmse_excess";
+
+// Renders every estimator's chart into <out_dir>/runs/<run_id>/plots/ (two python processes at a
+// time) and returns them in order of the estimators' first rows.
+std::vector<EstimatorChart> write_estimator_charts(const std::string& out_dir,
+                                                   const SuiteReport& report);
+
+}  // namespace aoeval

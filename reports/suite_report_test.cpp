@@ -1,0 +1,113 @@
+#include "reports/suite_report.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace aoeval {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(ParetoFront, KeepsPointsNoOtherBeatsOnBothAxes) {
+  //   error
+  //   0.30 a
+  //   0.20    b     d (dominated by b: slower, same error)
+  //   0.10          c
+  //   0.15             e (dominated by c)
+  //        1  2     4  8   cost
+  const std::vector<double> cost = {1, 2, 4, 4, 8}, error = {0.3, 0.2, 0.1, 0.2, 0.15};
+  EXPECT_EQ(pareto_front(cost, error), (std::vector<bool>{true, true, true, false, false}));
+}
+
+TEST(ParetoFront, TiesAndEdgeCases) {
+  EXPECT_TRUE(pareto_front({}, {}).empty());
+  EXPECT_EQ(pareto_front({5}, {0.5}), std::vector<bool>{true});
+  // Identical points do not dominate each other.
+  EXPECT_EQ(pareto_front({1, 1}, {0.2, 0.2}), (std::vector<bool>{true, true}));
+  // Same cost, one more accurate: only that one.
+  EXPECT_EQ(pareto_front({1, 1}, {0.2, 0.1}), (std::vector<bool>{false, true}));
+  // A point better on both axes dominates everything.
+  EXPECT_EQ(pareto_front({3, 1, 2}, {0.3, 0.05, 0.2}), (std::vector<bool>{false, true, false}));
+  // NaN never joins the front and never dominates.
+  const double nan = std::nan("");
+  EXPECT_EQ(pareto_front({1, nan, 2}, {0.2, 0.0, 0.1}), (std::vector<bool>{true, false, true}));
+  EXPECT_THROW(pareto_front({1, 2}, {0.1}), std::invalid_argument);
+}
+
+ResultRow row(const std::string& estimator, int rays, double rmse_excess, double ms) {
+  ResultRow r;
+  r.run_id = "run-1";
+  r.estimator = estimator;
+  r.run_name = estimator + "/rays:" + std::to_string(rays) + "/scene:box/view:main/8x8";
+  r.params = {{"rays", rays}};
+  r.scene = "box";
+  r.view = "main";
+  r.width = r.height = 8;
+  r.metrics = {{"rmse", rmse_excess + 0.01},
+               {"rmse_excess", rmse_excess},
+               {"ssim", 0.9},
+               {"flip_mean", 0.1},
+               {"bias", -0.01}};
+  r.true_metrics = r.metrics;
+  r.time_ms_median = r.time_ms_min = r.time_ms_max = ms;
+  r.repetitions = 3;
+  r.pass_ms = {{"horizon_ms", ms / 2}};
+  return r;
+}
+
+TEST(SuiteReport, PageHasTheSummaryTablesChartsAndSkippedRows) {
+  const fs::path out = fs::temp_directory_path() / "aoeval_suite_report_test";
+  fs::remove_all(out);
+  fs::create_directories(out);
+  SuiteReport report;
+  report.suite = "tiny";
+  report.suite_file = "tiny.json";
+  report.context.run_id = "run-1";
+  report.context.git_commit = "abc123";
+  report.context.machine = "test machine";
+  report.wall_s = 12.5;
+  // A sweep: the rays:4 point is slower and worse than rays:2, so it is off the front.
+  for (auto [rays, err, ms] : {std::tuple{1, 0.2, 1.0}, {2, 0.1, 2.0}, {4, 0.15, 4.0}}) {
+    SuiteReportEntry e;
+    e.row = row("raytraced", rays, err, ms);
+    e.featured = rays == 1;
+    e.mosaic_png = e.featured ? "m.png" : "";
+    e.row.estimate_file = "e.exr";
+    e.reference_exr = "r.exr";
+    report.entries.push_back(e);
+  }
+  SuiteReportEntry skipped;
+  skipped.row = row("hbao", 8, 0, 0);
+  skipped.row.status = "skipped: no Vulkan device (test)";
+  skipped.row.metrics = skipped.row.true_metrics = nlohmann::json::object();
+  skipped.featured = true;
+  report.entries.push_back(skipped);
+
+  const std::string page = write_suite_report(out.string(), report);
+  EXPECT_EQ(page, (out / "index.html").string());
+  std::ifstream in(page);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string html = ss.str();
+  for (const char* expected : {"id=\"summary\"", "abc123", "test machine", "12.5 s",
+                               "id=\"scene-box\"", "class=\"metrics\"", "class=\"timing\"",
+                               "horizon_ms", "<img class=\"mosaic\" src=\"m.png\"",
+                               "<img class=\"chart\" src=\"runs/run-1/plots/raytraced.png\"",
+                               "skipped: no Vulkan device (test)", "id=\"estimator-hbao\"",
+                               "href=\"e.exr\"", "href=\"r.exr\""})
+    EXPECT_NE(html.find(expected), std::string::npos) << expected;
+  EXPECT_EQ(html.find("<script"), std::string::npos);
+  EXPECT_TRUE(fs::exists(out / "runs/run-1/plots/raytraced.png"));
+  EXPECT_FALSE(fs::exists(out / "runs/run-1/plots/hbao.png")) << "nothing of it ran";
+  // The sweep table marks rays:1 and rays:2 as the front, rays:4 not.
+  const std::string front = "<tr class=\"front\"><td class=\"l\"><a href=\"e.exr\">raytraced/rays:";
+  EXPECT_NE(html.find(front + "2/"), std::string::npos);
+  EXPECT_EQ(html.find(front + "4/"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace aoeval
