@@ -131,6 +131,48 @@ class RunImages {
   std::vector<ViewUse> views_;
 };
 
+// Evaluates one point, keeps its estimate (and, when featured, its mosaic) and the references it
+// was scored against.
+SuiteReportEntry run_point(const SuitePoint& sp, EvaluationSession& session, RunImages& images,
+                           const RunContext& context, const std::string& out,
+                           const std::string& run_dir) {
+  const SweepPoint& p = sp.point;
+  EvaluationRequest req;
+  req.estimator = p.estimator;
+  req.overrides = p.overrides;
+  req.scene = p.scene;
+  req.view = p.view;
+  req.width = p.width;
+  req.height = p.height;
+  const std::string estimate_rel = run_dir + "/estimates/" + file_stem_for(p.name) + ".exr";
+  SuiteReportEntry entry;
+  entry.featured = sp.featured;
+  try {  // a missing backend (no Vulkan device) gives a "skipped: ..." row, not an exception
+    entry.row = session.evaluate(req, (fs::path(out) / estimate_rel).string());
+  } catch (const InputError& e) {
+    throw InputError(p.name + ": " + e.what());
+  } catch (const std::exception& e) {
+    throw std::runtime_error(p.name + ": " + e.what());
+  }
+  ResultRow& row = entry.row;
+  row.run_id = context.run_id;
+  row.machine = context.machine;
+  if (row.device.empty()) row.device = context.device;  // CPU estimators name the CPU
+  row.git_commit = context.git_commit;
+  if (row.status != "ok") return entry;
+  row.estimate_file = estimate_rel;
+  const ParamSet params =
+      resolve_params(p.estimator->name, p.estimator->params, p.overrides, p.name);
+  const AoDefinition definition = p.estimator->definition(params);
+  const View& view = session.scene(p.scene).scene.view(p.view);
+  entry.reference_exr = images.reference(session, p.scene, view, p.width, p.height, definition);
+  entry.true_reference_exr =
+      images.reference(session, p.scene, view, p.width, p.height, true_ao_definition());
+  if (sp.featured) entry.mosaic_png = images.mosaic(session, p, row, definition);
+  images.note_view(p.scene, p.view, p.width, p.height);
+  return entry;
+}
+
 }  // namespace
 
 std::string run_suite(const SuiteRunOptions& o) {
@@ -178,55 +220,22 @@ std::string run_suite(const SuiteRunOptions& o) {
   report.overrides = o.sets;
   std::map<std::string, double> load_ms;  // scene -> load + BVH time of its first use
   size_t skipped = 0;
-  Progress progress("run " + suite.name, points.size());
-  for (const SuitePoint& sp : points) {
-    const SweepPoint& p = sp.point;
-    EvaluationSession& session = session_for(suite.specs[sp.spec]);
-    if (!load_ms.count(p.scene)) {
-      const auto t0 = std::chrono::steady_clock::now();
-      session.scene(p.scene);
-      load_ms[p.scene] = seconds_since(t0) * 1000.0;
+  {
+    Progress progress("run " + suite.name, points.size());
+    for (const SuitePoint& sp : points) {
+      EvaluationSession& session = session_for(suite.specs[sp.spec]);
+      if (!load_ms.count(sp.point.scene)) {
+        const auto t0 = std::chrono::steady_clock::now();
+        session.scene(sp.point.scene);
+        load_ms[sp.point.scene] = seconds_since(t0) * 1000.0;
+      }
+      SuiteReportEntry entry = run_point(sp, session, images, context, out, run_dir);
+      skipped += entry.row.status != "ok";
+      folder.add(entry.row);
+      store.add(entry.row);
+      report.entries.push_back(std::move(entry));
+      progress.step(sp.point.name);
     }
-    EvaluationRequest req;
-    req.estimator = p.estimator;
-    req.overrides = p.overrides;
-    req.scene = p.scene;
-    req.view = p.view;
-    req.width = p.width;
-    req.height = p.height;
-    const std::string estimate_rel = run_dir + "/estimates/" + file_stem_for(p.name) + ".exr";
-    SuiteReportEntry entry;
-    entry.featured = sp.featured;
-    try {  // a missing backend (no Vulkan device) gives a "skipped: ..." row, not an exception
-      entry.row = session.evaluate(req, (fs::path(out) / estimate_rel).string());
-      if (entry.row.status == "ok") entry.row.estimate_file = estimate_rel;
-    } catch (const InputError& e) {
-      throw InputError(p.name + ": " + e.what());
-    } catch (const std::exception& e) {
-      throw std::runtime_error(p.name + ": " + e.what());
-    }
-    ResultRow& row = entry.row;
-    row.run_id = context.run_id;
-    row.machine = context.machine;
-    if (row.device.empty()) row.device = context.device;
-    row.git_commit = context.git_commit;
-    if (row.status == "ok") {
-      const ParamSet params =
-          resolve_params(p.estimator->name, p.estimator->params, p.overrides, p.name);
-      const AoDefinition definition = p.estimator->definition(params);
-      const View& view = session.scene(p.scene).scene.view(p.view);
-      entry.reference_exr = images.reference(session, p.scene, view, p.width, p.height, definition);
-      entry.true_reference_exr =
-          images.reference(session, p.scene, view, p.width, p.height, true_ao_definition());
-      if (sp.featured) entry.mosaic_png = images.mosaic(session, p, row, definition);
-      images.note_view(p.scene, p.view, p.width, p.height);
-    } else {
-      ++skipped;
-    }
-    folder.add(row);
-    store.add(row);
-    report.entries.push_back(std::move(entry));
-    progress.step(p.name);
   }
   write_text((fs::path(out) / run_dir / "results.json").string(),
              results_json(folder.rows(), context));

@@ -222,8 +222,8 @@ void estimator_section(std::ostringstream& h, const EstimatorChart& c) {
        "other point of the series is both faster and more accurate) is marked and listed in "
        "bold below. The image links to the plotted data, each run name to its estimate "
        "EXR.</figcaption></figure>\n";
-  h << "<details><summary>" << c.rows.size()
-    << " rows</summary>\n<table class=\"sweep\"><tr><th class=\"l\">run</th><th>" << kChartMetric
+  h << "<details><summary>" << c.rows.size() << (c.rows.size() == 1 ? " row" : " rows")
+    << "</summary>\n<table class=\"sweep\"><tr><th class=\"l\">run</th><th>" << kChartMetric
     << "</th><th>rmse</th><th>true_rmse</th><th>median ms</th><th>Pareto</th></tr>\n";
   for (size_t i = 0; i < c.rows.size(); ++i) {
     const ResultRow& r = c.rows[i]->row;
