@@ -211,7 +211,7 @@ void estimator_section(std::ostringstream& h, const EstimatorChart& c) {
   h << "<section class=\"estimator\" id=\"estimator-" << slug(c.estimator) << "\"><h2>Estimator "
     << esc(c.estimator) << "</h2>\n";
   if (c.png.empty()) {
-    h << "<p class=\"skipped\">Every run was skipped: "
+    h << "<p class=\"skipped\">Every run of it was "
       << esc(c.rows.empty() ? std::string() : c.rows.front()->row.status) << "</p>\n</section>\n";
     return;
   }
