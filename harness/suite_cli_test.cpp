@@ -2,6 +2,7 @@
 // path on stdout, a page that links every image and EXR the run kept (and nothing that is missing
 // or external), results.csv/json rows, SQLite rows, kept earlier runs, and --set.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -28,14 +29,22 @@ struct Result {
   std::string out, err;
 };
 
-fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() /
-                     ("aoeval_suite_cli_" +
-                      std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+// A folder of this test's own (several build folders may run it at once), removed afterwards.
+struct TempDir {
+  fs::path path;
+  TempDir()
+      : path(fs::temp_directory_path() /
+             ("aoeval_suite_cli_" +
+              std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+              std::to_string(getpid()))) {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    if (!::testing::Test::HasFailure()) fs::remove_all(path, ignored);  // kept for a look
+  }
+};
 
 // The references go to a private cache; cornell-box needs no mesh from the data cache.
 Result run(const fs::path& d, const std::string& args) {
@@ -89,7 +98,8 @@ size_t data_lines(const fs::path& csv) {
 }
 
 TEST(SuiteCli, RunWritesAReportThatLinksEveryKeptFile) {
-  const fs::path d = temp_dir();
+  const TempDir temp;
+  const fs::path& d = temp.path;
   const std::string suite = write_suite(d), out = (d / "out").string(),
                     db = (d / "r.sqlite").string();
   const Result r = run(d, "run --suite " + suite + " --out " + out + " --db " + db);
@@ -155,7 +165,8 @@ TEST(SuiteCli, RunWritesAReportThatLinksEveryKeptFile) {
 }
 
 TEST(SuiteCli, SetOverridesAnEstimatorsValuesOrNamesTheMistake) {
-  const fs::path d = temp_dir();
+  const TempDir temp;
+  const fs::path& d = temp.path;
   const std::string suite = write_suite(d), out = (d / "out").string(),
                     db = (d / "r.sqlite").string();
   const std::string base = "run --suite " + suite + " --out " + out + " --db " + db;

@@ -1,6 +1,7 @@
 #include "reports/suite_report.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -60,7 +61,8 @@ ResultRow row(const std::string& estimator, int rays, double rmse_excess, double
 }
 
 TEST(SuiteReport, PageHasTheSummaryTablesChartsAndSkippedRows) {
-  const fs::path out = fs::temp_directory_path() / "aoeval_suite_report_test";
+  const fs::path out =
+      fs::temp_directory_path() / ("aoeval_suite_report_test_" + std::to_string(getpid()));
   fs::remove_all(out);
   fs::create_directories(out);
   SuiteReport report;
@@ -107,6 +109,7 @@ TEST(SuiteReport, PageHasTheSummaryTablesChartsAndSkippedRows) {
   const std::string front = "<tr class=\"front\"><td class=\"l\"><a href=\"e.exr\">raytraced/rays:";
   EXPECT_NE(html.find(front + "2/"), std::string::npos);
   EXPECT_EQ(html.find(front + "4/"), std::string::npos);
+  if (!HasFailure()) fs::remove_all(out);
 }
 
 }  // namespace
