@@ -219,8 +219,9 @@ void estimator_section(std::ostringstream& h, const EstimatorChart& c) {
     << esc(c.png) << "\" alt=\"" << esc(c.estimator) << ": error against time\"></a><figcaption>"
     << kChartMetric
     << " against the median time per frame, one series per scene view; the Pareto front (no "
-       "other point of the series is both faster and more accurate) is marked and listed in "
-       "bold below. The image links to the plotted data, each run name to its estimate "
+       "other point of the series is both at least as fast and more accurate, times closer than "
+       "their repetitions' spread counting as equal) is marked and listed in bold below. The image "
+       "links to the plotted data, each run name to its estimate "
        "EXR.</figcaption></figure>\n";
   h << "<details><summary>" << c.rows.size() << (c.rows.size() == 1 ? " row" : " rows")
     << "</summary>\n<table class=\"sweep\"><tr><th class=\"l\">run</th><th>" << kChartMetric

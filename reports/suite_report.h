@@ -37,9 +37,13 @@ struct SuiteReport {
 // <out_dir>/index.html (atomically); returns the page's path.
 std::string write_suite_report(const std::string& out_dir, const SuiteReport& report);
 
-// The Pareto front of points (cost, error), both lower is better: true where no other point has
-// cost <= and error <= with at least one of them strictly lower. Points with a NaN coordinate are
-// never on the front. Equal points are all on it.
-std::vector<bool> pareto_front(const std::vector<double>& cost, const std::vector<double>& error);
+// The Pareto front of points (cost, error), both lower is better: true where no other point
+// dominates it. j dominates i when error_j <= error_i and cost_j <= cost_i + t, with error_j <
+// error_i or cost_j < cost_i - t, where t = max(cost_noise_i, cost_noise_j): costs closer than
+// their measurement noise count as equal, so timing jitter alone never puts a less accurate point
+// on the front. An empty `cost_noise` means zero noise (the textbook front). Points with a NaN
+// coordinate are never on the front and dominate nothing. Equal points are all on it.
+std::vector<bool> pareto_front(const std::vector<double>& cost, const std::vector<double>& error,
+                               const std::vector<double>& cost_noise = {});
 
 }  // namespace aoeval

@@ -17,18 +17,22 @@ namespace aoeval {
 
 namespace fs = std::filesystem;
 
-std::vector<bool> pareto_front(const std::vector<double>& cost, const std::vector<double>& error) {
-  if (cost.size() != error.size())
-    throw std::invalid_argument("pareto_front: cost and error differ in length");
+std::vector<bool> pareto_front(const std::vector<double>& cost, const std::vector<double>& error,
+                               const std::vector<double>& cost_noise) {
+  if (cost.size() != error.size() || (!cost_noise.empty() && cost_noise.size() != cost.size()))
+    throw std::invalid_argument("pareto_front: cost, error and cost_noise differ in length");
   const size_t n = cost.size();
+  auto noise = [&](size_t k) { return cost_noise.empty() ? 0.0 : std::max(0.0, cost_noise[k]); };
+  auto valid = [&](size_t k) { return !std::isnan(cost[k]) && !std::isnan(error[k]); };
   std::vector<bool> front(n, false);
   for (size_t i = 0; i < n; ++i) {
-    if (std::isnan(cost[i]) || std::isnan(error[i])) continue;
+    if (!valid(i)) continue;
     bool dominated = false;
     for (size_t j = 0; j < n && !dominated; ++j) {
-      if (j == i || std::isnan(cost[j]) || std::isnan(error[j])) continue;
-      dominated =
-          cost[j] <= cost[i] && error[j] <= error[i] && (cost[j] < cost[i] || error[j] < error[i]);
+      if (j == i || !valid(j)) continue;
+      const double t = std::max(noise(i), noise(j));
+      dominated = error[j] <= error[i] && cost[j] <= cost[i] + t &&
+                  (error[j] < error[i] || cost[j] < cost[i] - t);
     }
     front[i] = !dominated;
   }
@@ -143,16 +147,22 @@ std::vector<EstimatorChart> write_estimator_charts(const std::string& out_dir,
       PlotSeries s;
       s.label = key;
       s.kind = "scatter";
+      std::vector<double> noise;  // the spread of the timed repetitions
+      std::vector<const SuiteReportEntry*> series_rows;
       for (size_t i : members[key]) {
-        s.x.push_back(chart.rows[i]->row.time_ms_median);
-        s.y.push_back(metric_of(chart.rows[i]->row, kChartMetric));
+        const ResultRow& r = chart.rows[i]->row;
+        s.x.push_back(r.time_ms_median);
+        s.y.push_back(metric_of(r, kChartMetric));
+        noise.push_back(r.time_ms_max - r.time_ms_min);
+        series_rows.push_back(chart.rows[i]);
       }
-      const std::vector<bool> front = pareto_front(s.x, s.y);
+      const std::vector<bool> front = pareto_front(s.x, s.y, noise);
+      const std::vector<std::string> swept = swept_parameters(series_rows);
       for (size_t k = 0; k < front.size(); ++k) {
         const size_t i = members[key][k];
         chart.on_front[i] = front[k];
         s.highlight.push_back(front[k]);
-        s.point_labels.push_back(front[k] ? point_label(chart.rows[i]->row, chart.swept) : "");
+        s.point_labels.push_back(front[k] ? point_label(chart.rows[i]->row, swept) : "");
       }
       spec.series.push_back(std::move(s));
     }

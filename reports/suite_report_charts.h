@@ -15,7 +15,8 @@ struct EstimatorChart {
   std::string metric;  // the error on the y axis: "rmse_excess"
   std::vector<const SuiteReportEntry*> rows;  // every row of the estimator, in run order
   std::vector<bool> on_front;                 // per row: on its series' Pareto front
-  std::vector<std::string> swept;             // the parameters that vary over its rows
+  std::vector<std::string> swept;             // the parameters that vary over its rows (title);
+                                              // Pareto points are labelled with their series' own
 };
 
 // The error every chart plots: rmse_excess against the matched reference (the RMSE with the

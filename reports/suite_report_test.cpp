@@ -39,6 +39,22 @@ TEST(ParetoFront, TiesAndEdgeCases) {
   EXPECT_THROW(pareto_front({1, 2}, {0.1}), std::invalid_argument);
 }
 
+TEST(ParetoFront, CostsWithinTheirNoiseCountAsEqual) {
+  // Three settings that cost the same up to timing jitter (spread 0.05 ms each): only the most
+  // accurate is on the front, although the least accurate happens to be the fastest.
+  const std::vector<double> cost = {0.150, 0.152, 0.170}, error = {0.5, 0.2, 0.3};
+  EXPECT_EQ(pareto_front(cost, error), (std::vector<bool>{true, true, false}));
+  EXPECT_EQ(pareto_front(cost, error, {0.05, 0.05, 0.05}), (std::vector<bool>{false, true, false}));
+  // A real speed-up (beyond the noise) keeps the faster, less accurate point on the front.
+  EXPECT_EQ(pareto_front({1.0, 4.0}, {0.3, 0.1}, {0.5, 0.5}), (std::vector<bool>{true, true}));
+  // The larger of the two noises applies.
+  EXPECT_EQ(pareto_front({1.0, 1.4}, {0.3, 0.1}, {0.0, 0.5}), (std::vector<bool>{false, true}));
+  // Equal errors: the clearly cheaper one wins; within the noise both stay.
+  EXPECT_EQ(pareto_front({1.0, 2.0}, {0.1, 0.1}, {0.1, 0.1}), (std::vector<bool>{true, false}));
+  EXPECT_EQ(pareto_front({1.0, 1.05}, {0.1, 0.1}, {0.1, 0.1}), (std::vector<bool>{true, true}));
+  EXPECT_THROW(pareto_front({1, 2}, {0.1, 0.2}, {0.1}), std::invalid_argument);
+}
+
 ResultRow row(const std::string& estimator, int rays, double rmse_excess, double ms) {
   ResultRow r;
   r.run_id = "run-1";
