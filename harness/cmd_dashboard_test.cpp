@@ -5,6 +5,7 @@
 // unit-tested in reports/regression_test.cpp.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -28,7 +29,14 @@ std::string slurp(const fs::path& p) {
 
 class DashboardCli : public ::testing::Test {
  protected:
-  fs::path dir = fs::temp_directory_path() / "aoeval_dashboard_cli";
+  // One folder per test and process: ctest runs the tests of this fixture in parallel.
+  fs::path dir =
+      fs::temp_directory_path() / (std::string("aoeval_dashboard_cli_") +
+                                   ::testing::UnitTest::GetInstance()->current_test_info()->name() +
+                                   "_" + std::to_string(getpid()));
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(dir);  // kept for a look when the test fails
+  }
   void SetUp() override {
     fs::remove_all(dir);
     fs::create_directories(dir);

@@ -20,8 +20,8 @@ int main(int argc, char** argv) {
   aoeval::add_sweep_command(app);
   aoeval::add_bench_command(app);
   aoeval::add_run_command(app);
-  aoeval::add_dashboard_command(app);
   aoeval::add_figures_command(app);
+  aoeval::add_dashboard_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -59,8 +59,10 @@ int run_sweep(const SweepOptions& o) {
       out += "/shard-" + std::to_string(index) + "-of-" + std::to_string(count);
     }
   }
-  const RunContext context =
+  RunContext context =
       make_run_context("sweep " + spec.name + (o.shard.empty() ? "" : " --shard " + o.shard));
+  // The dashboard finds a run's estimate images through this folder.
+  context.output_dir = fs::absolute(out).lexically_normal().string();
   ResultsFolder folder(out, context);
   std::set<std::string> done;
   if (o.resume) {
