@@ -213,6 +213,43 @@ TEST(Cli, UnknownSetKeyExitsTwoNamingTheKey) {
   EXPECT_EQ(run("estimators show nope").code, 2);
 }
 
+// No Vulkan driver at all (the loader finds no ICD): a Vulkan estimator is skipped with the reason
+// and exit 1, leaves no file, and a sweep with it and a CPU estimator still scores the CPU one.
+TEST(Cli, VulkanEstimatorWithoutADeviceIsSkippedWithTheReason) {
+  const std::string no_driver =
+      "VK_ICD_FILENAMES=/nonexistent/icd.json VK_DRIVER_FILES=/nonexistent/icd.json ";
+  const fs::path out = temp_dir() / "hbao.exr";
+  Result r = run_with_env(no_driver,
+                          "estimate --estimator hbao-split --scene cornell-box --res "
+                          "32x32 -o " +
+                              out.string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("skipped: no Vulkan device ("), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+
+  const fs::path d = temp_dir();
+  std::ofstream(d / "mixed.json") << R"({"name": "mixed", "scenes": ["cornell-box"],
+    "res": [24, 24], "reference": {"spp": 4, "sampler": "sobol"},
+    "timing": {"warmup": 0, "repetitions": 1},
+    "runs": [{"estimator": "hbao-split"}, {"estimator": "constant"}]})";
+  fs::remove_all(d / "sweep");
+  r = run_with_env(no_driver, "sweep " + (d / "mixed.json").string() + " --out " +
+                                  (d / "sweep").string() + " --db " + (d / "r.sqlite").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto rows = nlohmann::json::parse(slurp(d / "sweep" / "results.json"))["rows"];
+  ASSERT_EQ(rows.size(), 2u);
+  for (const auto& row : rows) {
+    if (row["estimator"] == "hbao-split") {
+      EXPECT_EQ(row["status"].get<std::string>().rfind("skipped: no Vulkan device (", 0), 0u);
+    } else {
+      EXPECT_EQ(row["estimator"], "constant");
+      EXPECT_EQ(row["status"], "ok");
+      EXPECT_TRUE(row["rmse"].is_number());
+    }
+  }
+}
+
 TEST(Cli, EstimateCompareAndMaps) {
   const fs::path d = temp_dir();
   const std::string env = "AOEVAL_CACHE=" + (d / "cache").string() + " ";
