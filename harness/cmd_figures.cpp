@@ -12,6 +12,7 @@
 #include "errors.h"
 #include "harness/figures/figure.h"
 #include "harness/progress.h"
+#include "reports/html.h"
 #include "scenes/exr_io.h"
 
 namespace aoeval {
@@ -32,29 +33,6 @@ std::string known_names() {
   std::string s;
   for (const auto& f : figure_registry()) s += std::string(s.empty() ? "" : ", ") + f.name;
   return s;
-}
-
-std::string html_escape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        o += "&amp;";
-        break;
-      case '<':
-        o += "&lt;";
-        break;
-      case '>':
-        o += "&gt;";
-        break;
-      case '"':
-        o += "&quot;";
-        break;
-      default:
-        o += c;
-    }
-  }
-  return o;
 }
 
 std::string read_file(const fs::path& p) {

@@ -8,33 +8,11 @@
 #include <sstream>
 
 #include "reports/dashboard.h"
+#include "reports/html.h"
 
 namespace aoeval {
 
 namespace {
-
-std::string escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 
 std::string number(double v) {
   char text[32];
@@ -42,20 +20,12 @@ std::string number(double v) {
   return text;
 }
 
+// The verdict as a CSS class: its name with spaces as dashes ("not compared" -> "not-compared").
 std::string css_class(Verdict v) {
-  switch (v) {
-    case Verdict::regressed:
-      return "regressed";
-    case Verdict::warning:
-      return "warning";
-    case Verdict::improved:
-      return "improved";
-    case Verdict::unchanged:
-      return "unchanged";
-    case Verdict::not_compared:
-      return "not-compared";
-  }
-  return "";
+  std::string name = to_string(v);
+  for (char& c : name)
+    if (c == ' ') c = '-';
+  return name;
 }
 
 // The explicitly set parameters of a run name ("hbao-split/Nd:4/Ns:6/scene:bunny/view:main/
@@ -76,9 +46,9 @@ std::string point_of(const std::string& run_name) {
 }
 
 std::string run_line(const RunContext& r) {
-  return "<code>" + escape(r.run_id) + "</code> &middot; commit <code>" +
-         escape(r.git_commit.substr(0, 12)) + "</code> &middot; " + escape(r.started) +
-         " &middot; <code>" + escape(r.command) + "</code> &middot; " + escape(r.machine);
+  return "<code>" + html_escape(r.run_id) + "</code> &middot; commit <code>" +
+         html_escape(r.git_commit.substr(0, 12)) + "</code> &middot; " + html_escape(r.started) +
+         " &middot; <code>" + html_escape(r.command) + "</code> &middot; " + html_escape(r.machine);
 }
 
 const char* kStyle = R"(
@@ -119,9 +89,9 @@ std::string checks_table(const RowReport& rep) {
       "<th>why</th></tr>\n";
   for (const auto& c : rep.checks) {
     const bool numbers = c.figure != "status";
-    h += "<tr class=\"" + css_class(c.verdict) + "\"><td>" + escape(c.figure) + "</td><td>" +
+    h += "<tr class=\"" + css_class(c.verdict) + "\"><td>" + html_escape(c.figure) + "</td><td>" +
          (numbers ? number(c.before) : "") + "</td><td>" + (numbers ? number(c.after) : "") +
-         "</td><td>" + to_string(c.verdict) + "</td><td>" + escape(c.detail) + "</td></tr>\n";
+         "</td><td>" + to_string(c.verdict) + "</td><td>" + html_escape(c.detail) + "</td></tr>\n";
   }
   return h + "</table>\n";
 }
@@ -129,20 +99,21 @@ std::string checks_table(const RowReport& rep) {
 std::string images(const RowReport& rep) {
   std::string h;
   if (!rep.new_png.empty()) {
-    h += "<div class=\"images\">\n<figure><img class=\"swap\" src=\"" + escape(rep.new_png) +
-         "\" data-new=\"" + escape(rep.new_png) + "\" data-baseline=\"" + escape(rep.baseline_png) +
+    h += "<div class=\"images\">\n<figure><img class=\"swap\" src=\"" + html_escape(rep.new_png) +
+         "\" data-new=\"" + html_escape(rep.new_png) + "\" data-baseline=\"" +
+         html_escape(rep.baseline_png) +
          "\" alt=\"new estimate\"><figcaption>new (hover: baseline)"
          "</figcaption></figure>\n";
-    h += "<figure><img class=\"baseline\" src=\"" + escape(rep.baseline_png) +
+    h += "<figure><img class=\"baseline\" src=\"" + html_escape(rep.baseline_png) +
          "\" alt=\"baseline estimate\"><figcaption>baseline</figcaption></figure>\n";
     if (!rep.diff_png.empty()) {
-      h += "<figure><img class=\"difference\" src=\"" + escape(rep.diff_png) +
+      h += "<figure><img class=\"difference\" src=\"" + html_escape(rep.diff_png) +
            "\" alt=\"new minus baseline\"><figcaption>new &minus; baseline (red: new brighter, "
            "blue: new darker)</figcaption></figure>\n";
     }
     h += "</div>\n";
   }
-  if (!rep.image_note.empty()) h += "<p class=\"note\">" + escape(rep.image_note) + "</p>\n";
+  if (!rep.image_note.empty()) h += "<p class=\"note\">" + html_escape(rep.image_note) + "</p>\n";
   return h;
 }
 
@@ -169,7 +140,7 @@ std::string dashboard_html(const Dashboard& d) {
   }
   h += "<h1>" +
        (fail ? "REGRESSED (" + std::to_string(d.regressed) + (d.regressed == 1 ? " row" : " rows") +
-                   "): " + escape(names)
+                   "): " + html_escape(names)
              : std::string("No regression")) +
        "</h1>\n";
   h += "<p>" + std::to_string(d.regressed) + " regressed, " + std::to_string(d.warnings) +
@@ -188,7 +159,7 @@ std::string dashboard_html(const Dashboard& d) {
   h += "<p>new: " + run_line(d.after_run) + "</p>\n";
   h += d.before_run ? "<p>baseline: " + run_line(*d.before_run) + "</p>\n"
                     : std::string("<p>baseline: none (the first run of this command)</p>\n");
-  h += "<p>thresholds: " + escape(d.config_source) + "</p></header>\n<main>\n";
+  h += "<p>thresholds: " + html_escape(d.config_source) + "</p></header>\n<main>\n";
 
   // Summary: every row, in verdict order, linking to its section.
   h += "<h2>Rows</h2>\n<table class=\"summary\"><tr><th>verdict</th><th>estimator</th>"
@@ -202,9 +173,10 @@ std::string dashboard_html(const Dashboard& d) {
         what += (what.empty() ? "" : "; ") + c.figure;
     if (!rep.params_change.empty()) what += (what.empty() ? "" : "; ") + rep.params_change;
     h += "<tr class=\"" + css_class(rep.verdict) + "\"><td><a href=\"#" + anchors[&rep] + "\">" +
-         to_string(rep.verdict) + "</a></td><td>" + escape(rep.estimator) + "</td><td>" +
-         escape(rep.scene) + "</td><td>" + escape(rep.view) + "</td><td>" + escape(rep.resolution) +
-         "</td><td>" + escape(point_of(rep.run_name)) + "</td><td>" + escape(what) + "</td></tr>\n";
+         to_string(rep.verdict) + "</a></td><td>" + html_escape(rep.estimator) + "</td><td>" +
+         html_escape(rep.scene) + "</td><td>" + html_escape(rep.view) + "</td><td>" +
+         html_escape(rep.resolution) + "</td><td>" + html_escape(point_of(rep.run_name)) +
+         "</td><td>" + html_escape(what) + "</td></tr>\n";
   }
   h += "</table>\n";
 
@@ -217,21 +189,21 @@ std::string dashboard_html(const Dashboard& d) {
     members[key].push_back(&rep);
   }
   for (const auto& key : order) {
-    h += "<section class=\"group\"><h2>" + escape(key.first) + " on " + escape(key.second) +
-         "</h2>\n<div class=\"charts\">";
+    h += "<section class=\"group\"><h2>" + html_escape(key.first) + " on " +
+         html_escape(key.second) + "</h2>\n<div class=\"charts\">";
     for (const auto& g : d.groups)
       if (g.estimator == key.first && g.scene == key.second)
         for (const auto& chart : g.charts)
-          h += "<img class=\"chart\" src=\"" + escape(chart) + "\" alt=\"history chart\">";
+          h += "<img class=\"chart\" src=\"" + html_escape(chart) + "\" alt=\"history chart\">";
     h += "</div>\n";
     for (const RowReport* rep : members[key]) {
       h += "<article class=\"row " + css_class(rep->verdict) + "\" id=\"" + anchors[rep] +
-           "\"><h3>" + escape(rep->view) + " " + escape(rep->resolution) + ": " +
-           to_string(rep->verdict) + "</h3>\n<p class=\"note\"><code>" + escape(rep->run_name) +
-           "</code></p>\n";
+           "\"><h3>" + html_escape(rep->view) + " " + html_escape(rep->resolution) + ": " +
+           to_string(rep->verdict) + "</h3>\n<p class=\"note\"><code>" +
+           html_escape(rep->run_name) + "</code></p>\n";
       if (!rep->params_change.empty())
-        h += "<p>parameters changed: <code>" + escape(rep->params_change) + "</code></p>\n";
-      if (!rep->note.empty()) h += "<p class=\"note\">" + escape(rep->note) + "</p>\n";
+        h += "<p>parameters changed: <code>" + html_escape(rep->params_change) + "</code></p>\n";
+      if (!rep->note.empty()) h += "<p class=\"note\">" + html_escape(rep->note) + "</p>\n";
       if (!rep->checks.empty()) h += checks_table(*rep);
       h += images(*rep);
       h += "</article>\n";

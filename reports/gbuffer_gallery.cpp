@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "exr_io.h"
+#include "reports/html.h"
 
 namespace aoeval {
 
@@ -14,29 +15,6 @@ namespace fs = std::filesystem;
 
 namespace {
 const float kBackground = 0.12f;
-
-std::string html_escape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    switch (c) {
-      case '<':
-        o += "&lt;";
-        break;
-      case '>':
-        o += "&gt;";
-        break;
-      case '&':
-        o += "&amp;";
-        break;
-      case '"':
-        o += "&quot;";
-        break;
-      default:
-        o += c;
-    }
-  }
-  return o;
-}
 
 std::string with_commas(size_t n) {
   const std::string digits = std::to_string(n);
@@ -94,22 +72,21 @@ void write_gbuffer_previews(const std::string& gbuffer_exr, const std::string& n
 std::string write_gbuffer_gallery(const std::string& out_dir, const std::string& suite,
                                   const std::vector<GalleryEntry>& entries) {
   std::ostringstream html;
-  html
-      << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
-      << "<title>aoeval " << html_escape(suite) << " suite: scene corpus G-buffers</title>\n"
-      << "<style>body{font-family:sans-serif;margin:1.5em;background:#fafafa;color:#222}"
-         "section{margin-bottom:1.5em;border-bottom:1px solid #ddd;padding-bottom:1em}"
-         "figure{display:inline-block;margin:0 1em 0.5em 0;vertical-align:top}"
-         "figcaption{font-size:0.85em;color:#555}img{image-rendering:pixelated;border:1px solid "
-         "#ccc}"
-         "table{border-collapse:collapse}td,th{padding:2px 10px;text-align:right}"
-         "th{text-align:left}</style></head><body>\n"
-      << "<h1>aoeval: " << html_escape(suite) << " suite</h1>\n"
-      << "<p>The shared G-buffer of every corpus scene and view: shading normals (RGB = N &times; "
-         "0.5 + "
-         "0.5) and linear view depth (inferno colour map, near = bright). Each image links to its "
-         "OpenEXR file (channels A, Z, P, N, Ng, objectId). The suite's report (references, "
-         "estimates, errors, timings) is <a href=\"../index.html\">../index.html</a>.</p>\n";
+  html << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
+       << "<title>aoeval " << html_escape(suite) << " suite: scene corpus G-buffers</title>\n"
+       << "<style>body{font-family:sans-serif;margin:1.5em;background:#fafafa;color:#222}"
+          "section{margin-bottom:1.5em;border-bottom:1px solid #ddd;padding-bottom:1em}"
+          "figure{display:inline-block;margin:0 1em 0.5em 0;vertical-align:top}"
+          "figcaption{font-size:0.85em;color:#555}img{image-rendering:pixelated;border:1px solid "
+          "#ccc}"
+          "table{border-collapse:collapse}td,th{padding:2px 10px;text-align:right}"
+          "th{text-align:left}</style></head><body>\n"
+       << "<h1>aoeval: " << html_escape(suite) << " suite</h1>\n"
+       << "<p>The shared G-buffer of every corpus scene and view: shading normals (RGB = N &times; "
+          "0.5 + "
+          "0.5) and linear view depth (inferno colour map, near = bright). Each image links to its "
+          "OpenEXR file (channels A, Z, P, N, Ng, objectId). The suite's report (references, "
+          "estimates, errors, timings) is <a href=\"../index.html\">../index.html</a>.</p>\n";
   html << "<table><tr><th>scene</th><th>triangles</th><th>objects</th><th>load ms</th><th>BVH "
           "ms</th></tr>\n";
   std::string last;

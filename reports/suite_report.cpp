@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "exr_io.h"
+#include "reports/html.h"
 #include "reports/suite_report_charts.h"
 
 namespace aoeval {
@@ -15,29 +16,6 @@ namespace aoeval {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string esc(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    switch (c) {
-      case '<':
-        o += "&lt;";
-        break;
-      case '>':
-        o += "&gt;";
-        break;
-      case '&':
-        o += "&amp;";
-        break;
-      case '"':
-        o += "&quot;";
-        break;
-      default:
-        o += c;
-    }
-  }
-  return o;
-}
 
 // An id fragment: letters, digits and '-' only.
 std::string slug(const std::string& s) {
@@ -56,7 +34,7 @@ std::string num(double v, const char* format = "%.4g") {
 std::string metric(const nlohmann::json& metrics, const std::string& key) {
   const auto it = metrics.find(key);
   if (it == metrics.end() || it->is_null()) return "&ndash;";
-  return it->is_number() ? num(it->get<double>()) : esc(it->dump());
+  return it->is_number() ? num(it->get<double>()) : html_escape(it->dump());
 }
 
 void append_listed(std::string& list, const char* separator, const std::string& item) {
@@ -66,7 +44,11 @@ void append_listed(std::string& list, const char* separator, const std::string& 
 
 std::string link(const std::string& href, const std::string& text) {
   if (href.empty()) return "";
-  return std::string("<a href=\"").append(esc(href)).append("\">").append(esc(text)).append("</a>");
+  return std::string("<a href=\"")
+      .append(html_escape(href))
+      .append("\">")
+      .append(html_escape(text))
+      .append("</a>");
 }
 
 // The parameters set explicitly, as in the run name: "rays:16" ("defaults" when none).
@@ -128,19 +110,19 @@ void summary(std::ostringstream& h, const SuiteReport& r, const std::vector<std:
     h << "<tr><th>" << k << "</th><td class=\"l\">" << v << "</td></tr>\n";
   };
   h << "<table class=\"summary\" id=\"summary\">\n";
-  row("suite", esc(r.suite) + " (" + esc(r.suite_file) + ")");
-  if (!sets.empty()) row("overrides", esc(sets));
-  row("scenes", std::to_string(scenes.size()) + ": " + esc(scene_list));
-  row("estimators", std::to_string(charts.size()) + " (rows): " + esc(estimator_list));
+  row("suite", html_escape(r.suite) + " (" + html_escape(r.suite_file) + ")");
+  if (!sets.empty()) row("overrides", html_escape(sets));
+  row("scenes", std::to_string(scenes.size()) + ": " + html_escape(scene_list));
+  row("estimators", std::to_string(charts.size()) + " (rows): " + html_escape(estimator_list));
   row("rows", std::to_string(r.entries.size()) + " (" + std::to_string(ok) + " ok, " +
                   std::to_string(r.entries.size() - ok) + " skipped)");
-  row("references", "Embree ray-traced, " + esc(reference_list));
-  row("run id", esc(r.context.run_id));
-  row("started", esc(r.context.started));
-  row("git commit", esc(r.context.git_commit));
-  row("aoeval version", esc(r.context.aoeval_version));
-  row("machine", esc(r.context.machine));
-  row("Embree", esc(r.context.embree_version));
+  row("references", "Embree ray-traced, " + html_escape(reference_list));
+  row("run id", html_escape(r.context.run_id));
+  row("started", html_escape(r.context.started));
+  row("git commit", html_escape(r.context.git_commit));
+  row("aoeval version", html_escape(r.context.aoeval_version));
+  row("machine", html_escape(r.context.machine));
+  row("Embree", html_escape(r.context.embree_version));
   row("wall time", num(r.wall_s, "%.1f") + " s (before the report)");
   row("files", link("results.csv", "results.csv") + " " + link("results.json", "results.json") +
                    " " + link(r.gbuffer_gallery, "G-buffer gallery"));
@@ -149,20 +131,21 @@ void summary(std::ostringstream& h, const SuiteReport& r, const std::vector<std:
 
 void scene_section(std::ostringstream& h, const std::string& scene,
                    const std::vector<const SuiteReportEntry*>& rows) {
-  h << "<section class=\"scene\" id=\"scene-" << slug(scene) << "\"><h2>Scene " << esc(scene)
-    << "</h2>\n";
+  h << "<section class=\"scene\" id=\"scene-" << slug(scene) << "\"><h2>Scene "
+    << html_escape(scene) << "</h2>\n";
   for (const auto* e : rows) {
     const ResultRow& r = e->row;
     if (r.status != "ok" || e->mosaic_png.empty()) continue;
-    h << "<figure id=\"mosaic-" << slug(r.run_name) << "\"><a href=\"" << esc(r.estimate_file)
-      << "\"><img class=\"mosaic\" src=\"" << esc(e->mosaic_png) << "\" alt=\"" << esc(r.run_name)
-      << "\"></a>\n<figcaption><b>" << esc(r.estimator) << "</b> " << esc(params_of(r)) << ", view "
-      << view_of(r)
+    h << "<figure id=\"mosaic-" << slug(r.run_name) << "\"><a href=\""
+      << html_escape(r.estimate_file) << "\"><img class=\"mosaic\" src=\""
+      << html_escape(e->mosaic_png) << "\" alt=\"" << html_escape(r.run_name)
+      << "\"></a>\n<figcaption><b>" << html_escape(r.estimator) << "</b> "
+      << html_escape(params_of(r)) << ", view " << view_of(r)
       << ": reference | estimate | |estimate &minus; reference| | estimate &minus; reference. "
       << link(r.estimate_file, "estimate EXR") << " &middot; "
-      << link(e->reference_exr, "reference EXR") << " (" << esc(definition_text(r.definition))
-      << ") &middot; " << link(e->true_reference_exr, "true-AO reference EXR")
-      << "</figcaption></figure>\n";
+      << link(e->reference_exr, "reference EXR") << " ("
+      << html_escape(definition_text(r.definition)) << ") &middot; "
+      << link(e->true_reference_exr, "true-AO reference EXR") << "</figcaption></figure>\n";
   }
   h << "<h3>Metrics</h3>\n<table class=\"metrics\"><tr><th class=\"l\">estimator</th><th "
        "class=\"l\">parameters</th><th class=\"l\">view</th><th class=\"l\">matched "
@@ -170,11 +153,11 @@ void scene_section(std::ostringstream& h, const std::string& scene,
        "<th>ssim</th><th>flip_mean</th><th>bias</th><th>true_rmse</th><th>true_ssim</th></tr>\n";
   for (const auto* e : rows) {
     const ResultRow& r = e->row;
-    h << "<tr><td class=\"l\">" << esc(r.estimator) << "</td><td class=\"l\">" << esc(params_of(r))
-      << "</td><td class=\"l\">" << view_of(r) << "</td><td class=\"l\">"
-      << esc(definition_text(r.definition)) << "</td>";
+    h << "<tr><td class=\"l\">" << html_escape(r.estimator) << "</td><td class=\"l\">"
+      << html_escape(params_of(r)) << "</td><td class=\"l\">" << view_of(r)
+      << "</td><td class=\"l\">" << html_escape(definition_text(r.definition)) << "</td>";
     if (r.status != "ok") {
-      h << "<td colspan=\"7\" class=\"l skipped\">" << esc(r.status) << "</td></tr>\n";
+      h << "<td colspan=\"7\" class=\"l skipped\">" << html_escape(r.status) << "</td></tr>\n";
       continue;
     }
     for (const char* k : {"rmse", "rmse_excess", "ssim", "flip_mean", "bias"})
@@ -189,15 +172,16 @@ void scene_section(std::ostringstream& h, const std::string& scene,
   h << "<h3>Timing (ms)</h3>\n<table class=\"timing\"><tr><th class=\"l\">estimator</th><th "
        "class=\"l\">parameters</th><th class=\"l\">view</th><th>median</th><th>min</th>"
        "<th>max</th><th>reps</th><th>precompute</th>";
-  for (const auto& p : passes) h << "<th>" << esc(p) << "</th>";
+  for (const auto& p : passes) h << "<th>" << html_escape(p) << "</th>";
   h << "</tr>\n";
   for (const auto* e : rows) {
     const ResultRow& r = e->row;
     if (r.status != "ok") continue;
-    h << "<tr><td class=\"l\">" << esc(r.estimator) << "</td><td class=\"l\">" << esc(params_of(r))
-      << "</td><td class=\"l\">" << view_of(r) << "</td><td>" << num(r.time_ms_median)
-      << "</td><td>" << num(r.time_ms_min) << "</td><td>" << num(r.time_ms_max) << "</td><td>"
-      << r.repetitions << "</td><td>" << num(r.precompute_ms) << "</td>";
+    h << "<tr><td class=\"l\">" << html_escape(r.estimator) << "</td><td class=\"l\">"
+      << html_escape(params_of(r)) << "</td><td class=\"l\">" << view_of(r) << "</td><td>"
+      << num(r.time_ms_median) << "</td><td>" << num(r.time_ms_min) << "</td><td>"
+      << num(r.time_ms_max) << "</td><td>" << r.repetitions << "</td><td>" << num(r.precompute_ms)
+      << "</td>";
     for (const auto& p : passes) {
       const auto it = r.pass_ms.find(p);
       h << "<td>" << (it == r.pass_ms.end() ? "&ndash;" : num(it->second)) << "</td>";
@@ -209,15 +193,16 @@ void scene_section(std::ostringstream& h, const std::string& scene,
 
 void estimator_section(std::ostringstream& h, const EstimatorChart& c) {
   h << "<section class=\"estimator\" id=\"estimator-" << slug(c.estimator) << "\"><h2>Estimator "
-    << esc(c.estimator) << "</h2>\n";
+    << html_escape(c.estimator) << "</h2>\n";
   if (c.png.empty()) {
     h << "<p class=\"skipped\">Every run of it was "
-      << esc(c.rows.empty() ? std::string() : c.rows.front()->row.status) << "</p>\n</section>\n";
+      << html_escape(c.rows.empty() ? std::string() : c.rows.front()->row.status)
+      << "</p>\n</section>\n";
     return;
   }
-  h << "<figure><a href=\"" << esc(c.png) << ".plot.json\"><img class=\"chart\" src=\""
-    << esc(c.png) << "\" alt=\"" << esc(c.estimator) << ": error against time\"></a><figcaption>"
-    << kChartMetric
+  h << "<figure><a href=\"" << html_escape(c.png) << ".plot.json\"><img class=\"chart\" src=\""
+    << html_escape(c.png) << "\" alt=\"" << html_escape(c.estimator)
+    << ": error against time\"></a><figcaption>" << kChartMetric
     << " against the median time per frame, one series per scene view; the Pareto front (no "
        "other point of the series is both at least as fast and more accurate, times closer than "
        "their repetitions' spread counting as equal) is marked and listed in bold below. The image "
@@ -229,9 +214,10 @@ void estimator_section(std::ostringstream& h, const EstimatorChart& c) {
   for (size_t i = 0; i < c.rows.size(); ++i) {
     const ResultRow& r = c.rows[i]->row;
     h << "<tr" << (c.on_front[i] ? " class=\"front\"" : "") << "><td class=\"l\">"
-      << (r.estimate_file.empty() ? esc(r.run_name) : link(r.estimate_file, r.run_name)) << "</td>";
+      << (r.estimate_file.empty() ? html_escape(r.run_name) : link(r.estimate_file, r.run_name))
+      << "</td>";
     if (r.status != "ok") {
-      h << "<td colspan=\"5\" class=\"l skipped\">" << esc(r.status) << "</td></tr>\n";
+      h << "<td colspan=\"5\" class=\"l skipped\">" << html_escape(r.status) << "</td></tr>\n";
       continue;
     }
     h << "<td>" << metric(r.metrics, kChartMetric) << "</td><td>" << metric(r.metrics, "rmse")
@@ -254,14 +240,17 @@ std::string write_suite_report(const std::string& out_dir, const SuiteReport& r)
   }
   std::ostringstream h;
   h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>aoeval "
-    << esc(r.suite) << " suite, run " << esc(r.context.run_id) << "</title>\n<style>" << kStyle
-    << "</style></head><body>\n<h1>aoeval: " << esc(r.suite) << " suite</h1>\n";
+    << html_escape(r.suite) << " suite, run " << html_escape(r.context.run_id)
+    << "</title>\n<style>" << kStyle
+    << "</style></head><body>\n<h1>aoeval: " << html_escape(r.suite) << " suite</h1>\n";
   summary(h, r, scenes, charts);
   h << "<nav>Scenes: ";
-  for (const auto& s : scenes) h << "<a href=\"#scene-" << slug(s) << "\">" << esc(s) << "</a>";
+  for (const auto& s : scenes)
+    h << "<a href=\"#scene-" << slug(s) << "\">" << html_escape(s) << "</a>";
   h << "<br>Estimators: ";
   for (const auto& c : charts)
-    h << "<a href=\"#estimator-" << slug(c.estimator) << "\">" << esc(c.estimator) << "</a>";
+    h << "<a href=\"#estimator-" << slug(c.estimator) << "\">" << html_escape(c.estimator)
+      << "</a>";
   h << "</nav>\n<p>Each scene shows every estimator's featured run (its default point unless the "
        "suite says otherwise). Metrics compare the estimate with the reference of the AO "
        "definition the estimator declares (&ldquo;matched&rdquo;) and, as true_*, with unbounded "
