@@ -22,10 +22,14 @@ using std::sqrt;
 
 }  // namespace aoeval::hbao_glsl
 
+// The CPU runs one pixel at a time: loops may stop early (hbao_kernel.glsl, hbao_march).
+#define HBAO_SCALAR_DEVICE 1
 // GLSL's `precise` (SPIR-V NoContraction) has no C++ spelling: -ffp-contract=off does its job.
 #define precise
 // Parameters written by the callee: `out T` in GLSL, a reference in C++.
 #define HBAO_OUT(T) T&
+// Parameters read and written by the callee: `inout T` in GLSL, a reference in C++.
+#define HBAO_INOUT(T) T&
 // The images reach the kernel as GLSL globals (bindings) and as an explicit first argument in C++.
 #define HBAO_IMAGES_PARAM const HbaoImages &img,
 #define HBAO_IMAGES_ARG img,

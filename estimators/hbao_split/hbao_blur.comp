@@ -4,7 +4,7 @@
 #include "hbao_common.glsl"
 
 void main() {
-  ivec2 xy = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 xy = hbao_invocation_pixel();
   if (xy.x >= pc.c.width || xy.y >= pc.c.height) return;
   imageStore(ao_image, xy, vec4(hbao_blur(xy.x, xy.y, pc.c)));
 }

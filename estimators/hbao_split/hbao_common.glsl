@@ -2,6 +2,7 @@
 // blur passes), the kernel's accessors over them, and the kernel itself (hbao_kernel.glsl, the same
 // source the CPU twin compiles as C++).
 #define HBAO_OUT(T) out T
+#define HBAO_INOUT(T) inout T
 #define HBAO_IMAGES_PARAM
 #define HBAO_IMAGES_ARG
 
@@ -21,6 +22,20 @@ layout(set = 0, binding = 7, r32f) uniform writeonly image2D ao_image;  // A aft
 layout(push_constant) uniform Push {
   HbaoConstants c;
 } pc;
+
+// The pixel of this invocation. Lavapipe cuts a dispatch into as many contiguous runs of
+// workgroups (in dispatch order, x fastest) as it has threads and gives each thread one run
+// (lp_cs_tpool_queue_task), so with workgroups in image order the thread whose rows hold the model
+// works while the one whose rows hold the sky waits: on bunny the second of two cores added only
+// 22 % to the horizon pass. Dispatch row r therefore covers tile row (r * row_stride) mod rows,
+// a stride near rows times the golden ratio and coprime with rows (hbao_row_stride), so any
+// contiguous run of dispatch rows covers tile rows spread over the whole image. A GPU's scheduler
+// does not care about the order.
+ivec2 hbao_invocation_pixel() {
+  uint rows = gl_NumWorkGroups.y;
+  uint row = (gl_WorkGroupID.y * uint(pc.c.row_stride)) % rows;
+  return ivec2(gl_GlobalInvocationID.x, row * gl_WorkGroupSize.y + gl_LocalInvocationID.y);
+}
 
 float hbao_depth(int i, int j) {
   return imageLoad(depth_image, ivec2(i, j)).r;

@@ -16,4 +16,5 @@ struct HbaoConstants {
   int normal_rays;  // Nn
   int attenuation;  // 1: linear attenuation of §3.5, 0: none
   int tile;         // side of the tiled random texture, pixels (§4.1.2)
+  int row_stride;   // the shaders' workgroup row order (hbao_common.glsl); the CPU twin ignores it
 };

@@ -3,6 +3,7 @@
 // the constants. See hbao_split.h.
 #include <cmath>
 #include <numbers>
+#include <numeric>
 
 #include "errors.h"
 #include "estimators/hbao_split/hbao_split.h"
@@ -167,6 +168,15 @@ std::vector<glm::vec2> hbao_direction_table(int directions) {
   return table;
 }
 
+int hbao_row_stride(int rows) {
+  if (rows <= 2) return 1;
+  const auto golden = static_cast<int>(std::lround(rows * 0.6180339887498949));
+  for (int offset = 0;; ++offset) {
+    for (const int s : {golden - offset, golden + offset})
+      if (s >= 1 && s < rows && std::gcd(s, rows) == 1) return s;
+  }
+}
+
 HbaoConstants hbao_constants(const HbaoSettings& s, int width, int height, float focal) {
   HbaoConstants c{};
   c.radius = static_cast<float>(s.radius);
@@ -184,6 +194,7 @@ HbaoConstants hbao_constants(const HbaoSettings& s, int width, int height, float
   c.normal_rays = s.normal_rays;
   c.attenuation = s.attenuation ? 1 : 0;
   c.tile = s.tile;
+  c.row_stride = hbao_row_stride((height + kHbaoGroupSize - 1) / kHbaoGroupSize);
   return c;
 }
 

@@ -2,9 +2,9 @@
 // Occlusion". ONE source for both twins: the Vulkan compute shaders include it as GLSL 4.50, the
 // CPU twin (hbao_cpu.cpp) includes it as C++ through glsl_compat.h. So it uses only spellings both
 // languages share (float literals with an f suffix, float()/int() casts, `precise` on every result
-// that could be contracted into an fma, HBAO_OUT for out parameters) and the same operations in the
-// same order, which is what makes the twins agree to 1e-3 (hbao_split_test.cpp). It needs
-// hbao_basics.glsl (hbao_dot, hbao_eye_normal) included before it.
+// that could be contracted into an fma, HBAO_OUT / HBAO_INOUT for out / inout parameters) and the
+// same operations in the same order, which is what makes the twins agree to 1e-3
+// (hbao_split_test.cpp). It needs hbao_basics.glsl (hbao_dot, hbao_eye_normal) included before it.
 //
 // Before including it, each side defines the accessors of the input images (nearest-texel reads,
 // §4.1.1; coordinates are always inside the image):
@@ -29,9 +29,10 @@ vec3 hbao_eye_position(int i, int j, float z, HbaoConstants c) {
 }
 
 // Fig. 4 lines 4-5, ISBELOW(Q, S) and INTERSECT(Q - E, S): project Q to the screen, read the
-// nearest texel's depth (§4.1.1) and, when that surface lies in front of Q, return its point on the
-// eye ray through Q. Outside the screen, behind the eye or over background: not below.
-bool hbao_below(HBAO_IMAGES_PARAM vec3 q, HbaoConstants c, HBAO_OUT(vec3) hit) {
+// nearest texel's depth z (§4.1.1) and, when that surface lies in front of Q, give the scale
+// s = z / Q.z that takes Q to the surface's point s Q on the eye ray through Q. Outside the
+// screen, behind the eye or over background: not below.
+bool hbao_below_scale(HBAO_IMAGES_PARAM vec3 q, HbaoConstants c, HBAO_OUT(float) scale) {
   precise float inv_z = 1.0f / q.z;  // one division per step (they dominate on CPU devices)
   precise float focal_z = c.focal * inv_z;
   precise float u = q.x * focal_z + c.half_width;
@@ -40,77 +41,121 @@ bool hbao_below(HBAO_IMAGES_PARAM vec3 q, HbaoConstants c, HBAO_OUT(vec3) hit) {
   // The fetch is unconditional (texel 0 stands in outside the screen, and is then ignored): no
   // branch around the load, which SIMD devices (lavapipe) would otherwise mask lane by lane.
   float z = hbao_depth(HBAO_IMAGES_ARG inside ? int(u) : 0, inside ? int(v) : 0);
-  if (!(inside && z > 0.0f && z < q.z)) return false;
-  precise float scale = z * inv_z;
-  hit = q * scale;
-  return true;
+  precise float s = z * inv_z;
+  scale = s;
+  return inside && z > 0.0f && z < q.z;
+}
+
+bool hbao_below(HBAO_IMAGES_PARAM vec3 q, HbaoConstants c, HBAO_OUT(vec3) hit) {
+  float scale;
+  bool below = hbao_below_scale(HBAO_IMAGES_ARG q, c, scale);
+  precise vec3 point = q * scale;
+  hit = point;
+  return below;
 }
 
 // §3.5: the weight of an occluder at squared distance len2 from P, 1 - r / R (linear), or 1.
 float hbao_attenuation(float len2, HbaoConstants c) {
   if (c.attenuation == 0) return 1.0f;
-  precise float w = 1.0f - sqrt(len2) / c.radius;
+  precise float w = 1.0f - sqrt(len2) * (1.0f / c.radius);  // 1 / R: hoisted out of loops
   return w;
 }
 
-// §3.1 horizon tracing (Fig. 4) in tangent direction t: the horizon ray h starts as t and is
-// deflected towards each intersection I that lies within R and ahead (DOT(I - P, t) > 0) whenever
-// that raises it, so H = DOT(h, n) only grows. Returns H(theta)^2, the horizon occlusion of §3.2
-// without attenuation. `occlusion` receives T(theta) of eq. 3: H^2 without attenuation; with it
-// (§3.5) each rise of the horizon from H_old to H_new is weighted by the attenuation of the occluder
-// that caused it, T = sum W(r) (H_new^2 - H_old^2), which telescopes to H^2 when W = 1.
-// beta in (-1, 1) jitters the steps: Q = P + (i + beta) (R / Ns) h (§4.1.2).
-// The candidate height of I is compared squared, dn^2 > H^2 (dn^2 + dt^2) with dn > 0, so that the
-// square root and divisions run only when the horizon rises.
-float hbao_trace_horizon(HBAO_IMAGES_PARAM vec3 p, vec3 n, vec3 t, float beta, HbaoConstants c,
-                         HBAO_OUT(float) occlusion) {
-  precise vec3 h = t;
-  precise float h2 = 0.0f;  // DOT(h, n)^2
-  precise float occ = 0.0f;
+// Directions traced together, in one loop over the steps. Each direction's walk is a chain of
+// dependent operations (the next step's position depends on the horizon that this step's fetch
+// may raise), which leaves a CPU device (lavapipe) waiting on the latency of each fetch and
+// division; HBAO_GROUP independent walks give it work to overlap. Each direction's arithmetic is
+// the same whatever the group size.
+#define HBAO_GROUP 4
+
+// One direction's horizon while it is traced: h = ht t + hn n (unit, in the plane of t and n).
+struct HbaoHorizon {
+  vec3 h;
+  float ht;   // DOT(h, t)
+  float hn;   // DOT(h, n) = H(theta)
+  float h2;   // H(theta)^2 = hn^2
+  float occ;  // T(theta) so far
+  float ph;   // DOT(P, h)
+};
+
+// §3.1 horizon tracing (Fig. 4), step i of direction t (pt = DOT(P, t)) at distance
+// dist = (i + beta) R / Ns along the current horizon ray, Q = P + dist h (beta in (-1, 1) jitters
+// the steps, §4.1.2). The horizon ray starts as t and is deflected towards each intersection I
+// that lies within R and ahead (DOT(I - P, t) > 0) whenever that raises it, so H = DOT(h, n) only
+// grows. `occ` accumulates T(theta) of eq. 3: H^2 without attenuation; with it (§3.5) each rise
+// from H_old to H_new is weighted by the attenuation of the occluder that caused it,
+// T = sum W(r) (H_new^2 - H_old^2), which telescopes to H^2 when W = 1.
+// With I = s Q (hbao_below_scale), I - P = (s - 1) P + s dist h, so its components along t and n
+// and its squared length follow from DOT(P, t), DOT(P, n), |P|^2 and DOT(P, h) without forming I.
+// The candidate height is compared squared, dn^2 > H^2 (dn^2 + dt^2) with dn > 0, and the square
+// root and divisions of a rise are computed only then.
+void hbao_horizon_step(HBAO_IMAGES_PARAM vec3 p, vec3 n, vec3 t, float pt, float pn, float pp,
+                       float dist, HbaoConstants c, HBAO_INOUT(HbaoHorizon) hz) {
+  precise vec3 q = p + hz.h * dist;
+  float s;
+  bool below = hbao_below_scale(HBAO_IMAGES_ARG q, c, s);
+  precise float s1 = s - 1.0f;
+  precise float ds = s * dist;
+  precise float dt = s1 * pt + ds * hz.ht;
+  precise float dn = s1 * pn + ds * hz.hn;
+  precise float len2 = s1 * (s1 * pp + 2.0f * ds * hz.ph) + ds * ds;  // |I - P|^2, |h| = 1
+  precise float dn2 = dn * dn;
+  precise float nt2 = dn2 + dt * dt;  // |PROJ_n,t(I - P)|^2
   precise float r2 = c.radius * c.radius;
-  for (int s = 1; s <= c.steps; ++s) {
-    precise float dist = (float(s) + beta) * c.step;
-    precise vec3 q = p + h * dist;
-    vec3 hit;
-    if (hbao_below(HBAO_IMAGES_ARG q, c, hit)) {
-      precise vec3 d = hit - p;
-      precise float len2 = hbao_dot(d, d);
-      precise float dt = hbao_dot(d, t);
-      precise float dn = hbao_dot(d, n);
-      precise float dn2 = dn * dn;
-      precise float nt2 = dn2 + dt * dt;  // |PROJ_n,t(I - P)|^2
-      if (len2 < r2 && dt > 0.0f && dn > 0.0f && dn2 > h2 * nt2) {
-        precise float h2_new = dn2 / nt2;
-        if (h2_new > h2) {
-          precise float rise = h2_new - h2;
-          occ = occ + hbao_attenuation(len2, c) * rise;
-          h2 = h2_new;
-          // h <- NORMALIZE(PROJ_n,t(I - P)) (Fig. 4 line 7).
-          precise float len_nt = sqrt(nt2);
-          h = (t * dt + n * dn) / len_nt;
-        }
-      }
+  if (below && len2 < r2 && dt > 0.0f && dn > 0.0f && dn2 > hz.h2 * nt2) {
+    // h <- NORMALIZE(PROJ_n,t(I - P)) (Fig. 4 line 7), and its new height H = DOT(h, n).
+    precise float inv_len = 1.0f / sqrt(nt2);
+    precise float ht = dt * inv_len;
+    precise float hn = dn * inv_len;
+    precise float h2_new = hn * hn;
+    if (h2_new > hz.h2) {
+      precise float occ_new = hz.occ + hbao_attenuation(len2, c) * (h2_new - hz.h2);
+      precise vec3 h = t * ht + n * hn;
+      precise float ph = pt * ht + pn * hn;
+      hz.occ = occ_new;
+      hz.h2 = h2_new;
+      hz.ht = ht;
+      hz.hn = hn;
+      hz.h = h;
+      hz.ph = ph;
     }
   }
-  occlusion = occ;
-  return h2;
 }
 
-// §3.3 linear search along a normal ray r (unit) from P: the attenuated weight of the first
-// occluder within R (the V(w) of eq. 7 with §3.5's weight), 0 when the ray escapes.
-float hbao_march(HBAO_IMAGES_PARAM vec3 p, vec3 r, float beta, HbaoConstants c) {
-  precise float r2 = c.radius * c.radius;
-  for (int s = 1; s <= c.steps; ++s) {
-    precise float dist = (float(s) + beta) * c.step;
-    precise vec3 q = p + r * dist;
-    vec3 hit;
-    if (hbao_below(HBAO_IMAGES_ARG q, c, hit)) {
-      precise vec3 d = hit - p;
-      precise float len2 = hbao_dot(d, d);
-      if (len2 < r2) return hbao_attenuation(len2, c);
-    }
+// §3.3 linear search along a normal ray r (unit) from P, one step at distance dist: records
+// |I - P|^2 of the first occluder within R in hit_len2 (< 0 until there is one).
+void hbao_march_step(HBAO_IMAGES_PARAM vec3 p, vec3 r, float dist, HbaoConstants c,
+                     HBAO_INOUT(float) hit_len2) {
+  precise vec3 q = p + r * dist;
+  vec3 hit;
+  if (hbao_below(HBAO_IMAGES_ARG q, c, hit) && hit_len2 < 0.0f) {
+    precise vec3 d = hit - p;
+    precise float len2 = hbao_dot(d, d);
+    if (len2 < c.radius * c.radius) hit_len2 = len2;
   }
-  return 0.0f;
+}
+
+// The weight of a searched ray: §3.5's attenuation of its first occluder (the V(w) of eq. 7 with
+// that weight), 0 when it escaped. Weighted after the search: in a SIMD loop body the square
+// root and division would run every step.
+float hbao_ray_weight(float hit_len2, HbaoConstants c) {
+  return hit_len2 < 0.0f ? 0.0f : hbao_attenuation(hit_len2, c);
+}
+
+// The whole search along one ray (raymarch-ssao's rays). A scalar device stops at the first
+// occluder; a SIMD device (lavapipe) goes on, because a lane that leaves a loop early makes the
+// loop counter, hence the next fetch's address, wait for this step's fetch (llvm-mca on the
+// compiled loop: 161 cycles a step with the early exit, 18 without the wait).
+float hbao_march(HBAO_IMAGES_PARAM vec3 p, vec3 r, float beta, HbaoConstants c) {
+  float hit_len2 = -1.0f;
+  for (int s = 1; s <= c.steps; ++s) {
+#ifdef HBAO_SCALAR_DEVICE
+    if (hit_len2 >= 0.0f) break;
+#endif
+    precise float dist = (float(s) + beta) * c.step;
+    hbao_march_step(HBAO_IMAGES_ARG p, r, dist, c, hit_len2);
+  }
+  return hbao_ray_weight(hit_len2, c);
 }
 
 // §3.3 normal occlusion of the stripe of direction t above its horizon H (eq. 7-12). The stripe's
@@ -119,30 +164,24 @@ float hbao_march(HBAO_IMAGES_PARAM vec3 p, vec3 r, float beta, HbaoConstants c) 
 // z_k^2 = H^2 + (1 - H^2) k / Nn, and each ray goes through its patch's middle,
 // z^2 = H^2 + (1 - H^2)(k + 1/2) / Nn, r = sqrt(1 - z^2) t + z n (eq. 11). Eq. 10-11 as printed
 // start the patches at the tangent plane (k = 0 gives r = t, below the horizon) and drop the
-// (1 - H^2) factor of each patch's share; we keep the derivation of eq. 7-8 instead. Returns the
-// stripe's occlusion times Nd: (1 - H^2) / Nn sum_k W_k.
-float hbao_stripe_normal_occlusion(HBAO_IMAGES_PARAM vec3 p, vec3 n, vec3 t, float h2,
-                                   float beta, HbaoConstants c) {
-  precise float sum = 0.0f;
-  for (int k = 0; k < c.normal_rays; ++k) {
-    precise float z2 = h2 + (1.0f - h2) * ((float(k) + 0.5f) / float(c.normal_rays));
-    precise float z = sqrt(z2);
-    precise float tangential = sqrt(max(1.0f - z2, 0.0f));
-    precise vec3 r = t * tangential + n * z;
-    sum = sum + hbao_march(HBAO_IMAGES_ARG p, r, beta, c);
-  }
-  precise float share = (1.0f - h2) * sum / float(c.normal_rays);
-  return share;
+// (1 - H^2) factor of each patch's share; we keep the derivation of eq. 7-8 instead. The stripe's
+// occlusion times Nd is (1 - H^2) / Nn sum_k W_k (hbao_normal_pass).
+vec3 hbao_normal_ray(vec3 n, vec3 t, float h2, int k, HbaoConstants c) {
+  precise float z2 = h2 + (1.0f - h2) * ((float(k) + 0.5f) / float(c.normal_rays));
+  precise float z = sqrt(z2);
+  precise float tangential = sqrt(max(1.0f - z2, 0.0f));
+  precise vec3 r = t * tangential + n * z;
+  return r;
 }
 
 // What both occlusion passes need of a pixel: P' (eq. 13), the normal, a tangent frame and the
 // pixel's entry of the tiled random texture (§4.1.2).
 struct HbaoPixel {
-  vec3 p;      // P' = P + z / (f res) n (eq. 13), or P when the offset is off
-  vec3 n;      // unit eye-space normal
-  vec3 b1;     // tangent frame (Duff et al. 2017, "Building an Orthonormal Basis, Revisited")
+  vec3 p;   // P' = P + z / (f res) n (eq. 13), or P when the offset is off
+  vec3 n;   // unit eye-space normal
+  vec3 b1;  // tangent frame (Duff et al. 2017, "Building an Orthonormal Basis, Revisited")
   vec3 b2;
-  float ca;    // cos, sin of the per-pixel rotation alpha in [0, 2 pi / Nd)
+  float ca;  // cos, sin of the per-pixel rotation alpha in [0, 2 pi / Nd)
   float sa;
   float beta;  // step jitter in (-1, 1)
 };
@@ -181,18 +220,42 @@ vec3 hbao_tangent(HBAO_IMAGES_PARAM HbaoPixel px, int d) {
   return t;
 }
 
-// Pass 1, horizon occlusion (§3.2): traces the Nd horizons of pixel (i, j), stores each H(theta_d)^2
-// for pass 2 and returns O_T = (1/Nd) sum_d T(theta_d) (eq. 5-6: each lune subtends 2 pi / Nd).
+// Pass 1, horizon occlusion (§3.2): traces the Nd horizons of pixel (i, j), HBAO_GROUP directions
+// at a time, stores each H(theta_d)^2 for pass 2 and returns O_T = (1/Nd) sum_d T(theta_d)
+// (eq. 5-6: each lune subtends 2 pi / Nd). Slots past Nd in the last group do nothing.
 float hbao_horizon_pass(HBAO_IMAGES_PARAM int i, int j, HbaoConstants c) {
   HbaoPixel px;
   if (!hbao_setup_pixel(HBAO_IMAGES_ARG i, j, c, px)) return 0.0f;
+  float pn = hbao_dot(px.p, px.n);
+  float pp = hbao_dot(px.p, px.p);
   precise float sum = 0.0f;
-  for (int d = 0; d < c.directions; ++d) {
-    vec3 t = hbao_tangent(HBAO_IMAGES_ARG px, d);
-    float occlusion;
-    float h2 = hbao_trace_horizon(HBAO_IMAGES_ARG px.p, px.n, t, px.beta, c, occlusion);
-    hbao_store_horizon(HBAO_IMAGES_ARG i, j, d, h2);
-    sum = sum + occlusion;
+  for (int d0 = 0; d0 < c.directions; d0 += HBAO_GROUP) {
+    vec3 t[HBAO_GROUP];
+    float pt[HBAO_GROUP];
+    HbaoHorizon hz[HBAO_GROUP];
+    for (int k = 0; k < HBAO_GROUP; ++k) {
+      t[k] = hbao_tangent(HBAO_IMAGES_ARG px, min(d0 + k, c.directions - 1));
+      pt[k] = hbao_dot(px.p, t[k]);
+      hz[k].h = t[k];
+      hz[k].ht = 1.0f;
+      hz[k].hn = 0.0f;
+      hz[k].h2 = 0.0f;
+      hz[k].occ = 0.0f;
+      hz[k].ph = pt[k];
+    }
+    for (int s = 1; s <= c.steps; ++s) {
+      precise float dist = (float(s) + px.beta) * c.step;
+      for (int k = 0; k < HBAO_GROUP; ++k) {
+        if (d0 + k < c.directions)
+          hbao_horizon_step(HBAO_IMAGES_ARG px.p, px.n, t[k], pt[k], pn, pp, dist, c, hz[k]);
+      }
+    }
+    for (int k = 0; k < HBAO_GROUP; ++k) {
+      if (d0 + k < c.directions) {
+        hbao_store_horizon(HBAO_IMAGES_ARG i, j, d0 + k, hz[k].h2);
+        sum = sum + hz[k].occ;
+      }
+    }
   }
   precise float ot = sum / float(c.directions);
   return ot;
@@ -200,16 +263,49 @@ float hbao_horizon_pass(HBAO_IMAGES_PARAM int i, int j, HbaoConstants c) {
 
 // Pass 2, normal occlusion (§3.3) above the stored horizons, and the combination of §3.4:
 // A = 1 - (O_T + O_N), clamped to [0, 1] (attenuated weights keep it inside; the clamp only guards
-// rounding).
+// rounding). The rays of HBAO_GROUP directions are searched together, as the horizons are.
 float hbao_normal_pass(HBAO_IMAGES_PARAM int i, int j, float ot, HbaoConstants c) {
   HbaoPixel px;
   if (!hbao_setup_pixel(HBAO_IMAGES_ARG i, j, c, px)) return 0.0f;
   precise float sum = 0.0f;
   if (c.normal_rays > 0) {
-    for (int d = 0; d < c.directions; ++d) {
-      vec3 t = hbao_tangent(HBAO_IMAGES_ARG px, d);
-      float h2 = hbao_load_horizon(HBAO_IMAGES_ARG i, j, d);
-      sum = sum + hbao_stripe_normal_occlusion(HBAO_IMAGES_ARG px.p, px.n, t, h2, px.beta, c);
+    for (int d0 = 0; d0 < c.directions; d0 += HBAO_GROUP) {
+      vec3 t[HBAO_GROUP];
+      float h2[HBAO_GROUP];
+      float weights[HBAO_GROUP];  // sum_k W_k of the stripe
+      for (int k = 0; k < HBAO_GROUP; ++k) {
+        int d = min(d0 + k, c.directions - 1);
+        t[k] = hbao_tangent(HBAO_IMAGES_ARG px, d);
+        h2[k] = hbao_load_horizon(HBAO_IMAGES_ARG i, j, d);
+        weights[k] = 0.0f;
+      }
+      for (int m = 0; m < c.normal_rays; ++m) {
+        vec3 r[HBAO_GROUP];
+        float hit_len2[HBAO_GROUP];
+        for (int k = 0; k < HBAO_GROUP; ++k) {
+          r[k] = hbao_normal_ray(px.n, t[k], h2[k], m, c);
+          hit_len2[k] = d0 + k < c.directions ? -1.0f : 0.0f;  // slots past Nd: nothing to find
+        }
+        for (int s = 1; s <= c.steps; ++s) {
+          precise float dist = (float(s) + px.beta) * c.step;
+          for (int k = 0; k < HBAO_GROUP; ++k) {
+#ifdef HBAO_SCALAR_DEVICE
+            if (hit_len2[k] >= 0.0f) continue;  // a scalar device skips finished rays
+#endif
+            hbao_march_step(HBAO_IMAGES_ARG px.p, r[k], dist, c, hit_len2[k]);
+          }
+        }
+        for (int k = 0; k < HBAO_GROUP; ++k) {
+          precise float w = weights[k] + hbao_ray_weight(hit_len2[k], c);
+          weights[k] = w;
+        }
+      }
+      for (int k = 0; k < HBAO_GROUP; ++k) {
+        if (d0 + k < c.directions) {
+          precise float share = (1.0f - h2[k]) * weights[k] / float(c.normal_rays);
+          sum = sum + share;
+        }
+      }
     }
   }
   precise float on = sum / float(c.directions);
@@ -219,8 +315,8 @@ float hbao_normal_pass(HBAO_IMAGES_PARAM int i, int j, float ot, HbaoConstants c
 
 // §4.1.3 blur: a 5x5 Gaussian (the binomial 1 4 6 4 1, sigma = 1 pixel) over covered pixels, each
 // further weighted by the inverse of its depth deviation from the centre, measured in pixel
-// footprints at the centre's depth (z / f) and offset by 1 so that the centre's weight stays finite:
-// w = g / (1 + |z - z_c| / (z_c / f)).
+// footprints at the centre's depth (z / f) and offset by 1 so that the centre's weight stays
+// finite: w = g / (1 + |z - z_c| / (z_c / f)).
 float hbao_binomial(int k) {
   return (k == 0 || k == 4) ? 1.0f : (k == 2 ? 6.0f : 4.0f);
 }

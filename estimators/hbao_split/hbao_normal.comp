@@ -4,7 +4,7 @@
 #include "hbao_common.glsl"
 
 void main() {
-  ivec2 xy = ivec2(gl_GlobalInvocationID.xy);
+  ivec2 xy = hbao_invocation_pixel();
   if (xy.x >= pc.c.width || xy.y >= pc.c.height) return;
   float ot = imageLoad(ot_image, xy).r;
   imageStore(raw_ao_image, xy, vec4(hbao_normal_pass(xy.x, xy.y, ot, pc.c)));

@@ -65,6 +65,11 @@ HbaoFrame hbao_frame_from_gbuffer(const GBuffer& gbuffer);
 std::vector<glm::vec3> hbao_random_texture(const HbaoSettings& settings);
 // (cos, sin) of 2 pi d / Nd, d < Nd, evaluated in double and rounded.
 std::vector<glm::vec2> hbao_direction_table(int directions);
+// The compute shaders' workgroup side (local_size_x = local_size_y in every hbao shader).
+inline constexpr int kHbaoGroupSize = 8;
+// A stride coprime with `rows` (tile rows of kHbaoGroupSize pixels) near rows times the golden
+// ratio: dispatch row r covers tile row (r * stride) mod rows (hbao_common.glsl says why).
+int hbao_row_stride(int rows);
 HbaoConstants hbao_constants(const HbaoSettings& settings, int width, int height, float focal);
 
 // Checks what the parameter table cannot (a frame to work on); InputError otherwise.

@@ -2,6 +2,7 @@
 // without the eq. 13 offset, the closed-form crease, determinism and the parameter table.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "corpus.h"
@@ -148,6 +149,52 @@ TEST(HbaoSplitCpu, SameSeedSameBitsOtherSeedOtherBits) {
             hbao_split_cpu(frame, settings_with({{"seed", 4}, {"jitter", false}})).ao);
 }
 
+// The bench's fetch count is what the algorithm needs, not what a SIMD device happens to make:
+// each pass reads its pixel's depth once, a horizon takes Ns steps, and a normal ray stops at its
+// first occluder. With Nn = 0 the count is exact; in the crease, normal rays that meet the wall
+// stop early, so Nn = 1 adds fewer than Nd Ns fetches per pixel.
+TEST(HbaoSplitCpu, FetchCountIsWhatTheSearchesNeed) {
+  const TestView view = crease(80, 60);
+  const HbaoFrame frame = hbao_frame_from_gbuffer(view.gbuffer);
+  uint64_t covered = 0;
+  for (float z : frame.depth) covered += z > 0.0f ? 1 : 0;
+  const nlohmann::json base = {{"Nd", 7}, {"Ns", 11}, {"R", 0.5}};  // 7: a part-filled group
+  nlohmann::json no_rays = base;
+  no_rays["Nn"] = 0;
+  const uint64_t horizons = hbao_split_cpu(frame, settings_with(no_rays), true).depth_fetches;
+  EXPECT_EQ(horizons, covered * (2 + 7 * 11));
+  nlohmann::json one_ray = base;
+  one_ray["Nn"] = 1;
+  const uint64_t with_rays = hbao_split_cpu(frame, settings_with(one_ray), true).depth_fetches;
+  EXPECT_GT(with_rays, horizons + covered * 7 * 11 / 2);
+  EXPECT_LT(with_rays, horizons + covered * 7 * 11);
+}
+
+// Dispatch row r covers tile row (r * stride) mod rows (hbao_common.glsl): a permutation, and
+// each of T contiguous runs of dispatch rows (lavapipe's T threads) covers tile rows from all over
+// the image, so a model in one half of the frame no longer leaves a thread idle.
+TEST(HbaoRowStride, PermutesRowsAndSpreadsEachThreadsShare) {
+  for (int rows = 1; rows <= 300; ++rows) {
+    const int stride = hbao_row_stride(rows);
+    ASSERT_GE(stride, 1) << rows;
+    ASSERT_TRUE(rows <= 2 || stride < rows) << rows;
+    std::vector<int> seen(static_cast<size_t>(rows), 0);
+    for (int r = 0; r < rows; ++r) ++seen[static_cast<size_t>(r * stride % rows)];
+    ASSERT_EQ(std::count(seen.begin(), seen.end(), 1), rows) << rows;
+  }
+  for (int rows : {60, 75, 96, 145}) {  // 480 to 1160 pixel rows in 8-pixel tiles
+    const int stride = hbao_row_stride(rows);
+    for (int threads : {2, 4, 8}) {
+      const int run = rows / threads;
+      for (int t = 0; t < threads; ++t) {
+        int upper = 0;  // tile rows of this run in the upper half of the image
+        for (int r = t * run; r < (t + 1) * run; ++r) upper += (r * stride % rows) < rows / 2;
+        EXPECT_NEAR(upper, run / 2.0, 0.2 * run + 1) << rows << " rows, thread " << t;
+      }
+    }
+  }
+}
+
 TEST(HbaoSplitCpu, RandomTextureFollowsSection412) {
   const HbaoSettings s = settings_with({{"Nd", 6}, {"tile", 8}});
   const std::vector<glm::vec3> t = hbao_random_texture(s);
@@ -213,7 +260,9 @@ TEST(HbaoSplitVulkan, TwinsAgreeOnTheSameGBuffer) {
   EmbreeScene embree(scene);
   const HbaoFrame frame = hbao_frame_from_gbuffer(render_gbuffer(embree, camera));
   for (bool blur : {false, true}) {
-    const HbaoSettings s = settings_with({{"blur", blur}, {"Nn", 2}});
+    // Nd = 7 leaves the last group of directions part-filled (HBAO_GROUP = 4, hbao_kernel.glsl).
+    const HbaoSettings s =
+        settings_with({{"blur", blur}, {"Nn", blur ? 1 : 2}, {"Nd", blur ? 7 : 8}});
     const HbaoCpuResult cpu = hbao_split_cpu(frame, s);
     HbaoDevice device(*vk, s, frame);
     const HbaoGpuResult gpu = device.run();

@@ -18,7 +18,7 @@ namespace aoeval {
 
 namespace {
 
-constexpr uint32_t kGroup = 8;  // local_size_x = local_size_y = 8 in every hbao shader
+constexpr auto kGroup = static_cast<uint32_t>(kHbaoGroupSize);
 
 // hbao_common.glsl's bindings, in order.
 const std::vector<VkDescriptorType> kPassBindings = {
@@ -194,38 +194,62 @@ HbaoFrame HbaoDevice::frame() const {
   return f;
 }
 
-std::vector<double> bare_fetch_ms(vk::Context& vk, const vk::Image2D& depth, int walks, int steps,
-                                  float step_px, int repetitions) {
+struct BareFetch::Impl {
   struct Push {
     int32_t width, height, walks, steps;
-  } push{depth.width(), depth.height(), walks, steps};
-  std::vector<glm::vec2> table(static_cast<size_t>(walks));
-  for (int w = 0; w < walks; ++w) {
-    const double a = 2.0 * std::numbers::pi * (w + 0.5) / walks;
-    table[static_cast<size_t>(w)] = glm::vec2(static_cast<float>(step_px * std::cos(a)),
-                                              static_cast<float>(step_px * std::sin(a)));
+  };
+  vk::Context& vk;
+  Push push;
+  uint32_t groups_x, groups_y;
+  vk::Buffer walk_buffer;
+  vk::Image2D sums;
+  vk::ComputePipeline pipeline;
+  VkDescriptorSet set;
+  vk::PassTimer timer;
+
+  static std::vector<glm::vec2> walk_table(int walks, float step_px) {
+    std::vector<glm::vec2> table(static_cast<size_t>(walks));
+    for (int w = 0; w < walks; ++w) {
+      const double a = 2.0 * std::numbers::pi * (w + 0.5) / walks;
+      table[static_cast<size_t>(w)] = glm::vec2(static_cast<float>(step_px * std::cos(a)),
+                                                static_cast<float>(step_px * std::sin(a)));
+    }
+    return table;
   }
-  vk::Buffer walk_buffer(vk, table.size() * sizeof(glm::vec2), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  walk_buffer.upload(table);
-  vk::Image2D sums(vk, depth.width(), depth.height(), VK_FORMAT_R32_SFLOAT);
-  vk::ComputePipeline bare(vk, "hbao bare fetch", hbao_bare_fetch_comp_spv,
-                           {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                            VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-                           sizeof(Push));
-  const VkDescriptorSet set = bare.make_set({depth, sums, walk_buffer});
-  vk::PassTimer timer(vk);
-  std::vector<double> ms;
-  for (int r = 0; r < repetitions; ++r) {
-    vk.submit([&](VkCommandBuffer cmd) {
-      timer.reset(cmd);
-      timer.begin(cmd, "bare");
-      bare.dispatch(cmd, set, push, vk::group_count(static_cast<uint32_t>(depth.width()), kGroup),
-                    vk::group_count(static_cast<uint32_t>(depth.height()), kGroup));
-      timer.end(cmd);
-    });
-    ms.push_back(timer.read().at("bare_ms"));
+
+  Impl(vk::Context& context, const vk::Image2D& depth, int walks, int steps, float step_px)
+      : vk(context),
+        push{depth.width(), depth.height(), walks, steps},
+        groups_x(vk::group_count(static_cast<uint32_t>(depth.width()), kGroup)),
+        groups_y(vk::group_count(static_cast<uint32_t>(depth.height()), kGroup)),
+        walk_buffer(vk, static_cast<VkDeviceSize>(walks) * sizeof(glm::vec2),
+                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
+        sums(vk, depth.width(), depth.height(), VK_FORMAT_R32_SFLOAT),
+        pipeline(vk, "hbao bare fetch", hbao_bare_fetch_comp_spv,
+                 {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                  VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+                 sizeof(Push)),
+        set(VK_NULL_HANDLE),
+        timer(vk) {
+    walk_buffer.upload(walk_table(walks, step_px));
+    set = pipeline.make_set({depth, sums, walk_buffer});
   }
-  return ms;
+};
+
+BareFetch::BareFetch(vk::Context& vk, const vk::Image2D& depth, int walks, int steps, float step_px)
+    : impl_(std::make_unique<Impl>(vk, depth, walks, steps, step_px)) {}
+
+BareFetch::~BareFetch() = default;
+
+double BareFetch::run_ms() {
+  Impl& m = *impl_;
+  m.vk.submit([&](VkCommandBuffer cmd) {
+    m.timer.reset(cmd);
+    m.timer.begin(cmd, "bare");
+    m.pipeline.dispatch(cmd, m.set, m.push, m.groups_x, m.groups_y);
+    m.timer.end(cmd);
+  });
+  return m.timer.read().at("bare_ms");
 }
 
 namespace {

@@ -51,9 +51,18 @@ class HbaoDevice {
 // The bench's baseline (aoeval bench hbao): a shader that only fetches, `walks` x `steps` nearest
 // texel imageLoads per pixel of `depth` along screen-space walks of `step_px` pixels per step (the
 // access pattern of the horizon and normal rays), summed and stored so that nothing is optimised
-// away. Returns the GPU time of each of `repetitions` dispatches, ms.
-std::vector<double> bare_fetch_ms(vk::Context& vk, const vk::Image2D& depth, int walks, int steps,
-                                  float step_px, int repetitions);
+// away. Built once; run_ms() dispatches it and returns its GPU time, so that the bench can
+// alternate it with hbao-split's passes and both see the same load on a shared machine.
+class BareFetch {
+ public:
+  BareFetch(vk::Context& vk, const vk::Image2D& depth, int walks, int steps, float step_px);
+  ~BareFetch();
+  double run_ms();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 EstimatorInfo hbao_split_estimator();
 
