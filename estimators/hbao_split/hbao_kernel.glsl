@@ -70,7 +70,6 @@ float hbao_attenuation(float len2, HbaoConstants c) {
 
 // One direction's horizon while it is traced: h = ht t + hn n (unit, in the plane of t and n).
 struct HbaoHorizon {
-  vec3 h;
   float ht;   // DOT(h, t)
   float hn;   // DOT(h, n) = H(theta)
   float h2;   // H(theta)^2 = hn^2
@@ -91,7 +90,7 @@ struct HbaoHorizon {
 // root and divisions of a rise are computed only then.
 void hbao_horizon_step(HBAO_IMAGES_PARAM vec3 p, vec3 n, vec3 t, float pt, float pn, float pp,
                        float dist, HbaoConstants c, HBAO_INOUT(HbaoHorizon) hz) {
-  precise vec3 q = p + hz.h * dist;
+  precise vec3 q = p + t * (dist * hz.ht) + n * (dist * hz.hn);  // h itself is not kept
   float s;
   bool below = hbao_below_scale(HBAO_IMAGES_ARG q, c, s);
   precise float s1 = s - 1.0f;
@@ -110,29 +109,29 @@ void hbao_horizon_step(HBAO_IMAGES_PARAM vec3 p, vec3 n, vec3 t, float pt, float
     precise float h2_new = hn * hn;
     if (h2_new > hz.h2) {
       precise float occ_new = hz.occ + hbao_attenuation(len2, c) * (h2_new - hz.h2);
-      precise vec3 h = t * ht + n * hn;
       precise float ph = pt * ht + pn * hn;
       hz.occ = occ_new;
       hz.h2 = h2_new;
       hz.ht = ht;
       hz.hn = hn;
-      hz.h = h;
       hz.ph = ph;
     }
   }
 }
 
 // §3.3 linear search along a normal ray r (unit) from P, one step at distance dist: records
-// |I - P|^2 of the first occluder within R in hit_len2 (< 0 until there is one).
-void hbao_march_step(HBAO_IMAGES_PARAM vec3 p, vec3 r, float dist, HbaoConstants c,
-                     HBAO_INOUT(float) hit_len2) {
+// |I - P|^2 of the first occluder within R in hit_len2 (< 0 until there is one). As in
+// hbao_horizon_step, I - P = (s - 1) P + s dist r, so |I - P|^2 follows from pr = DOT(P, r) and
+// pp = |P|^2.
+void hbao_march_step(HBAO_IMAGES_PARAM vec3 p, vec3 r, float pr, float pp, float dist,
+                     HbaoConstants c, HBAO_INOUT(float) hit_len2) {
   precise vec3 q = p + r * dist;
-  vec3 hit;
-  if (hbao_below(HBAO_IMAGES_ARG q, c, hit) && hit_len2 < 0.0f) {
-    precise vec3 d = hit - p;
-    precise float len2 = hbao_dot(d, d);
-    if (len2 < c.radius * c.radius) hit_len2 = len2;
-  }
+  float s;
+  bool below = hbao_below_scale(HBAO_IMAGES_ARG q, c, s);
+  precise float s1 = s - 1.0f;
+  precise float ds = s * dist;
+  precise float len2 = s1 * (s1 * pp + 2.0f * ds * pr) + ds * ds;
+  if (below && hit_len2 < 0.0f && len2 < c.radius * c.radius) hit_len2 = len2;
 }
 
 // The weight of a searched ray: §3.5's attenuation of its first occluder (the V(w) of eq. 7 with
@@ -147,13 +146,15 @@ float hbao_ray_weight(float hit_len2, HbaoConstants c) {
 // loop counter, hence the next fetch's address, wait for this step's fetch (llvm-mca on the
 // compiled loop: 161 cycles a step with the early exit, 18 without the wait).
 float hbao_march(HBAO_IMAGES_PARAM vec3 p, vec3 r, float beta, HbaoConstants c) {
+  float pr = hbao_dot(p, r);
+  float pp = hbao_dot(p, p);
   float hit_len2 = -1.0f;
   for (int s = 1; s <= c.steps; ++s) {
 #ifdef HBAO_SCALAR_DEVICE
     if (hit_len2 >= 0.0f) break;
 #endif
     precise float dist = (float(s) + beta) * c.step;
-    hbao_march_step(HBAO_IMAGES_ARG p, r, dist, c, hit_len2);
+    hbao_march_step(HBAO_IMAGES_ARG p, r, pr, pp, dist, c, hit_len2);
   }
   return hbao_ray_weight(hit_len2, c);
 }
@@ -222,7 +223,7 @@ vec3 hbao_tangent(HBAO_IMAGES_PARAM HbaoPixel px, int d) {
 
 // Pass 1, horizon occlusion (§3.2): traces the Nd horizons of pixel (i, j), HBAO_GROUP directions
 // at a time, stores each H(theta_d)^2 for pass 2 and returns O_T = (1/Nd) sum_d T(theta_d)
-// (eq. 5-6: each lune subtends 2 pi / Nd). Slots past Nd in the last group do nothing.
+// (eq. 5-6: each lune subtends 2 pi / Nd). Slots past Nd in the last group count for nothing.
 float hbao_horizon_pass(HBAO_IMAGES_PARAM int i, int j, HbaoConstants c) {
   HbaoPixel px;
   if (!hbao_setup_pixel(HBAO_IMAGES_ARG i, j, c, px)) return 0.0f;
@@ -236,7 +237,6 @@ float hbao_horizon_pass(HBAO_IMAGES_PARAM int i, int j, HbaoConstants c) {
     for (int k = 0; k < HBAO_GROUP; ++k) {
       t[k] = hbao_tangent(HBAO_IMAGES_ARG px, min(d0 + k, c.directions - 1));
       pt[k] = hbao_dot(px.p, t[k]);
-      hz[k].h = t[k];
       hz[k].ht = 1.0f;
       hz[k].hn = 0.0f;
       hz[k].h2 = 0.0f;
@@ -246,8 +246,10 @@ float hbao_horizon_pass(HBAO_IMAGES_PARAM int i, int j, HbaoConstants c) {
     for (int s = 1; s <= c.steps; ++s) {
       precise float dist = (float(s) + px.beta) * c.step;
       for (int k = 0; k < HBAO_GROUP; ++k) {
-        if (d0 + k < c.directions)
-          hbao_horizon_step(HBAO_IMAGES_ARG px.p, px.n, t[k], pt[k], pn, pp, dist, c, hz[k]);
+#ifdef HBAO_SCALAR_DEVICE
+        if (d0 + k >= c.directions) continue;  // SIMD: traced again, discarded (no masking)
+#endif
+        hbao_horizon_step(HBAO_IMAGES_ARG px.p, px.n, t[k], pt[k], pn, pp, dist, c, hz[k]);
       }
     }
     for (int k = 0; k < HBAO_GROUP; ++k) {
@@ -267,6 +269,7 @@ float hbao_horizon_pass(HBAO_IMAGES_PARAM int i, int j, HbaoConstants c) {
 float hbao_normal_pass(HBAO_IMAGES_PARAM int i, int j, float ot, HbaoConstants c) {
   HbaoPixel px;
   if (!hbao_setup_pixel(HBAO_IMAGES_ARG i, j, c, px)) return 0.0f;
+  float pp = hbao_dot(px.p, px.p);
   precise float sum = 0.0f;
   if (c.normal_rays > 0) {
     for (int d0 = 0; d0 < c.directions; d0 += HBAO_GROUP) {
@@ -281,9 +284,11 @@ float hbao_normal_pass(HBAO_IMAGES_PARAM int i, int j, float ot, HbaoConstants c
       }
       for (int m = 0; m < c.normal_rays; ++m) {
         vec3 r[HBAO_GROUP];
+        float pr[HBAO_GROUP];
         float hit_len2[HBAO_GROUP];
         for (int k = 0; k < HBAO_GROUP; ++k) {
           r[k] = hbao_normal_ray(px.n, t[k], h2[k], m, c);
+          pr[k] = hbao_dot(px.p, r[k]);
           hit_len2[k] = d0 + k < c.directions ? -1.0f : 0.0f;  // slots past Nd: nothing to find
         }
         for (int s = 1; s <= c.steps; ++s) {
@@ -292,7 +297,7 @@ float hbao_normal_pass(HBAO_IMAGES_PARAM int i, int j, float ot, HbaoConstants c
 #ifdef HBAO_SCALAR_DEVICE
             if (hit_len2[k] >= 0.0f) continue;  // a scalar device skips finished rays
 #endif
-            hbao_march_step(HBAO_IMAGES_ARG px.p, r[k], dist, c, hit_len2[k]);
+            hbao_march_step(HBAO_IMAGES_ARG px.p, r[k], pr[k], pp, dist, c, hit_len2[k]);
           }
         }
         for (int k = 0; k < HBAO_GROUP; ++k) {
