@@ -69,12 +69,12 @@ float hbao_attenuation(float len2, HbaoConstants c) {
 #define HBAO_GROUP 4
 
 // One direction's horizon while it is traced: h = ht t + hn n (unit, in the plane of t and n).
+// Only what cannot be recomputed cheaply is kept (H^2 = hn^2, DOT(P, h) = pt ht + pn hn): four
+// directions' state must fit the 32 vector registers of a CPU device with room to spare.
 struct HbaoHorizon {
   float ht;   // DOT(h, t)
   float hn;   // DOT(h, n) = H(theta)
-  float h2;   // H(theta)^2 = hn^2
   float occ;  // T(theta) so far
-  float ph;   // DOT(P, h)
 };
 
 // §3.1 horizon tracing (Fig. 4), step i of direction t (pt = DOT(P, t)) at distance
@@ -97,24 +97,23 @@ void hbao_horizon_step(HBAO_IMAGES_PARAM vec3 p, vec3 n, vec3 t, float pt, float
   precise float ds = s * dist;
   precise float dt = s1 * pt + ds * hz.ht;
   precise float dn = s1 * pn + ds * hz.hn;
-  precise float len2 = s1 * (s1 * pp + 2.0f * ds * hz.ph) + ds * ds;  // |I - P|^2, |h| = 1
+  precise float ph = pt * hz.ht + pn * hz.hn;                      // DOT(P, h)
+  precise float len2 = s1 * (s1 * pp + 2.0f * ds * ph) + ds * ds;  // |I - P|^2, |h| = 1
+  precise float h2 = hz.hn * hz.hn;
   precise float dn2 = dn * dn;
   precise float nt2 = dn2 + dt * dt;  // |PROJ_n,t(I - P)|^2
   precise float r2 = c.radius * c.radius;
-  if (below && len2 < r2 && dt > 0.0f && dn > 0.0f && dn2 > hz.h2 * nt2) {
+  if (below && len2 < r2 && dt > 0.0f && dn > 0.0f && dn2 > h2 * nt2) {
     // h <- NORMALIZE(PROJ_n,t(I - P)) (Fig. 4 line 7), and its new height H = DOT(h, n).
     precise float inv_len = 1.0f / sqrt(nt2);
     precise float ht = dt * inv_len;
     precise float hn = dn * inv_len;
     precise float h2_new = hn * hn;
-    if (h2_new > hz.h2) {
-      precise float occ_new = hz.occ + hbao_attenuation(len2, c) * (h2_new - hz.h2);
-      precise float ph = pt * ht + pn * hn;
+    if (h2_new > h2) {
+      precise float occ_new = hz.occ + hbao_attenuation(len2, c) * (h2_new - h2);
       hz.occ = occ_new;
-      hz.h2 = h2_new;
       hz.ht = ht;
       hz.hn = hn;
-      hz.ph = ph;
     }
   }
 }
@@ -239,9 +238,7 @@ float hbao_horizon_pass(HBAO_IMAGES_PARAM int i, int j, HbaoConstants c) {
       pt[k] = hbao_dot(px.p, t[k]);
       hz[k].ht = 1.0f;
       hz[k].hn = 0.0f;
-      hz[k].h2 = 0.0f;
       hz[k].occ = 0.0f;
-      hz[k].ph = pt[k];
     }
     for (int s = 1; s <= c.steps; ++s) {
       precise float dist = (float(s) + px.beta) * c.step;
@@ -254,7 +251,8 @@ float hbao_horizon_pass(HBAO_IMAGES_PARAM int i, int j, HbaoConstants c) {
     }
     for (int k = 0; k < HBAO_GROUP; ++k) {
       if (d0 + k < c.directions) {
-        hbao_store_horizon(HBAO_IMAGES_ARG i, j, d0 + k, hz[k].h2);
+        precise float h2 = hz[k].hn * hz[k].hn;
+        hbao_store_horizon(HBAO_IMAGES_ARG i, j, d0 + k, h2);
         sum = sum + hz[k].occ;
       }
     }
