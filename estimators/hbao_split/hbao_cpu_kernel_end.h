@@ -3,6 +3,7 @@
 #undef HBAO_OUT
 #undef HBAO_INOUT
 #undef HBAO_GROUP
+#undef HBAO_RAY_GROUP
 #undef HBAO_SCALAR_DEVICE
 #undef HBAO_IMAGES_PARAM
 #undef HBAO_IMAGES_ARG
