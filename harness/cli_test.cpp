@@ -17,21 +17,14 @@
 #include <fstream>
 #include <sstream>
 
+#include "harness/cli_test_util.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using aoeval::cli_test::Result;
+using aoeval::cli_test::slurp;
 
 fs::path temp_dir() {
   fs::path d = fs::temp_directory_path() /
@@ -42,15 +35,7 @@ fs::path temp_dir() {
 }
 
 Result run_with_env(const std::string& env, const std::string& args) {
-  fs::path d = temp_dir();
-  const std::string cmd = env + std::string(AOEVAL_BINARY) + " " + args + " >" +
-                          (d / "stdout").string() + " 2>" + (d / "stderr").string() + " </dev/null";
-  int status = std::system(cmd.c_str());
-  Result r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = slurp(d / "stdout");
-  r.err = slurp(d / "stderr");
-  return r;
+  return aoeval::cli_test::run_aoeval(env, args, temp_dir());
 }
 
 Result run(const std::string& args) {

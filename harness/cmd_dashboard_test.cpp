@@ -11,21 +11,14 @@
 #include <fstream>
 #include <sstream>
 
+#include "harness/cli_test_util.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using aoeval::cli_test::Result;
+using aoeval::cli_test::slurp;
 
 class DashboardCli : public ::testing::Test {
  protected:
@@ -55,14 +48,8 @@ class DashboardCli : public ::testing::Test {
   }
   Result run(const std::string& args) {
     // Its own reference cache: the test neither reads nor fills the user's.
-    const std::string cmd = "cd " + dir.string() + " && AOEVAL_CACHE=" + (dir / "cache").string() +
-                            " " + AOEVAL_BINARY + " " + args + " >stdout 2>stderr </dev/null";
-    const int status = std::system(cmd.c_str());
-    Result r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(dir / "stdout");
-    r.err = slurp(dir / "stderr");
-    return r;
+    return aoeval::cli_test::run_aoeval(
+        "cd " + dir.string() + " && AOEVAL_CACHE=" + (dir / "cache").string() + " ", args, dir);
   }
   // History charts cost a python process per call: drawn once, in the regression check.
   Result dashboard(bool charts = false) {

@@ -13,21 +13,14 @@
 
 #include "harness/results_store.h"
 
+#include "harness/cli_test_util.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
+using aoeval::cli_test::Result;
+using aoeval::cli_test::slurp;
 
 // A folder of this test's own (several build folders may run it at once), removed afterwards.
 struct TempDir {
@@ -48,11 +41,7 @@ struct TempDir {
 
 // The references go to a private cache; cornell-box needs no mesh from the data cache.
 Result run(const fs::path& d, const std::string& args) {
-  const std::string cmd = "AOEVAL_CACHE=" + (d / "cache").string() + " " +
-                          std::string(AOEVAL_BINARY) + " " + args + " >" + (d / "stdout").string() +
-                          " 2>" + (d / "stderr").string() + " </dev/null";
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(d / "stdout"), slurp(d / "stderr")};
+  return aoeval::cli_test::run_aoeval("AOEVAL_CACHE=" + (d / "cache").string() + " ", args, d);
 }
 
 // Three estimators: constant and obscurances featured at their defaults, raytraced at its default

@@ -10,21 +10,14 @@
 #include <fstream>
 #include <sstream>
 
+#include "harness/cli_test_util.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using aoeval::cli_test::Result;
+using aoeval::cli_test::slurp;
 
 fs::path fresh_dir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("aoeval_figures_" + name);
@@ -34,12 +27,7 @@ fs::path fresh_dir(const std::string& name) {
 }
 
 Result run(const fs::path& dir, const std::string& args) {
-  const std::string cmd = std::string(AOEVAL_BINARY) + " figures " + args + " >" +
-                          (dir / "stdout").string() + " 2>" + (dir / "stderr").string() +
-                          " </dev/null";
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir / "stdout"),
-          slurp(dir / "stderr")};
+  return aoeval::cli_test::run_aoeval("", "figures " + args, dir);
 }
 
 TEST(FiguresCli, QuickFigureWritesPngCsvCaptionAndIndex) {
