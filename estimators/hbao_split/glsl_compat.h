@@ -20,6 +20,15 @@ using std::max;
 using std::min;
 using std::sqrt;
 
+// The texel index of image coordinate u, clamped into [0, size) (hbao_kernel.glsl): GLSL's
+// clamp(int(u), 0, size - 1) for every finite u, without C++'s undefined conversion of a float
+// beyond int's range (a point near the eye plane projects anywhere) or of NaN (taken as 0).
+inline int hbao_texel(float u, int size) {
+  if (!(u >= 0.0f)) return 0;
+  if (u >= static_cast<float>(size - 1)) return size - 1;
+  return static_cast<int>(u);
+}
+
 }  // namespace aoeval::hbao_glsl
 
 // The CPU runs one pixel at a time: loops may stop early (hbao_kernel.glsl, hbao_march).

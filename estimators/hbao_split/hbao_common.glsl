@@ -37,6 +37,9 @@ ivec2 hbao_invocation_pixel() {
   return ivec2(gl_GlobalInvocationID.x, row * gl_WorkGroupSize.y + gl_LocalInvocationID.y);
 }
 
+int hbao_texel(float u, int size) {
+  return clamp(int(u), 0, size - 1);  // int() beyond int's range: some int, clamped too
+}
 float hbao_depth(int i, int j) {
   return imageLoad(depth_image, ivec2(i, j)).r;
 }

@@ -15,6 +15,9 @@
 //   float hbao_raw_ao(HBAO_IMAGES_PARAM int i, int j)    unblurred AO (the blur pass only)
 //   void  hbao_store_horizon(HBAO_IMAGES_PARAM int i, int j, int d, float h2)  H^2 of direction d
 //   float hbao_load_horizon(HBAO_IMAGES_PARAM int i, int j, int d)            (between the passes)
+// and the texel index of an image coordinate, clamped into [0, size): int hbao_texel(float u,
+// int size) (the same on both sides wherever int(u) is defined; beyond int's range, or NaN, the
+// languages differ, and that texel is read and then ignored: the point is off the screen).
 //
 // Eye space: x right, y up, z forward along the view axis (z = the G-buffer's linear depth); pixel
 // (i, j) is seen through the eye-space point ((i + 0.5 - W/2) / f, (H/2 - j - 0.5) / f, 1), with
@@ -28,36 +31,42 @@ vec3 hbao_eye_position(int i, int j, float z, HbaoConstants c) {
   return vec3(x, y, z);
 }
 
-// Fig. 4 lines 4-5, ISBELOW(Q, S) and INTERSECT(Q - E, S): project Q to the screen, read the
-// nearest texel's depth z (§4.1.1) and, when that surface lies in front of Q, give the scale
-// s = z / Q.z that takes Q to the surface's point s Q on the eye ray through Q. Outside the
-// screen, behind the eye or over background: not below.
-bool hbao_below_scale(HBAO_IMAGES_PARAM vec3 q, HbaoConstants c, HBAO_OUT(float) scale) {
-  precise float inv_z = 1.0f / q.z;  // one division per step (they dominate on CPU devices)
-  precise float focal_z = c.focal * inv_z;
-  precise float u = q.x * focal_z + c.half_width;
-  precise float v = c.half_height - q.y * focal_z;
-  bool inside = q.z > 0.0f && u >= 0.0f && u < float(c.width) && v >= 0.0f && v < float(c.height);
-  // The fetch is unconditional (texel 0 stands in outside the screen, and is then ignored): no
-  // branch around the load, which SIMD devices (lavapipe) would otherwise mask lane by lane.
-  float z = hbao_depth(HBAO_IMAGES_ARG inside ? int(u) : 0, inside ? int(v) : 0);
-  precise float s = z * inv_z;
-  scale = s;
-  return inside && z > 0.0f && z < q.z;
+// Points and directions of the searches are kept in screen-scaled form,
+// S(v) = (f v.x + (W/2) v.z, (H/2) v.z - f v.y, v.z): S is linear, so the step Q = P + d h is
+// S(Q) = S(P) + d S(h) (three multiply-adds), and Q projects to pixel (S(Q).x / Q.z, S(Q).y / Q.z)
+// with one division and two products, with nothing else to form per step.
+vec3 hbao_screen(vec3 v, HbaoConstants c) {
+  precise float x = c.focal * v.x + c.half_width * v.z;
+  precise float y = c.half_height * v.z - c.focal * v.y;
+  return vec3(x, y, v.z);
 }
 
-bool hbao_below(HBAO_IMAGES_PARAM vec3 q, HbaoConstants c, HBAO_OUT(vec3) hit) {
-  float scale;
-  bool below = hbao_below_scale(HBAO_IMAGES_ARG q, c, scale);
-  precise vec3 point = q * scale;
-  hit = point;
-  return below;
+// Fig. 4 lines 4-5, ISBELOW(Q, S) and INTERSECT(Q - E, S): project Q (given as S(Q)) to the
+// screen and read the nearest texel's depth z (§4.1.1); Q is below the surface when that surface
+// lies in front of it, z < Q.z, and then the intersection is the surface's point I = (z / Q.z) Q
+// on the eye ray through Q. Gives z and 1 / Q.z. Outside the screen, behind the eye or over
+// background: not below.
+bool hbao_below(HBAO_IMAGES_PARAM vec3 sq, HbaoConstants c, HBAO_OUT(float) depth,
+                HBAO_OUT(float) inv_qz) {
+  precise float inv_z = 1.0f / sq.z;  // the step's one division
+  precise float u = sq.x * inv_z;
+  precise float v = sq.y * inv_z;
+  // The fetch is unconditional and its texel is clamped into the image (a point outside the
+  // screen reads an edge texel, which is then ignored): its address then waits only on u and v,
+  // not on the tests below, and there is no branch around the load, which SIMD devices (lavapipe)
+  // would otherwise mask lane by lane.
+  float z = hbao_depth(HBAO_IMAGES_ARG hbao_texel(u, c.width), hbao_texel(v, c.height));
+  bool inside = u >= 0.0f && u < float(c.width) && v >= 0.0f && v < float(c.height);
+  depth = z;
+  inv_qz = inv_z;
+  return inside && z > 0.0f && z < sq.z;  // z > 0 and z < Q.z: Q is in front of the eye
 }
 
 // §3.5: the weight of an occluder at squared distance len2 from P, 1 - r / R (linear), or 1.
 float hbao_attenuation(float len2, HbaoConstants c) {
-  if (c.attenuation == 0) return 1.0f;
-  precise float w = 1.0f - sqrt(len2) * (1.0f / c.radius);  // 1 / R: hoisted out of loops
+  // 1 - r * 0 = 1 when attenuation is off: no select (SIMD devices run both sides of an if).
+  // The factor is the same for the whole dispatch, so compilers hoist it out of the loops.
+  precise float w = 1.0f - sqrt(len2) * (float(c.attenuation) / c.radius);
   return w;
 }
 
@@ -66,45 +75,65 @@ float hbao_attenuation(float len2, HbaoConstants c) {
 // may raise), which leaves a CPU device (lavapipe) waiting on the latency of each fetch and
 // division; HBAO_GROUP independent walks give it work to overlap. Each direction's arithmetic is
 // the same whatever the group size. Normal rays (hbao_normal_pass) are searched HBAO_RAY_GROUP
-// directions at a time: a ray's state is smaller, so eight fit (measured on bunny 640x480 on
-// lavapipe: horizon group 1 / 2 / 4 / 8 = 139 / 104 / 97 / 109 ms; normal rays 4 / 8 = 32 / 30 ms).
+// directions at a time: a ray's state is smaller, so eight fit. Measured on bunny 640x480 on
+// lavapipe (Nd = 8): horizon group 2 / 4 / 8 = 62 / 41 / 37 ms; 4 wastes fewer slots when Nd is
+// not a multiple of 8 (Nd = 7 in Table 1, 18 in the quality preset); normal rays 4 / 8 = 32 / 30
+// ms (earlier kernel).
 #define HBAO_GROUP 4
 #define HBAO_RAY_GROUP 8
 
 // One direction's horizon while it is traced: h = ht t + hn n (unit, in the plane of t and n).
-// Only what cannot be recomputed cheaply is kept (H^2 = hn^2, DOT(P, h) = pt ht + pn hn): four
-// directions' state must fit the 32 vector registers of a CPU device with room to spare.
+// Only (ht, hn) and the occlusion so far are kept: four directions' state, with what their walks
+// read (HbaoWalk), must fit the 32 vector registers of a CPU device.
 struct HbaoHorizon {
   float ht;   // DOT(h, t)
   float hn;   // DOT(h, n) = H(theta)
   float occ;  // T(theta) so far
 };
 
-// §3.1 horizon tracing (Fig. 4), step i of direction t (pt = DOT(P, t)) at distance
-// dist = (i + beta) R / Ns along the current horizon ray, Q = P + dist h (beta in (-1, 1) jitters
-// the steps, §4.1.2). The horizon ray starts as t and is deflected towards each intersection I
-// that lies within R and ahead (DOT(I - P, t) > 0) whenever that raises it, so H = DOT(h, n) only
-// grows. `occ` accumulates T(theta) of eq. 3: H^2 without attenuation; with it (§3.5) each rise
-// from H_old to H_new is weighted by the attenuation of the occluder that caused it,
+// What a direction's walk needs of the pixel and of t that does not change along it.
+struct HbaoWalk {
+  vec3 sp;   // S(P)
+  vec3 st;   // S(t)
+  vec3 sn;   // S(n)
+  float pt;  // DOT(P, t)
+  float pn;  // DOT(P, n)
+  float pb;  // DOT(P, n x t) = DOT(t, P x n): P's component out of the plane of t and n
+};
+
+// §3.1 horizon tracing (Fig. 4), step i of direction t at distance dist = (i + beta) R / Ns along
+// the current horizon ray, Q = P + dist h (beta in (-1, 1) jitters the steps, §4.1.2). The
+// horizon ray starts as t and is deflected towards each intersection I that lies within R and
+// ahead (DOT(I - P, t) > 0) whenever that raises it, so H = DOT(h, n) only grows. `occ`
+// accumulates T(theta) of eq. 3: H^2 without attenuation; with it (§3.5) each rise from H_old to
+// H_new is weighted by the attenuation of the occluder that caused it,
 // T = sum W(r) (H_new^2 - H_old^2), which telescopes to H^2 when W = 1.
-// With I = s Q (hbao_below_scale), I - P = (s - 1) P + s dist h, so its components along t and n
-// and its squared length follow from DOT(P, t), DOT(P, n), |P|^2 and DOT(P, h) without forming I.
-// The candidate height is compared squared, dn^2 > H^2 (dn^2 + dt^2) with dn > 0, and the square
-// root and divisions of a rise are computed only then.
-void hbao_horizon_step(HBAO_IMAGES_PARAM vec3 p, vec3 n, vec3 t, float pt, float pn, float pp,
-                       float dist, HbaoConstants c, HBAO_INOUT(HbaoHorizon) hz) {
-  precise vec3 q = p + t * (dist * hz.ht) + n * (dist * hz.hn);  // h itself is not kept
-  float s;
-  bool below = hbao_below_scale(HBAO_IMAGES_ARG q, c, s);
+// With I = s Q, s = z / Q.z (hbao_below), I - P = (s - 1) P + s dist h, so its components in
+// the frame (t, n, n x t) are (s - 1) DOT(P, t) + s dist ht, (s - 1) DOT(P, n) + s dist hn and
+// (s - 1) DOT(P, n x t): no vector operation beyond the step itself. The candidate height is
+// compared squared, dn^2 > H^2 (dn^2 + dt^2) with dn > 0.
+// On a SIMD CPU device (lavapipe) both sides of every `if` run, each value assigned under one
+// costs a select, and values that do not fit the registers are spilled. What made this loop fast
+// there (horizon pass, bunny 640x480, one machine): state cut to (ht, hn, occ) per direction with
+// the step formed from S(t), S(n) (61 -> 46 ms, against keeping S(h) as state), attenuation
+// without a select (46 -> 40 ms), fetch addresses clamped rather than selected (65 -> 61 ms).
+void hbao_horizon_step(HBAO_IMAGES_PARAM HbaoWalk w, float dist, HbaoConstants c,
+                       HBAO_INOUT(HbaoHorizon) hz) {
+  precise float at = dist * hz.ht;
+  precise float an = dist * hz.hn;
+  precise vec3 sq = w.sp + w.st * at + w.sn * an;  // S(Q), Q = P + dist (ht t + hn n)
+  float z;
+  float inv_z;
+  bool below = hbao_below(HBAO_IMAGES_ARG sq, c, z, inv_z);
+  precise float s = z * inv_z;
   precise float s1 = s - 1.0f;
-  precise float ds = s * dist;
-  precise float dt = s1 * pt + ds * hz.ht;
-  precise float dn = s1 * pn + ds * hz.hn;
-  precise float ph = pt * hz.ht + pn * hz.hn;                      // DOT(P, h)
-  precise float len2 = s1 * (s1 * pp + 2.0f * ds * ph) + ds * ds;  // |I - P|^2, |h| = 1
-  precise float h2 = hz.hn * hz.hn;
+  precise float dt = s1 * w.pt + s * at;
+  precise float dn = s1 * w.pn + s * an;
+  precise float db = s1 * w.pb;
   precise float dn2 = dn * dn;
-  precise float nt2 = dn2 + dt * dt;  // |PROJ_n,t(I - P)|^2
+  precise float nt2 = dn2 + dt * dt;   // |PROJ_n,t(I - P)|^2
+  precise float len2 = nt2 + db * db;  // |I - P|^2
+  precise float h2 = hz.hn * hz.hn;
   precise float r2 = c.radius * c.radius;
   if (below && len2 < r2 && dt > 0.0f && dn > 0.0f && dn2 > h2 * nt2) {
     // h <- NORMALIZE(PROJ_n,t(I - P)) (Fig. 4 line 7), and its new height H = DOT(h, n).
@@ -122,14 +151,16 @@ void hbao_horizon_step(HBAO_IMAGES_PARAM vec3 p, vec3 n, vec3 t, float pt, float
 }
 
 // §3.3 linear search along a normal ray r (unit) from P, one step at distance dist: records
-// |I - P|^2 of the first occluder within R in hit_len2 (< 0 until there is one). As in
-// hbao_horizon_step, I - P = (s - 1) P + s dist r, so |I - P|^2 follows from pr = DOT(P, r) and
-// pp = |P|^2.
-void hbao_march_step(HBAO_IMAGES_PARAM vec3 p, vec3 r, float pr, float pp, float dist,
+// |I - P|^2 of the first occluder within R in hit_len2 (< 0 until there is one). The ray is given
+// as S(P), S(r) (hbao_screen); with I = s Q, I - P = (s - 1) P + s dist r, so |I - P|^2 follows
+// from pr = DOT(P, r) and pp = |P|^2.
+void hbao_march_step(HBAO_IMAGES_PARAM vec3 sp, vec3 sr, float pr, float pp, float dist,
                      HbaoConstants c, HBAO_INOUT(float) hit_len2) {
-  precise vec3 q = p + r * dist;
-  float s;
-  bool below = hbao_below_scale(HBAO_IMAGES_ARG q, c, s);
+  precise vec3 sq = sp + sr * dist;
+  float z;
+  float inv_z;
+  bool below = hbao_below(HBAO_IMAGES_ARG sq, c, z, inv_z);
+  precise float s = z * inv_z;
   precise float s1 = s - 1.0f;
   precise float ds = s * dist;
   precise float len2 = s1 * (s1 * pp + 2.0f * ds * pr) + ds * ds;
@@ -143,11 +174,13 @@ float hbao_ray_weight(float hit_len2, HbaoConstants c) {
   return hit_len2 < 0.0f ? 0.0f : hbao_attenuation(hit_len2, c);
 }
 
-// The whole search along one ray (raymarch-ssao's rays). A scalar device stops at the first
-// occluder; a SIMD device (lavapipe) goes on, because a lane that leaves a loop early makes the
-// loop counter, hence the next fetch's address, wait for this step's fetch (llvm-mca on the
-// compiled loop: 161 cycles a step with the early exit, 18 without the wait).
+// The whole search along one ray r (unit) from P (raymarch-ssao's rays). A scalar device stops at
+// the first occluder; a SIMD device (lavapipe) goes on, because a lane that leaves a loop early
+// makes the loop counter, hence the next fetch's address, wait for this step's fetch (llvm-mca on
+// the compiled loop: 161 cycles a step with the early exit, 18 without the wait).
 float hbao_march(HBAO_IMAGES_PARAM vec3 p, vec3 r, float beta, HbaoConstants c) {
+  vec3 sp = hbao_screen(p, c);
+  vec3 sr = hbao_screen(r, c);
   float pr = hbao_dot(p, r);
   float pp = hbao_dot(p, p);
   float hit_len2 = -1.0f;
@@ -156,7 +189,7 @@ float hbao_march(HBAO_IMAGES_PARAM vec3 p, vec3 r, float beta, HbaoConstants c) 
     if (hit_len2 >= 0.0f) break;
 #endif
     precise float dist = (float(s) + beta) * c.step;
-    hbao_march_step(HBAO_IMAGES_ARG p, r, pr, pp, dist, c, hit_len2);
+    hbao_march_step(HBAO_IMAGES_ARG sp, sr, pr, pp, dist, c, hit_len2);
   }
   return hbao_ray_weight(hit_len2, c);
 }
@@ -229,16 +262,23 @@ vec3 hbao_tangent(HBAO_IMAGES_PARAM HbaoPixel px, int d) {
 float hbao_horizon_pass(HBAO_IMAGES_PARAM int i, int j, HbaoConstants c) {
   HbaoPixel px;
   if (!hbao_setup_pixel(HBAO_IMAGES_ARG i, j, c, px)) return 0.0f;
+  vec3 sp = hbao_screen(px.p, c);
+  vec3 sn = hbao_screen(px.n, c);
   float pn = hbao_dot(px.p, px.n);
-  float pp = hbao_dot(px.p, px.p);
+  precise vec3 pxn = vec3(px.p.y * px.n.z - px.p.z * px.n.y, px.p.z * px.n.x - px.p.x * px.n.z,
+                          px.p.x * px.n.y - px.p.y * px.n.x);  // P x n
   precise float sum = 0.0f;
   for (int d0 = 0; d0 < c.directions; d0 += HBAO_GROUP) {
-    vec3 t[HBAO_GROUP];
-    float pt[HBAO_GROUP];
+    HbaoWalk w[HBAO_GROUP];
     HbaoHorizon hz[HBAO_GROUP];
     for (int k = 0; k < HBAO_GROUP; ++k) {
-      t[k] = hbao_tangent(HBAO_IMAGES_ARG px, min(d0 + k, c.directions - 1));
-      pt[k] = hbao_dot(px.p, t[k]);
+      vec3 t = hbao_tangent(HBAO_IMAGES_ARG px, min(d0 + k, c.directions - 1));
+      w[k].sp = sp;
+      w[k].st = hbao_screen(t, c);
+      w[k].sn = sn;
+      w[k].pt = hbao_dot(px.p, t);
+      w[k].pn = pn;
+      w[k].pb = hbao_dot(t, pxn);
       hz[k].ht = 1.0f;
       hz[k].hn = 0.0f;
       hz[k].occ = 0.0f;
@@ -249,7 +289,7 @@ float hbao_horizon_pass(HBAO_IMAGES_PARAM int i, int j, HbaoConstants c) {
 #ifdef HBAO_SCALAR_DEVICE
         if (d0 + k >= c.directions) continue;  // SIMD: traced again, discarded (no masking)
 #endif
-        hbao_horizon_step(HBAO_IMAGES_ARG px.p, px.n, t[k], pt[k], pn, pp, dist, c, hz[k]);
+        hbao_horizon_step(HBAO_IMAGES_ARG w[k], dist, c, hz[k]);
       }
     }
     for (int k = 0; k < HBAO_GROUP; ++k) {
@@ -270,6 +310,7 @@ float hbao_horizon_pass(HBAO_IMAGES_PARAM int i, int j, HbaoConstants c) {
 float hbao_normal_pass(HBAO_IMAGES_PARAM int i, int j, float ot, HbaoConstants c) {
   HbaoPixel px;
   if (!hbao_setup_pixel(HBAO_IMAGES_ARG i, j, c, px)) return 0.0f;
+  vec3 sp = hbao_screen(px.p, c);
   float pp = hbao_dot(px.p, px.p);
   precise float sum = 0.0f;
   if (c.normal_rays > 0) {
@@ -284,12 +325,13 @@ float hbao_normal_pass(HBAO_IMAGES_PARAM int i, int j, float ot, HbaoConstants c
         weights[k] = 0.0f;
       }
       for (int m = 0; m < c.normal_rays; ++m) {
-        vec3 r[HBAO_RAY_GROUP];
+        vec3 sr[HBAO_RAY_GROUP];
         float pr[HBAO_RAY_GROUP];
         float hit_len2[HBAO_RAY_GROUP];
         for (int k = 0; k < HBAO_RAY_GROUP; ++k) {
-          r[k] = hbao_normal_ray(px.n, t[k], h2[k], m, c);
-          pr[k] = hbao_dot(px.p, r[k]);
+          vec3 r = hbao_normal_ray(px.n, t[k], h2[k], m, c);
+          sr[k] = hbao_screen(r, c);
+          pr[k] = hbao_dot(px.p, r);
           hit_len2[k] = d0 + k < c.directions ? -1.0f : 0.0f;  // slots past Nd: nothing to find
         }
         for (int s = 1; s <= c.steps; ++s) {
@@ -298,7 +340,7 @@ float hbao_normal_pass(HBAO_IMAGES_PARAM int i, int j, float ot, HbaoConstants c
 #ifdef HBAO_SCALAR_DEVICE
             if (hit_len2[k] >= 0.0f) continue;  // a scalar device skips finished rays
 #endif
-            hbao_march_step(HBAO_IMAGES_ARG px.p, r[k], pr[k], pp, dist, c, hit_len2[k]);
+            hbao_march_step(HBAO_IMAGES_ARG sp, sr[k], pr[k], pp, dist, c, hit_len2[k]);
           }
         }
         for (int k = 0; k < HBAO_RAY_GROUP; ++k) {
