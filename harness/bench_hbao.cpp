@@ -50,14 +50,6 @@ double at(const std::map<std::string, double>& m, const std::string& key) {
   return it == m.end() ? 0.0 : it->second;
 }
 
-double max_abs_difference(const HbaoFrame& f, const std::vector<float>& a,
-                          const std::vector<float>& b) {
-  double m = 0.0;
-  for (size_t k = 0; k < f.depth.size(); ++k)
-    if (f.depth[k] > 0.0f) m = std::max(m, std::abs(static_cast<double>(a[k]) - b[k]));
-  return m;
-}
-
 // The mean screen-space length of one step R / Ns at the covered pixels' depths, pixels.
 double mean_step_pixels(const HbaoFrame& f, const HbaoSettings& s) {
   const double step = s.radius / s.steps;
@@ -144,7 +136,7 @@ void bench_hbao(const HbaoBenchOptions& o) {
   // hbao-split-cpu on that G-buffer: the exact fetch count and the twin check.
   const HbaoFrame frame = device->frame();
   const HbaoCpuResult counted = hbao_split_cpu(frame, s, true);
-  const double twin_diff = max_abs_difference(frame, counted.ao, first.ao);
+  const double twin_diff = hbao_max_abs_difference(frame, counted.ao, first.ao);
 
   // The bare fetch loop: as many fetches per pixel, along walks of the same screen step.
   const double pixels = static_cast<double>(w) * h;

@@ -1,6 +1,7 @@
 // hbao-split's parameter table (declared once for both twins) and the host-side inputs of the
 // kernel: eye-space depth and normals, the tiled random texture (§4.1.2), the direction table and
 // the constants. See hbao_split.h.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <numeric>
@@ -204,6 +205,14 @@ void validate_hbao_frame(const HbaoFrame& f) {
                      std::to_string(f.height) + ")");
   if (!(f.focal > 0.0f) || !std::isfinite(f.focal))
     throw InputError("hbao-split: the camera's field of view gives no finite focal length");
+}
+
+double hbao_max_abs_difference(const HbaoFrame& f, const std::vector<float>& a,
+                               const std::vector<float>& b) {
+  double m = 0.0;
+  for (size_t k = 0; k < f.depth.size(); ++k)
+    if (f.depth[k] > 0.0f) m = std::max(m, std::abs(static_cast<double>(a[k]) - b[k]));
+  return m;
 }
 
 }  // namespace aoeval

@@ -74,6 +74,10 @@ HbaoConstants hbao_constants(const HbaoSettings& settings, int width, int height
 
 // Checks what the parameter table cannot (a frame to work on); InputError otherwise.
 void validate_hbao_frame(const HbaoFrame& frame);
+// Max |a - b| over the frame's covered pixels (depth > 0): how far two AO images of the frame
+// differ, e.g. the twins' (the bench and the twin tests).
+double hbao_max_abs_difference(const HbaoFrame& frame, const std::vector<float>& a,
+                               const std::vector<float>& b);
 
 struct HbaoCpuResult {
   std::vector<float> ao;          // final AO (blurred when settings.blur), 0 where not covered

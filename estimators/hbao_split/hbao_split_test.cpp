@@ -241,15 +241,6 @@ TEST(HbaoSplitCpu, EmptyFrameIsAnInputError) {
   if (!vk) GTEST_SKIP() << "no Vulkan device: " << skip_reason; \
   RecordProperty("vulkan_device", vk->device_description());
 
-// Max |a - b| over the pixels where the frame has depth.
-double max_abs_difference(const HbaoFrame& f, const std::vector<float>& a,
-                          const std::vector<float>& b) {
-  double m = 0.0;
-  for (size_t k = 0; k < f.depth.size(); ++k)
-    if (f.depth[k] > 0.0f) m = std::max(m, std::abs(static_cast<double>(a[k]) - b[k]));
-  return m;
-}
-
 // The twins compile one kernel source and read the same bits (depth, eye-space normals, random
 // texture, direction table), so they differ only where the device rounds differently from IEEE
 // (lavapipe: nowhere we rely on). 1e-3 bounds what a rare flipped nearest-texel decision could do.
@@ -266,12 +257,12 @@ TEST(HbaoSplitVulkan, TwinsAgreeOnTheSameGBuffer) {
     const HbaoCpuResult cpu = hbao_split_cpu(frame, s);
     HbaoDevice device(*vk, s, frame);
     const HbaoGpuResult gpu = device.run();
-    const double diff = max_abs_difference(frame, cpu.ao, gpu.ao);
+    const double diff = hbao_max_abs_difference(frame, cpu.ao, gpu.ao);
     std::printf("twins, blur %d: max |cpu - gpu| = %.3g (raw %.3g, horizon %.3g)\n", blur, diff,
-                max_abs_difference(frame, cpu.raw_ao, gpu.raw_ao),
-                max_abs_difference(frame, cpu.horizon_ao, gpu.horizon_ao));
+                hbao_max_abs_difference(frame, cpu.raw_ao, gpu.raw_ao),
+                hbao_max_abs_difference(frame, cpu.horizon_ao, gpu.horizon_ao));
     EXPECT_LE(diff, 1e-3);
-    EXPECT_LE(max_abs_difference(frame, cpu.horizon_ao, gpu.horizon_ao), 1e-3);
+    EXPECT_LE(hbao_max_abs_difference(frame, cpu.horizon_ao, gpu.horizon_ao), 1e-3);
     EXPECT_GT(gpu.pass_ms.count("horizon_ms"), 0u);
     EXPECT_GT(gpu.pass_ms.count("normal_ms"), 0u);
     EXPECT_EQ(gpu.pass_ms.count("blur_ms"), blur ? 1u : 0u);
@@ -292,7 +283,7 @@ TEST(HbaoSplitVulkan, RasterGBufferFeedsTheSameKernel) {
   EXPECT_GT(gpu.pass_ms.count("geometry_ms"), 0u);
   EXPECT_GT(gpu.pass_ms.count("total_ms"), 0u);
   const HbaoFrame raster = device.frame();
-  EXPECT_LE(max_abs_difference(raster, hbao_split_cpu(raster, s).ao, gpu.ao), 1e-3);
+  EXPECT_LE(hbao_max_abs_difference(raster, hbao_split_cpu(raster, s).ao, gpu.ao), 1e-3);
 
   EmbreeScene embree(scene);
   const HbaoFrame traced = hbao_frame_from_gbuffer(render_gbuffer(embree, camera));
