@@ -91,13 +91,11 @@ struct HbaoHorizon {
   float occ;  // T(theta) so far
 };
 
-// What a direction's walk needs of the pixel and of t that does not change along it.
+// What a direction's walk needs of t, fixed along the walk (the pixel's S(P), S(n) and DOT(P, n)
+// are passed beside it).
 struct HbaoWalk {
-  vec3 sp;   // S(P)
   vec3 st;   // S(t)
-  vec3 sn;   // S(n)
   float pt;  // DOT(P, t)
-  float pn;  // DOT(P, n)
   float pb;  // DOT(P, n x t) = DOT(t, P x n): P's component out of the plane of t and n
 };
 
@@ -117,18 +115,18 @@ struct HbaoWalk {
 // there (horizon pass, bunny 640x480, one machine): state cut to (ht, hn, occ) per direction with
 // the step formed from S(t), S(n) (61 -> 46 ms, against keeping S(h) as state), attenuation
 // without a select (46 -> 40 ms), fetch addresses clamped rather than selected (65 -> 61 ms).
-void hbao_horizon_step(HBAO_IMAGES_PARAM HbaoWalk w, float dist, HbaoConstants c,
-                       HBAO_INOUT(HbaoHorizon) hz) {
+void hbao_horizon_step(HBAO_IMAGES_PARAM vec3 sp, vec3 sn, float pn, HbaoWalk w, float dist,
+                       HbaoConstants c, HBAO_INOUT(HbaoHorizon) hz) {
   precise float at = dist * hz.ht;
   precise float an = dist * hz.hn;
-  precise vec3 sq = w.sp + w.st * at + w.sn * an;  // S(Q), Q = P + dist (ht t + hn n)
+  precise vec3 sq = sp + w.st * at + sn * an;  // S(Q), Q = P + dist (ht t + hn n)
   float z;
   float inv_z;
   bool below = hbao_below(HBAO_IMAGES_ARG sq, c, z, inv_z);
   precise float s = z * inv_z;
   precise float s1 = s - 1.0f;
   precise float dt = s1 * w.pt + s * at;
-  precise float dn = s1 * w.pn + s * an;
+  precise float dn = s1 * pn + s * an;
   precise float db = s1 * w.pb;
   precise float dn2 = dn * dn;
   precise float nt2 = dn2 + dt * dt;   // |PROJ_n,t(I - P)|^2
@@ -273,11 +271,8 @@ float hbao_horizon_pass(HBAO_IMAGES_PARAM int i, int j, HbaoConstants c) {
     HbaoHorizon hz[HBAO_GROUP];
     for (int k = 0; k < HBAO_GROUP; ++k) {
       vec3 t = hbao_tangent(HBAO_IMAGES_ARG px, min(d0 + k, c.directions - 1));
-      w[k].sp = sp;
       w[k].st = hbao_screen(t, c);
-      w[k].sn = sn;
       w[k].pt = hbao_dot(px.p, t);
-      w[k].pn = pn;
       w[k].pb = hbao_dot(t, pxn);
       hz[k].ht = 1.0f;
       hz[k].hn = 0.0f;
@@ -289,7 +284,7 @@ float hbao_horizon_pass(HBAO_IMAGES_PARAM int i, int j, HbaoConstants c) {
 #ifdef HBAO_SCALAR_DEVICE
         if (d0 + k >= c.directions) continue;  // SIMD: traced again, discarded (no masking)
 #endif
-        hbao_horizon_step(HBAO_IMAGES_ARG w[k], dist, c, hz[k]);
+        hbao_horizon_step(HBAO_IMAGES_ARG sp, sn, pn, w[k], dist, c, hz[k]);
       }
     }
     for (int k = 0; k < HBAO_GROUP; ++k) {
