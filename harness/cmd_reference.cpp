@@ -16,18 +16,6 @@ namespace aoeval {
 
 namespace fs = std::filesystem;
 
-Attributes reference_attributes(const Scene& scene, const View& view, const Camera& camera,
-                                const ReferenceSettings& s) {
-  Attributes a = gbuffer_attributes(scene, view, camera);
-  a.emplace_back("aoeval:definition", s.definition.to_json().dump());
-  a.emplace_back("aoeval:spp", std::to_string(s.spp));
-  a.emplace_back("aoeval:sampler", sampler_name(s.sampler));
-  a.emplace_back("aoeval:seed", std::to_string(s.seed));
-  a.emplace_back("aoeval:estimator", "reference");
-  a.emplace_back("aoeval:params", reference_params(s).dump());
-  return a;
-}
-
 namespace {
 
 struct Options {
@@ -75,8 +63,10 @@ void run_reference(const Options& o) {
   const ReferenceImage r = compute_reference(es, g, s);
   const OIIO::ImageBuf image = reference_to_image(r, s.target_stderr > 0.0);
   const Attributes attributes = reference_attributes(scene, view, camera, s);
+  // Written once and copied, so the output and the cached file are the same bytes (the EXR
+  // header's capDate included) and a later cache hit serves exactly this file.
   write_exr(o.output, image, attributes);
-  if (!o.no_cache) write_exr(cached, image, attributes);
+  if (!o.no_cache) copy_atomically(o.output, cached);
   double se2 = 0.0;
   size_t covered = 0;
   for (size_t k = 0; k < r.ao.size(); ++k) {

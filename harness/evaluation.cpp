@@ -108,14 +108,8 @@ const ReferenceImage& EvaluationSession::reference(const std::string& scene_name
   if (disk_cache_ && fs::exists(path)) return references_[key] = read_reference_image(path);
   ReferenceImage r = compute_reference(*s.embree, gbuffer(scene_name, view, w, h), settings);
   if (disk_cache_) {
-    Attributes a = gbuffer_attributes(s.scene, view, camera);
-    a.emplace_back("aoeval:definition", definition.to_json().dump());
-    a.emplace_back("aoeval:spp", std::to_string(settings.spp));
-    a.emplace_back("aoeval:sampler", sampler_name(settings.sampler));
-    a.emplace_back("aoeval:seed", std::to_string(settings.seed));
-    a.emplace_back("aoeval:estimator", "reference");
-    a.emplace_back("aoeval:params", reference_params(settings).dump());
-    write_exr(path, reference_to_image(r, false), a);
+    write_exr(path, reference_to_image(r, false),
+              reference_attributes(s.scene, view, camera, settings));
   }
   return references_[key] = std::move(r);
 }

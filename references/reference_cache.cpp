@@ -33,4 +33,16 @@ std::string reference_cache_path(const std::string& key) {
   return (std::filesystem::path(data_cache_dir()) / "references" / (key + ".exr")).string();
 }
 
+Attributes reference_attributes(const Scene& scene, const View& view, const Camera& camera,
+                                const ReferenceSettings& settings) {
+  Attributes a = gbuffer_attributes(scene, view, camera);
+  a.emplace_back("aoeval:definition", settings.definition.to_json().dump());
+  a.emplace_back("aoeval:spp", std::to_string(settings.spp));
+  a.emplace_back("aoeval:sampler", sampler_name(settings.sampler));
+  a.emplace_back("aoeval:seed", std::to_string(settings.seed));
+  a.emplace_back("aoeval:estimator", "reference");
+  a.emplace_back("aoeval:params", reference_params(settings).dump());
+  return a;
+}
+
 }  // namespace aoeval

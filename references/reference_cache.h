@@ -7,6 +7,7 @@
 #include <string>
 
 #include "camera.h"
+#include "gbuffer.h"
 #include "references/reference.h"
 #include "scene.h"
 
@@ -19,5 +20,11 @@ std::string reference_cache_key(const Scene& scene, const Camera& camera,
                                 const ReferenceSettings& settings);
 // <data cache>/references/<key>.exr
 std::string reference_cache_path(const std::string& key);
+
+// The EXR header of a reference image (CONTRACT: aoeval:scene, view, camera, definition, spp,
+// sampler, seed, estimator, params, version): one definition for `aoeval reference` and the
+// harness's cache, so a cached file reads the same whoever wrote it.
+Attributes reference_attributes(const Scene& scene, const View& view, const Camera& camera,
+                                const ReferenceSettings& settings);
 
 }  // namespace aoeval
