@@ -28,18 +28,18 @@ double bare_occlusion_rays_per_second(RTCScene scene, const std::vector<RTCRay>&
                                       uint64_t& occluded_out) {
   std::atomic<uint64_t> occluded{0};
   const auto t0 = std::chrono::steady_clock::now();
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 4096),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      RTCIntersectContext context;
-                      rtcInitIntersectContext(&context);
-                      uint64_t local = 0;
-                      for (size_t i = r.begin(); i < r.end(); ++i) {
-                        RTCRay ray = rays[i];
-                        rtcOccluded1(scene, &context, &ray);
-                        local += ray.tfar < 0.0f;
-                      }
-                      occluded += local;
-                    });
+  parallel_for_embree(tbb::blocked_range<size_t>(0, rays.size(), 4096),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                        RTCIntersectContext context;
+                        rtcInitIntersectContext(&context);
+                        uint64_t local = 0;
+                        for (size_t i = r.begin(); i < r.end(); ++i) {
+                          RTCRay ray = rays[i];
+                          rtcOccluded1(scene, &context, &ray);
+                          local += ray.tfar < 0.0f;
+                        }
+                        occluded += local;
+                      });
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   occluded_out = occluded;
   return static_cast<double>(rays.size()) / s;

@@ -180,7 +180,6 @@ ReferenceImage compute_reference(const EmbreeScene& es, const GBuffer& g,
   if (s.target_stderr > 0.0 && s.max_spp < s.spp)
     throw InputError("--max-spp: must be at least --spp (" + std::to_string(s.spp) + ")");
   validate_definition(s.definition);
-  enable_ftz_daz_everywhere();
   const auto start = std::chrono::steady_clock::now();
   ReferenceImage r;
   r.width = g.width;
@@ -197,7 +196,7 @@ ReferenceImage compute_reference(const EmbreeScene& es, const GBuffer& g,
   const bool replicated = s.sampler != SamplerKind::random;
   std::atomic<uint64_t> total_traced{0}, total_samples{0};
 
-  tbb::parallel_for(
+  parallel_for_embree(
       tbb::blocked_range<int>(0, g.height, 1), [&](const tbb::blocked_range<int>& rows) {
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);

@@ -1,7 +1,6 @@
 #include "embree_scene.h"
 
 #include <pmmintrin.h>
-#include <tbb/task_scheduler_observer.h>
 #include <xmmintrin.h>
 
 #include <chrono>
@@ -13,17 +12,6 @@
 namespace aoeval {
 
 namespace {
-
-void set_ftz_daz() {
-  _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
-  _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
-}
-
-class FtzDazObserver : public tbb::task_scheduler_observer {
- public:
-  FtzDazObserver() { observe(true); }
-  void on_scheduler_entry(bool) override { set_ftz_daz(); }
-};
 
 std::atomic<long long> g_embree_bytes{0};
 
@@ -52,14 +40,16 @@ void check_device(RTCDevice device, const char* during) {
 
 }  // namespace
 
-void enable_ftz_daz_everywhere() {
-  static FtzDazObserver observer;  // constructed once, observes for the process's lifetime
-  set_ftz_daz();
+void capture_ftz_daz(tbb::task_group_context& context) {
+  const unsigned caller = _mm_getcsr();
+  _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+  _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+  context.capture_fp_settings();
+  _mm_setcsr(caller);
 }
 
 RTCDevice embree_device() {
   static RTCDevice device = [] {
-    enable_ftz_daz_everywhere();
     RTCDevice d = rtcNewDevice(nullptr);
     if (!d) throw std::runtime_error("Embree: cannot create a device");
     rtcSetDeviceErrorFunction(d, error_handler, nullptr);
@@ -75,7 +65,6 @@ long long embree_allocated_bytes() {
 
 EmbreeScene::EmbreeScene(const Scene& scene, BuildQuality quality) : source_(scene) {
   RTCDevice device = embree_device();
-  enable_ftz_daz_everywhere();
   const long long bytes_before = embree_allocated_bytes();
   const auto start = std::chrono::steady_clock::now();
   scene_ = rtcNewScene(device);

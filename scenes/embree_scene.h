@@ -3,6 +3,8 @@
 #pragma once
 
 #include <embree3/rtcore.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include <atomic>
 #include <cstddef>
@@ -11,9 +13,21 @@
 
 namespace aoeval {
 
-// Turns on flush-to-zero and denormals-are-zero (as Embree's documentation asks for performance)
-// on the calling thread and, through a TBB observer, on every TBB worker thread. Idempotent.
-void enable_ftz_daz_everywhere();
+// Makes `context` run its tasks with flush-to-zero and denormals-are-zero on. The calling
+// thread's own settings are left as they were.
+void capture_ftz_daz(tbb::task_group_context& context);
+
+// tbb::parallel_for(range, body) with flush-to-zero and denormals-are-zero on in every task, on
+// every thread, as Embree's documentation asks of every thread that traces rays. Setting the flags
+// on a thread is not enough: oneTBB runs each task under the floating-point settings of its
+// task_group_context, and the default context takes them once, from the thread that first used
+// TBB; scheduler observers' flags are overwritten too. So every loop that traces goes through this.
+template <typename Range, typename Body>
+void parallel_for_embree(const Range& range, const Body& body) {
+  tbb::task_group_context context;
+  capture_ftz_daz(context);
+  tbb::parallel_for(range, body, context);
+}
 
 // The process-wide Embree device; errors are turned into exceptions.
 RTCDevice embree_device();

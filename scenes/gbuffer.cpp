@@ -25,7 +25,6 @@ Camera make_camera(const View& view, int width, int height) {
 }
 
 GBuffer render_gbuffer(const EmbreeScene& es, const Camera& camera) {
-  enable_ftz_daz_everywhere();
   GBuffer g;
   g.width = camera.width;
   g.height = camera.height;
@@ -39,7 +38,7 @@ GBuffer render_gbuffer(const EmbreeScene& es, const Camera& camera) {
   g.object_id.assign(n, -1.0f);
   const Scene& scene = es.scene();
 
-  tbb::parallel_for(tbb::blocked_range2d<int>(0, g.height, 8, 0, g.width, 8), [&](const auto& r) {
+  parallel_for_embree(tbb::blocked_range2d<int>(0, g.height, 8, 0, g.width, 8), [&](const auto& r) {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     for (int j = r.rows().begin(); j < r.rows().end(); ++j) {

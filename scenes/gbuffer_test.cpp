@@ -1,9 +1,17 @@
 // The camera convention and the G-buffer, against closed forms (CONTRACT §3).
 #include <gtest/gtest.h>
 
+#include <pmmintrin.h>
+#include <tbb/parallel_for.h>
+#include <xmmintrin.h>
+
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <thread>
 
+#include "embree_scene.h"
 #include "gbuffer.h"
 
 namespace aoeval {
@@ -124,6 +132,29 @@ TEST(GBuffer, DeterministicAndRoundTripsThroughExr) {
   EXPECT_NEAR(r.camera.tan_half_fov_y, cam.tan_half_fov_y, 1e-6);
   EXPECT_NEAR(r.camera.forward.z, -1.0f, 1e-6);
   std::filesystem::remove(path);
+}
+
+// Embree asks for flush-to-zero and denormals-are-zero on every thread that traces. TBB's worker
+// threads have usually run other loops (a scene load's) before the first trace, under the
+// floating-point settings TBB captured then; every task of a tracing loop must still have the
+// flags, or a denormal would be flushed on some threads and not on others, and results would
+// depend on which thread took which pixel.
+TEST(EmbreeThreads, EveryTaskOfATracingLoopFlushesDenormals) {
+  auto slow = [] { std::this_thread::sleep_for(std::chrono::milliseconds(1)); };
+  tbb::parallel_for(0, 64, 1, [&](int) { slow(); });  // the workers start without the flags
+  const unsigned control_bits = ~0x3Fu;  // not the sticky exception flags, which any code may set
+  const unsigned caller = _mm_getcsr() & control_bits;
+  std::atomic<int> with_flags{0};
+  parallel_for_embree(tbb::blocked_range<int>(0, 64, 1), [&](const tbb::blocked_range<int>& r) {
+    for (int i = r.begin(); i < r.end(); ++i) {
+      slow();
+      with_flags += _MM_GET_FLUSH_ZERO_MODE() == _MM_FLUSH_ZERO_ON &&
+                    _MM_GET_DENORMALS_ZERO_MODE() == _MM_DENORMALS_ZERO_ON;
+    }
+  });
+  EXPECT_EQ(with_flags.load(), 64) << "iterations of 64 ran with FTZ and DAZ on";
+  EXPECT_EQ(_mm_getcsr() & control_bits, caller)
+      << "the caller's own settings are left as they were";
 }
 
 }  // namespace

@@ -126,7 +126,6 @@ ObscuranceImage compute_obscurances(const EmbreeScene& es, const GBuffer& g,
   if (s.rays < 1) throw InputError("rays: must be at least 1");
   if (!(s.dmax > 0.0) || !std::isfinite(s.dmax))
     throw InputError("dmax: must be a positive finite distance (eq. 2's range)");
-  enable_ftz_daz_everywhere();
   const AoDefinition def = definition_of(s);
   const Scene& scene = es.scene();
   std::vector<glm::vec3> albedo;  // R(Q) by geomID (= object index, embree_scene.h)
@@ -141,7 +140,7 @@ ObscuranceImage compute_obscurances(const EmbreeScene& es, const GBuffer& g,
   out.average_reflectivity = r_ave;
   out.grey.assign(g.pixel_count(), 0.0f);
   out.rgb.assign(g.pixel_count(), glm::vec3(0.0f));
-  tbb::parallel_for(
+  parallel_for_embree(
       tbb::blocked_range<int>(0, g.height, 1), [&](const tbb::blocked_range<int>& rows) {
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);

@@ -122,7 +122,6 @@ TriangleMesh subdivide_mesh(const TriangleMesh& mesh, int levels) {
 VertexBake bake_vertices(const Scene& scene, const EmbreeScene& embree, const BakeSettings& s) {
   if (s.rays < 1) throw InputError("rays: must be at least 1");
   check_subdivide(scene, s.subdivide);
-  enable_ftz_daz_everywhere();
   const glm::vec3 e = scene.bounds().extent();
   const float extent = std::max({e.x, e.y, e.z});
   VertexBake bake;
@@ -135,7 +134,7 @@ VertexBake bake_vertices(const Scene& scene, const EmbreeScene& embree, const Ba
     bm.positions = std::move(sub.positions);
     bm.triangles = std::move(sub.triangles);
     std::vector<TriangleBake> tris(bm.triangles.size());
-    tbb::parallel_for(
+    parallel_for_embree(
         tbb::blocked_range<size_t>(0, tris.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
           RTCIntersectContext context;
           rtcInitIntersectContext(&context);

@@ -43,7 +43,7 @@ class VertexBakedEstimator : public Estimator {
     std::vector<float> bx(n, 0.0f), by(n, 0.0f), bz(n, 0.0f);
     const VertexBake& bake = *bake_;
     const Scene& scene = context.scene;
-    tbb::parallel_for(
+    parallel_for_embree(
         tbb::blocked_range<int>(0, g.height), [&](const tbb::blocked_range<int>& rows) {
           RTCIntersectContext ctx;
           rtcInitIntersectContext(&ctx);
