@@ -8,7 +8,7 @@
 //                    the baseline (and back);
 // and keeps a full-page screenshot of each as a test artefact.
 //
-// usage: node check_pages.js --screenshots DIR KIND:PATH...
+// usage: node check_pages.js --screenshots DIR [--hover-timeout-ms MS (30000)] KIND:PATH...
 //   KIND: "page" (any report), "dashboard-pass" or "dashboard-fail" (expected verdict), optionally
 //   followed by "=NAME" that the failing banner must name: dashboard-fail=hbao-split:PATH.
 'use strict';
@@ -19,11 +19,18 @@ const { chromium } = require('playwright-core');
 
 const CHROMIUM = process.env.AOEVAL_CHROMIUM || '/usr/bin/chromium';
 
+
 function parseArgs(argv) {
-  const out = { screenshots: null, pages: [] };
+  // ctest runs this beside other tests on every core: a hover swap may take seconds to show.
+  const out = { screenshots: null, hoverTimeoutMs: 30000, pages: [] };
   for (let i = 0; i < argv.length; ++i) {
     if (argv[i] === '--screenshots') {
       out.screenshots = argv[++i];
+      continue;
+    }
+    if (argv[i] === '--hover-timeout-ms') {
+      out.hoverTimeoutMs = Number(argv[++i]);
+      if (!(out.hoverTimeoutMs > 0)) throw new Error('--hover-timeout-ms: expected a positive number');
       continue;
     }
     const colon = argv[i].indexOf(':');
@@ -45,7 +52,7 @@ async function checkImages(page) {
     imgs.filter((img) => img.naturalWidth === 0).map((img) => img.getAttribute('src')));
 }
 
-async function checkDashboard(page, spec, problems) {
+async function checkDashboard(page, spec, args, problems) {
   const banner = await page.$('#verdict');
   if (!banner) {
     problems.push('no verdict banner (#verdict)');
@@ -82,7 +89,8 @@ async function checkDashboard(page, spec, problems) {
   await img.hover();
   try {
     await page.waitForFunction((el) => el.getAttribute('src') === el.dataset.baseline &&
-                                       el.complete && el.naturalWidth > 0, img, { timeout: 5000 });
+                                       el.complete && el.naturalWidth > 0, img,
+                               { timeout: args.hoverTimeoutMs });
   } catch (e) {
     problems.push(`hovering ${wantNew} did not show ${wantBaseline}`);
     return;
@@ -90,7 +98,7 @@ async function checkDashboard(page, spec, problems) {
   await page.mouse.move(0, 0);
   try {
     await page.waitForFunction((el) => el.getAttribute('src') === el.dataset.new, img,
-                               { timeout: 5000 });
+                               { timeout: args.hoverTimeoutMs });
   } catch (e) {
     problems.push('leaving the image did not restore the new estimate');
   }
@@ -124,7 +132,7 @@ async function main() {
       const broken = await checkImages(page);
       for (const src of broken) problems.push(`image did not load: ${src}`);
       const count = await page.$$eval('img', (imgs) => imgs.length);
-      if (spec.kind !== 'page') await checkDashboard(page, spec, problems);
+      if (spec.kind !== 'page') await checkDashboard(page, spec, args, problems);
       const shot = path.join(args.screenshots,
                              spec.kind + '-' + path.basename(path.dirname(spec.file)) + '.png');
       await page.screenshot({ path: shot, fullPage: true });
