@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "harness/cli_test_util.h"
+#include "scenes/test_temp_dir.h"
 
 namespace {
 
@@ -27,11 +28,7 @@ using aoeval::cli_test::Result;
 using aoeval::cli_test::slurp;
 
 fs::path temp_dir() {
-  fs::path d = fs::temp_directory_path() /
-               ("aoeval_cli_" +
-                std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-  fs::create_directories(d);
-  return d;
+  return aoeval::testing::test_temp_dir("cli");
 }
 
 Result run_with_env(const std::string& env, const std::string& args) {
@@ -97,12 +94,13 @@ TEST(Cli, ZeroWidthView) {
 }
 
 TEST(Cli, BadUsageExitsTwo) {
-  EXPECT_EQ(run("gbuffer --scene no-such-scene -o /tmp/aoeval_never.exr").code, 2);
-  EXPECT_EQ(run("gbuffer --scene bunny --res 0x10 -o /tmp/aoeval_never.exr").code, 2);
-  EXPECT_EQ(run("gbuffer --scene bunny --view nope -o /tmp/aoeval_never.exr").code, 2);
+  const std::string never = (temp_dir() / "never.exr").string();
+  EXPECT_EQ(run("gbuffer --scene no-such-scene -o " + never).code, 2);
+  EXPECT_EQ(run("gbuffer --scene bunny --res 0x10 -o " + never).code, 2);
+  EXPECT_EQ(run("gbuffer --scene bunny --view nope -o " + never).code, 2);
   EXPECT_EQ(run("frobnicate").code, 2);
   EXPECT_EQ(run("run --suite nope").code, 2);
-  EXPECT_FALSE(fs::exists("/tmp/aoeval_never.exr"));
+  EXPECT_FALSE(fs::exists(never));
   EXPECT_EQ(run("--help").code, 0);
   EXPECT_EQ(run("gbuffer --help").code, 0);
 }

@@ -13,6 +13,7 @@
 #include <cstdio>
 
 #include "exr_io.h"
+#include "scenes/test_temp_dir.h"
 
 namespace aoeval {
 namespace {
@@ -262,8 +263,9 @@ TEST(ErrorMaps, WritesAMosaicToLookAt) {
   std::snprintf(caption, sizeof caption, "synthetic/two_spheres %dx%d  rmse %.4f", w, h,
                 std::sqrt(se / double(n)));
   const OIIO::ImageBuf m = error_mosaic(w, h, c.ref.data(), c.est.data(), c.mask, caption);
-  write_image("/tmp/aoeval_error_maps_test.png", m);
-  const OIIO::ImageBuf back = read_image("/tmp/aoeval_error_maps_test.png");
+  const std::string png = (aoeval::testing::test_temp_dir("error_maps") / "mosaic.png").string();
+  write_image(png, m);
+  const OIIO::ImageBuf back = read_image(png);
   EXPECT_EQ(back.spec().width, m.spec().width);
 }
 

@@ -12,6 +12,7 @@
 #include "errors.h"
 #include "exr_io.h"
 #include "reports/regression_config.h"
+#include "scenes/test_temp_dir.h"
 
 namespace aoeval {
 namespace {
@@ -40,9 +41,7 @@ struct History {
   fs::path dir;
   std::string db;
   explicit History(const std::string& name)
-      : dir(fs::temp_directory_path() / ("aoeval_dashboard_" + name)) {
-    fs::remove_all(dir);
-    fs::create_directories(dir);
+      : dir(aoeval::testing::test_temp_dir("dashboard_" + name)) {
     db = (dir / "results.sqlite").string();
   }
   // One run of command `command`: rows (estimator, rmse_excess, bias, AO base); images kept.

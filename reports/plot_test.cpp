@@ -1,4 +1,5 @@
 #include "reports/plot.h"
+#include "scenes/test_temp_dir.h"
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
@@ -10,11 +11,7 @@ namespace aoeval {
 namespace {
 
 std::string temp_dir() {
-  auto dir =
-      std::filesystem::temp_directory_path() /
-      ("aoeval_plot_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
-  std::filesystem::create_directories(dir);
-  return dir.string();
+  return aoeval::testing::test_temp_dir("plot").string();
 }
 
 TEST(Plot, DrawsALinePlotWithParetoPointsAsAPng) {

@@ -6,6 +6,7 @@
 
 #include "errors.h"
 #include "mesh_io.h"
+#include "scenes/test_temp_dir.h"
 
 namespace aoeval {
 namespace {
@@ -13,7 +14,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string write_temp(const std::string& name, const std::string& text) {
-  fs::path p = fs::temp_directory_path() / ("aoeval_mesh_io_" + name);
+  fs::path p = aoeval::testing::test_temp_dir("mesh_io") / name;
   std::ofstream(p) << text;
   return p.string();
 }

@@ -9,6 +9,7 @@
 #include "corpus.h"
 #include "errors.h"
 #include "scene.h"
+#include "scenes/test_temp_dir.h"
 
 namespace aoeval {
 namespace {
@@ -17,14 +18,7 @@ namespace fs = std::filesystem;
 
 class SceneFileTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ =
-        fs::temp_directory_path() /
-        ("aoeval_scene_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-         "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  void SetUp() override { dir_ = aoeval::testing::test_temp_dir("scene"); }
   std::string write(const std::string& name, const std::string& text) {
     std::ofstream(dir_ / name) << text;
     return (dir_ / name).string();

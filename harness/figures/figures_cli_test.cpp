@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "harness/cli_test_util.h"
+#include "scenes/test_temp_dir.h"
 
 namespace {
 
@@ -20,10 +21,7 @@ using aoeval::cli_test::Result;
 using aoeval::cli_test::slurp;
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("aoeval_figures_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return aoeval::testing::test_temp_dir("figures_" + name);
 }
 
 Result run(const fs::path& dir, const std::string& args) {
