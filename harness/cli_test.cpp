@@ -28,7 +28,7 @@ using aoeval::cli_test::Result;
 using aoeval::cli_test::slurp;
 
 fs::path temp_dir() {
-  return aoeval::testing::test_temp_dir("cli");
+  return aoeval::testutil::test_temp_dir("cli");
 }
 
 Result run_with_env(const std::string& env, const std::string& args) {

@@ -5,13 +5,13 @@
 // unit-tested in reports/regression_test.cpp.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "harness/cli_test_util.h"
+#include "scenes/test_temp_dir.h"
 
 namespace {
 
@@ -22,17 +22,8 @@ using aoeval::cli_test::slurp;
 
 class DashboardCli : public ::testing::Test {
  protected:
-  // One folder per test and process: ctest runs the tests of this fixture in parallel.
-  fs::path dir =
-      fs::temp_directory_path() / (std::string("aoeval_dashboard_cli_") +
-                                   ::testing::UnitTest::GetInstance()->current_test_info()->name() +
-                                   "_" + std::to_string(getpid()));
-  void TearDown() override {
-    if (!HasFailure()) fs::remove_all(dir);  // kept for a look when the test fails
-  }
+  fs::path dir = aoeval::testutil::test_temp_dir("dashboard_cli");
   void SetUp() override {
-    fs::remove_all(dir);
-    fs::create_directories(dir);
     // Two estimators on a small view: the constant (deterministic, no rays) and raytraced; the
     // same sweep name with raytraced made worse (1 ray instead of 8).
     for (const auto& [file, rays] : {std::pair{"tiny.json", 8}, std::pair{"tiny_worse.json", 1}}) {

@@ -263,7 +263,7 @@ TEST(ErrorMaps, WritesAMosaicToLookAt) {
   std::snprintf(caption, sizeof caption, "synthetic/two_spheres %dx%d  rmse %.4f", w, h,
                 std::sqrt(se / double(n)));
   const OIIO::ImageBuf m = error_mosaic(w, h, c.ref.data(), c.est.data(), c.mask, caption);
-  const std::string png = (aoeval::testing::test_temp_dir("error_maps") / "mosaic.png").string();
+  const std::string png = (aoeval::testutil::test_temp_dir("error_maps") / "mosaic.png").string();
   write_image(png, m);
   const OIIO::ImageBuf back = read_image(png);
   EXPECT_EQ(back.spec().width, m.spec().width);

@@ -1,10 +1,10 @@
 // Tests of the results row (result_row.h) and the results store (results_store.h): flat round
 // trip, CSV/JSON/Markdown/console writers, the output folder with --resume, and SQLite.
 #include "results_store.h"
+#include "scenes/test_temp_dir.h"
 
 #include <gtest/gtest.h>
 #include <sqlite3.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -19,23 +19,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path test_root() {
-  return fs::temp_directory_path() / ("aoeval_store_test_" + std::to_string(getpid()));
-}
-
-// Removes this process's scratch folder after the last test.
-class ScratchCleanup : public testing::Environment {
- public:
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(test_root(), ec);
-  }
-};
-testing::Environment* const scratch_cleanup = testing::AddGlobalTestEnvironment(new ScratchCleanup);
-
 fs::path fresh_dir(const std::string& name) {
-  const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir = test_root() / (std::string(info->name()) + "_" + name);
+  const fs::path dir = aoeval::testutil::test_temp_dir("store") / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

@@ -2,7 +2,6 @@
 // path on stdout, a page that links every image and EXR the run kept (and nothing that is missing
 // or external), results.csv/json rows, SQLite rows, kept earlier runs, and --set.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -14,6 +13,7 @@
 #include "harness/results_store.h"
 
 #include "harness/cli_test_util.h"
+#include "scenes/test_temp_dir.h"
 
 namespace {
 
@@ -21,23 +21,6 @@ namespace fs = std::filesystem;
 
 using aoeval::cli_test::Result;
 using aoeval::cli_test::slurp;
-
-// A folder of this test's own (several build folders may run it at once), removed afterwards.
-struct TempDir {
-  fs::path path;
-  TempDir()
-      : path(fs::temp_directory_path() /
-             ("aoeval_suite_cli_" +
-              std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
-              std::to_string(getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    if (!::testing::Test::HasFailure()) fs::remove_all(path, ignored);  // kept for a look
-  }
-};
 
 // The references go to a private cache; cornell-box needs no mesh from the data cache.
 Result run(const fs::path& d, const std::string& args) {
@@ -87,8 +70,7 @@ size_t data_lines(const fs::path& csv) {
 }
 
 TEST(SuiteCli, RunWritesAReportThatLinksEveryKeptFile) {
-  const TempDir temp;
-  const fs::path& d = temp.path;
+  const fs::path d = aoeval::testutil::test_temp_dir("suite_cli");
   const std::string suite = write_suite(d), out = (d / "out").string(),
                     db = (d / "r.sqlite").string();
   const Result r = run(d, "run --suite " + suite + " --out " + out + " --db " + db);
@@ -154,8 +136,7 @@ TEST(SuiteCli, RunWritesAReportThatLinksEveryKeptFile) {
 }
 
 TEST(SuiteCli, SetOverridesAnEstimatorsValuesOrNamesTheMistake) {
-  const TempDir temp;
-  const fs::path& d = temp.path;
+  const fs::path d = aoeval::testutil::test_temp_dir("suite_cli");
   const std::string suite = write_suite(d), out = (d / "out").string(),
                     db = (d / "r.sqlite").string();
   const std::string base = "run --suite " + suite + " --out " + out + " --db " + db;

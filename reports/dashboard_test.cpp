@@ -41,7 +41,7 @@ struct History {
   fs::path dir;
   std::string db;
   explicit History(const std::string& name)
-      : dir(aoeval::testing::test_temp_dir("dashboard_" + name)) {
+      : dir(aoeval::testutil::test_temp_dir("dashboard_" + name)) {
     db = (dir / "results.sqlite").string();
   }
   // One run of command `command`: rows (estimator, rmse_excess, bias, AO base); images kept.

@@ -11,7 +11,7 @@ namespace aoeval {
 namespace {
 
 std::string temp_dir() {
-  return aoeval::testing::test_temp_dir("plot").string();
+  return aoeval::testutil::test_temp_dir("plot").string();
 }
 
 TEST(Plot, DrawsALinePlotWithParetoPointsAsAPng) {

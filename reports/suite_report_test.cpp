@@ -1,7 +1,7 @@
 #include "reports/suite_report.h"
+#include "scenes/test_temp_dir.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -77,10 +77,7 @@ ResultRow row(const std::string& estimator, int rays, double rmse_excess, double
 }
 
 TEST(SuiteReport, PageHasTheSummaryTablesChartsAndSkippedRows) {
-  const fs::path out =
-      fs::temp_directory_path() / ("aoeval_suite_report_test_" + std::to_string(getpid()));
-  fs::remove_all(out);
-  fs::create_directories(out);
+  const fs::path out = aoeval::testutil::test_temp_dir("suite_report");
   SuiteReport report;
   report.suite = "tiny";
   report.suite_file = "tiny.json";
@@ -125,7 +122,6 @@ TEST(SuiteReport, PageHasTheSummaryTablesChartsAndSkippedRows) {
   const std::string front = "<tr class=\"front\"><td class=\"l\"><a href=\"e.exr\">raytraced/rays:";
   EXPECT_NE(html.find(front + "2/"), std::string::npos);
   EXPECT_EQ(html.find(front + "4/"), std::string::npos);
-  if (!HasFailure()) fs::remove_all(out);
 }
 
 }  // namespace

@@ -122,7 +122,7 @@ TEST(GBuffer, DeterministicAndRoundTripsThroughExr) {
   Camera cam = make_camera(s.views[0], 37, 23);
   GBuffer a = render_gbuffer(es, cam), b = render_gbuffer(es, cam);
   EXPECT_EQ(a.depth, b.depth);
-  const std::string path = (aoeval::testing::test_temp_dir("gbuffer") / "rt.exr").string();
+  const std::string path = (aoeval::testutil::test_temp_dir("gbuffer") / "rt.exr").string();
   write_exr(path, gbuffer_to_image(a), gbuffer_attributes(s, s.views[0], cam));
   GBuffer r = read_gbuffer(path);
   EXPECT_EQ(r.width, 37);

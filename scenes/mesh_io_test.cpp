@@ -14,7 +14,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string write_temp(const std::string& name, const std::string& text) {
-  fs::path p = aoeval::testing::test_temp_dir("mesh_io") / name;
+  fs::path p = aoeval::testutil::test_temp_dir("mesh_io") / name;
   std::ofstream(p) << text;
   return p.string();
 }

@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 
 class SceneFileTest : public ::testing::Test {
  protected:
-  void SetUp() override { dir_ = aoeval::testing::test_temp_dir("scene"); }
+  void SetUp() override { dir_ = aoeval::testutil::test_temp_dir("scene"); }
   std::string write(const std::string& name, const std::string& text) {
     std::ofstream(dir_ / name) << text;
     return (dir_ / name).string();

@@ -13,7 +13,7 @@
 #include <string>
 #include <system_error>
 
-namespace aoeval::testing {
+namespace aoeval::testutil {
 
 namespace detail {
 struct TempDirRegistry {
@@ -46,4 +46,4 @@ inline std::filesystem::path test_temp_dir(const std::string& label) {
   return dir;
 }
 
-}  // namespace aoeval::testing
+}  // namespace aoeval::testutil

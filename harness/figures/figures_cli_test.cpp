@@ -21,7 +21,7 @@ using aoeval::cli_test::Result;
 using aoeval::cli_test::slurp;
 
 fs::path fresh_dir(const std::string& name) {
-  return aoeval::testing::test_temp_dir("figures_" + name);
+  return aoeval::testutil::test_temp_dir("figures_" + name);
 }
 
 Result run(const fs::path& dir, const std::string& args) {
