@@ -1,6 +1,9 @@
 // `aoeval compare REF.exr EST.exr [--json FILE] [--errmap FILE.png] [--signed FILE.png]
 //  [--mosaic FILE.png] [--true-ref TRUE.exr]`: metrics over the pixels both images cover, and maps.
+#include <OpenImageIO/imageio.h>
+
 #include <cstdio>
+#include <filesystem>
 
 #include <nlohmann/json.hpp>
 
@@ -9,6 +12,7 @@
 #include "exr_io.h"
 #include "harness/error_maps.h"
 #include "harness/metrics.h"
+#include "json_reader.h"
 
 namespace aoeval {
 
@@ -62,6 +66,32 @@ std::vector<uint8_t> joint_mask(const AoFile& a, const AoFile& b) {
   return m;
 }
 
+// An image output whose format OpenImageIO cannot write is bad usage, found before any work.
+void check_image_output(const std::string& path, const char* option) {
+  if (path.empty()) return;
+  auto writer = OIIO::ImageOutput::create(path);
+  if (!writer)
+    throw InputError(std::string(option) + " " + path + ": no image format for the extension '" +
+                     std::filesystem::path(path).extension().string() + "' (use .png or .exr)");
+}
+
+// The outputs of one compare: on failure every file it already wrote is removed again, so a
+// failed command leaves nothing (CONTRACT §2).
+class OutputSet {
+ public:
+  ~OutputSet() {
+    if (committed_) return;
+    std::error_code ec;
+    for (const auto& p : written_) std::filesystem::remove(p, ec);
+  }
+  void wrote(const std::string& path) { written_.push_back(path); }
+  void commit() { committed_ = true; }
+
+ private:
+  std::vector<std::string> written_;
+  bool committed_ = false;
+};
+
 }  // namespace
 
 void add_compare_command(CLI::App& app) {
@@ -79,10 +109,14 @@ void add_compare_command(CLI::App& app) {
   cmd->add_option("--mosaic", o.mosaic, "reference | estimate | |error| | signed error (PNG)");
   cmd->add_option("--true-ref", o.true_ref, "unbounded cosine reference: adds true_* metrics");
   cmd->callback([] {
+    check_image_output(o.errmap, "--errmap");
+    check_image_output(o.signed_map, "--signed");
+    check_image_output(o.mosaic, "--mosaic");
     const AoFile ref = read_ao_file(o.ref), est = read_ao_file(o.est);
     check_same_view(ref, est);
     if (!ref.definition.empty() && !est.definition.empty() &&
-        nlohmann::json::parse(ref.definition) != nlohmann::json::parse(est.definition))
+        parse_json_text(ref.definition, o.ref + ": aoeval:definition") !=
+            parse_json_text(est.definition, o.est + ": aoeval:definition"))
       std::fprintf(stderr, "aoeval: note: the estimate's definition %s is not the reference's %s\n",
                    est.definition.c_str(), ref.definition.c_str());
     const auto mask = joint_mask(ref, est);
@@ -98,20 +132,27 @@ void add_compare_command(CLI::App& app) {
       out.update(to_json(t, "true_"));
     }
     const int w = ref.width, h = ref.height;
-    if (!o.errmap.empty())
+    OutputSet outputs;
+    if (!o.errmap.empty()) {
       write_image(o.errmap, abs_error_map(w, h, ref.ao.data(), est.ao.data(), mask, 0.0f));
-    if (!o.signed_map.empty())
+      outputs.wrote(o.errmap);
+    }
+    if (!o.signed_map.empty()) {
       write_image(o.signed_map, signed_error_map(w, h, ref.ao.data(), est.ao.data(), mask, 0.0f));
+      outputs.wrote(o.signed_map);
+    }
     if (!o.mosaic.empty()) {
       char caption[256];
       std::snprintf(caption, sizeof(caption), "%s/%s %dx%d   rmse %.4f   ssim %.3f   flip %.3f",
                     ref.scene.c_str(), ref.view.c_str(), w, h, m.rmse, m.ssim, m.flip_mean);
       write_image(o.mosaic, error_mosaic(w, h, ref.ao.data(), est.ao.data(), mask, caption));
+      outputs.wrote(o.mosaic);
     }
     if (o.json.empty())
       std::printf("%s\n", out.dump(2).c_str());
     else
       write_text(o.json, out.dump(2) + "\n");
+    outputs.commit();
   });
 }
 

@@ -44,7 +44,8 @@ void run_reference(const Options& o) {
   s.target_stderr = o.target_stderr;
   s.max_spp = o.max_spp;
   parse_reference_options(s, o.weighting, o.dmax, o.falloff, o.sampler, o.normal);
-  if (s.target_stderr < 0.0) throw InputError("--target-stderr: must be positive");
+  if (!std::isfinite(s.target_stderr) || s.target_stderr < 0.0)
+    throw InputError("--target-stderr: must be a finite positive number");
   if (s.target_stderr > 0.0 && s.max_spp < s.spp)
     throw InputError("--max-spp: must be at least --spp");
   Scene scene = load_scene(o.scene);
@@ -52,7 +53,7 @@ void run_reference(const Options& o) {
   const Camera camera = make_camera(view, w, h);
   const std::string key = reference_cache_key(scene, camera, s);
   const std::string cached = reference_cache_path(key);
-  if (!o.no_cache && fs::exists(cached)) {
+  if (!o.no_cache && usable_cache_entry(cached, key)) {
     copy_atomically(cached, o.output);
     std::fprintf(stderr, "reference: served from cache %s (%.2f s)\n", cached.c_str(),
                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
@@ -62,7 +63,8 @@ void run_reference(const Options& o) {
   const GBuffer g = render_gbuffer(es, camera);
   const ReferenceImage r = compute_reference(es, g, s);
   const OIIO::ImageBuf image = reference_to_image(r, s.target_stderr > 0.0);
-  const Attributes attributes = reference_attributes(scene, view, camera, s);
+  Attributes attributes = reference_attributes(scene, view, camera, s);
+  add_cache_attributes(attributes, key, image);
   // Written once and copied, so the output and the cached file are the same bytes (the EXR
   // header's capDate included) and a later cache hit serves exactly this file.
   write_exr(o.output, image, attributes);
@@ -95,7 +97,16 @@ void add_reference_command(CLI::App& app) {
   cmd->add_option("--dmax", o.dmax, "occluder range in scene units, or inf");
   cmd->add_option("--falloff", o.falloff, "none, linear, sqrt or exp (CONTRACT §3)");
   cmd->add_option("--sampler", o.sampler, "random, stratified or sobol");
-  cmd->add_option("--seed", o.seed, "random seed");
+  // CLI11 reads "-1" into an unsigned as 2^64 - 1; a seed is a plain non-negative integer.
+  cmd->add_option("--seed", o.seed, "random seed (a non-negative integer)")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            return !text.empty() && text.size() <= 20 &&
+                           text.find_first_not_of("0123456789") == std::string::npos
+                       ? std::string()
+                       : "must be a non-negative integer, got '" + text + "'";
+          },
+          "UINT"));
   cmd->add_option("--normal", o.normal, "hemisphere orientation: shading or geometric");
   cmd->add_option("--target-stderr", o.target_stderr,
                   "keep sampling each pixel until its standard error is <= this");

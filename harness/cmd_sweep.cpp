@@ -13,6 +13,9 @@ void add_sweep_command(CLI::App& app) {
   cmd->add_flag("--resume", o.resume, "continue an interrupted sweep in the same --out");
   cmd->add_option("--shard", o.shard, "run shard I of N (0-based), e.g. 0/4");
   cmd->add_option("--db", o.database, "SQLite results store");
+  cmd->add_option("--max-points", o.max_points,
+                  "refuse sweeps with more points than this (a guard against typos in ranges)")
+      ->check(CLI::Range(size_t{1}, size_t{1} << 40));
   cmd->callback([] {
     const int status = run_sweep(o);
     if (status != 0) throw ExitStatus{status};

@@ -2,6 +2,7 @@
 // and maps failures to exit codes: 0 success, 2 bad usage or bad input, 1 anything else.
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 
 #include "commands.h"
 #include "errors.h"
@@ -37,6 +38,12 @@ int main(int argc, char** argv) {
     return e.code;
   } catch (const aoeval::InputError& e) {
     std::fprintf(stderr, "aoeval: error: %s\n", e.what());
+    return 2;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A path the user gave that cannot be read or written (a folder where a file belongs, no
+    // permission, a symlink loop): bad input, named by its path.
+    std::fprintf(stderr, "aoeval: error: %s: %s\n", e.path1().string().c_str(),
+                 e.code().message().c_str());
     return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "aoeval: failure: %s\n", e.what());

@@ -1,6 +1,10 @@
 #include "harness/sweep_spec.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
 #include <set>
 
 #include "corpus.h"
@@ -9,6 +13,8 @@
 #include "json_reader.h"
 
 namespace aoeval {
+
+namespace fs = std::filesystem;
 
 std::vector<nlohmann::json> expand_grid_values(const ParamSpec& param, const nlohmann::json& entry,
                                                const std::string& where) {
@@ -76,9 +82,11 @@ SweepSpec parse_sweep_spec(const nlohmann::json& doc, const std::string& file) {
   }
   if (root.has("res")) {
     const auto& r = root.raw("res");
-    if (!r.is_array() || r.size() != 2 || !r[0].is_number_integer() || !r[1].is_number_integer() ||
-        r[0].get<int>() < 1 || r[1].get<int>() < 1 || r[0].get<int>() > 16384 ||
-        r[1].get<int>() > 16384)
+    // Compared as doubles: get<int>() of 4294967328 wraps to 32 and would run silently at 32.
+    auto side_ok = [](const nlohmann::json& x) {
+      return x.is_number_integer() && x.get<double>() >= 1.0 && x.get<double>() <= 16384.0;
+    };
+    if (!r.is_array() || r.size() != 2 || !side_ok(r[0]) || !side_ok(r[1]))
       root.fail("res", "expected [width, height] with each in [1, 16384]");
     spec.width = r[0].get<int>();
     spec.height = r[1].get<int>();
@@ -141,7 +149,34 @@ SweepSpec load_sweep_spec(const std::string& path) {
   return parse_sweep_spec(parse_json_file(path), path);
 }
 
-std::vector<SweepPoint> expand_sweep(const SweepSpec& spec) {
+std::vector<SweepPoint> expand_sweep(const SweepSpec& spec, size_t max_points) {
+  // Counted in double before expanding: the product of a few large ranges overflows size_t.
+  const double views_per_scene =
+      spec.all_views ? 1.0 : std::max<double>(1.0, static_cast<double>(spec.views.size()));
+  double planned = 0.0;
+  for (const auto& run : spec.runs) {
+    double product = static_cast<double>(spec.scenes.size()) * views_per_scene;
+    for (const auto& [key, values] : run.grid) product *= static_cast<double>(values.size());
+    planned += product;
+  }
+  auto too_many = [&](double count) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.0f", count);
+    throw InputError(spec.name + ": runs: the grid expands to " + text +
+                     " points, more than the limit of " + std::to_string(max_points) +
+                     "; narrow the grid or raise it with --max-points");
+  };
+  if (planned > static_cast<double>(max_points)) too_many(planned);
+  // Rows are named by the scene's file name: two files of one name would share every run name.
+  std::map<std::string, std::string> path_of_name;
+  for (const auto& scene : spec.scenes) {
+    const std::string path = fs::weakly_canonical(resolve_scene_path(scene)).string();
+    const auto [it, inserted] = path_of_name.emplace(scene_display_name(scene), path);
+    if (!inserted && it->second != path)
+      throw InputError(spec.name + ": scenes: " + it->second + " and " + path +
+                       " are both named '" + it->first +
+                       "' (rows are named by the scene's file name); rename one");
+  }
   std::vector<SweepPoint> points;
   std::set<std::string> names;
   for (const auto& run : spec.runs) {
@@ -184,6 +219,7 @@ std::vector<SweepPoint> expand_sweep(const SweepSpec& spec) {
           p.name = run_name(*run.estimator, params, overrides, scene_display_name(scene), v->name,
                             p.width, p.height);
           if (names.insert(p.name).second) points.push_back(std::move(p));  // duplicates run once
+          if (points.size() > max_points) too_many(static_cast<double>(points.size()));
         }
       }
       // Advance the odometer; done when every key has wrapped (at once for an empty grid).

@@ -44,9 +44,17 @@ SweepSpec load_sweep_spec(const std::string& path);
 std::vector<nlohmann::json> expand_grid_values(const ParamSpec& param, const nlohmann::json& entry,
                                                const std::string& where);
 
+// A sweep larger than this is almost always a typo in a range (two 100,000-step ranges make 1e10
+// points and would run for years with no output); `aoeval sweep --max-points N` raises it. The
+// paper suite, the largest shipped, has under 2,000.
+inline constexpr size_t kDefaultMaxSweepPoints = 100000;
+
 // Every point, in order: runs, then grid points (the last key varies fastest), then scenes, then
-// views. Scenes are loaded only to list their views when "views" is "all".
-std::vector<SweepPoint> expand_sweep(const SweepSpec& spec);
+// views. Scenes are loaded only to list their views when "views" is "all". InputError, before
+// anything is expanded, when the grid would give more than `max_points` points, and when two
+// different scene files share a name (their rows would collapse into one point).
+std::vector<SweepPoint> expand_sweep(const SweepSpec& spec,
+                                     size_t max_points = kDefaultMaxSweepPoints);
 
 // Shard I of N (0-based): every N-th point starting at I. The shards' union is the whole sweep and
 // they are disjoint.

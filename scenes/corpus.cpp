@@ -46,7 +46,10 @@ std::vector<std::string> corpus_names() {
 std::string resolve_scene_path(const std::string& name_or_path) {
   if (name_or_path.find('/') != std::string::npos ||
       fs::path(name_or_path).extension() == ".json") {
-    if (!fs::exists(name_or_path)) throw InputError(name_or_path + ": scene file not found");
+    std::error_code ec;  // a symlink loop or an unreadable folder is bad input, not a crash
+    const bool exists = fs::exists(name_or_path, ec);
+    if (ec) throw InputError(name_or_path + ": cannot read scene file (" + ec.message() + ")");
+    if (!exists) throw InputError(name_or_path + ": scene file not found");
     return name_or_path;
   }
   fs::path p = fs::path(corpus_dir()) / (name_or_path + ".json");

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "errors.h"
+#include "input_limits.h"
 #include "version.h"
 
 namespace aoeval {
@@ -21,6 +22,16 @@ Camera make_camera(const View& view, int width, int height) {
   c.tan_half_fov_y = std::tan(0.5f * glm::radians(view.fov_y_deg));
   c.width = width > 0 ? width : view.width;
   c.height = height > 0 ? height : view.height;
+  // Views read from scene files are checked in read_view; this catches any other source (a
+  // G-buffer header, a generated view) before a NaN ray reaches Embree, which asserts on it.
+  const bool finite =
+      std::isfinite(c.tan_half_fov_y) && std::isfinite(c.eye.x + c.eye.y + c.eye.z) &&
+      std::isfinite(c.forward.x + c.forward.y + c.forward.z) &&
+      std::isfinite(c.right.x + c.right.y + c.right.z) && std::isfinite(c.up.x + c.up.y + c.up.z);
+  if (!finite)
+    throw InputError("view '" + view.name +
+                     "': the camera (eye, target, up, fov_y_deg) gives a "
+                     "non-finite viewing basis");
   return c;
 }
 
@@ -29,6 +40,7 @@ GBuffer render_gbuffer(const EmbreeScene& es, const Camera& camera) {
   g.width = camera.width;
   g.height = camera.height;
   g.camera = camera;
+  check_memory_for_resolution(g.width, g.height);
   const size_t n = g.pixel_count();
   g.coverage.assign(n, 0.0f);
   g.depth.assign(n, 0.0f);

@@ -4,6 +4,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "input_limits.h"
+
 namespace aoeval {
 
 namespace {
@@ -112,6 +114,12 @@ glm::vec3 JsonReader::vec3(const std::string& key) {
     if (!j[i].is_number()) fail(key, "expected an array of 3 numbers");
     double d = j[i].get<double>();
     if (!std::isfinite(d)) fail(key, "coordinates must be finite");
+    if (std::fabs(d) > kMaxSceneCoordinate) {
+      std::ostringstream os;
+      os << "value " << d << " is out of range [" << -kMaxSceneCoordinate << ", "
+         << kMaxSceneCoordinate << "] (aoeval works in 32-bit float)";
+      fail(key, os.str());
+    }
     v[i] = static_cast<float>(d);
   }
   return v;
@@ -154,12 +162,24 @@ void JsonReader::finish() const {
 }
 
 nlohmann::json parse_json_text(const std::string& text, const std::string& name) {
-  try {
-    return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    // e.byte is the offset of the error; turn it into line:column for a human.
+  if (text.size() > kMaxJsonBytes) {
+    throw InputError(name + ": JSON file of " + std::to_string(text.size()) +
+                     " bytes is larger than the limit of " + std::to_string(kMaxJsonBytes) +
+                     " bytes");
+  }
+  // nlohmann's parser is iterative, but copies and dumps of a parsed value recurse: a document
+  // nested 100,000 deep would overflow the stack later. The callback sees every value's depth while
+  // parsing, so a too-deep document is rejected before anything walks it.
+  bool too_deep = false;
+  const nlohmann::json::parser_callback_t depth_check =
+      [&too_deep](int depth, nlohmann::json::parse_event_t, nlohmann::json&) {
+        if (depth > kMaxJsonDepth) too_deep = true;
+        return !too_deep;
+      };
+  // e.byte is the offset of the error; turn it into line:column for a human.
+  auto position = [&text](size_t byte) {
     size_t line = 1, col = 1;
-    for (size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+    for (size_t i = 0; i + 1 < byte && i < text.size(); ++i) {
       if (text[i] == '\n') {
         ++line;
         col = 1;
@@ -167,9 +187,24 @@ nlohmann::json parse_json_text(const std::string& text, const std::string& name)
         ++col;
       }
     }
-    throw InputError(name + ":" + std::to_string(line) + ":" + std::to_string(col) +
-                     ": invalid JSON");
+    return std::to_string(line) + ":" + std::to_string(col);
+  };
+  nlohmann::json result;
+  try {
+    result = nlohmann::json::parse(text, depth_check);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(name + ":" + position(e.byte) + ": invalid JSON");
+  } catch (const nlohmann::json::exception& e) {
+    // out_of_range 406: a number such as 1e400 that no double holds.
+    std::string what = e.what();
+    if (auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
+    throw InputError(name + ": invalid JSON: " + what);
   }
+  if (too_deep) {
+    throw InputError(name + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) +
+                     " levels");
+  }
+  return result;
 }
 
 nlohmann::json parse_json_file(const std::string& path) {

@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "errors.h"
+#include "input_limits.h"
 
 namespace aoeval {
 
@@ -106,6 +107,12 @@ void validate_mesh(const TriangleMesh& mesh, const std::string& where) {
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
       throw InputError(where + ": vertex " + std::to_string(i) +
                        " has a non-finite coordinate (NaN or infinity)");
+    }
+    if (std::fabs(p.x) > kMaxSceneCoordinate || std::fabs(p.y) > kMaxSceneCoordinate ||
+        std::fabs(p.z) > kMaxSceneCoordinate) {
+      throw InputError(where + ": vertex " + std::to_string(i) +
+                       " lies beyond 1e7 scene units from the origin (aoeval traces in 32-bit "
+                       "float; scale or re-centre the mesh)");
     }
   }
   const auto n = mesh.positions.size();

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "errors.h"
+#include "input_limits.h"
 
 namespace aoeval {
 
@@ -68,6 +69,9 @@ class OffTokens {
     return v;
   }
 
+  // Bytes not yet read: a header's counts are checked against them before anything is allocated.
+  size_t remaining() const { return text_.size() - pos_; }
+
   // Skips the rest of the current line (OFF faces may carry colours).
   void skip_line() {
     while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
@@ -109,13 +113,30 @@ TriangleMesh load_off(const std::string& path) {
   tok.integer("edge count");
   if (nv <= 0 || nf <= 0 || nv > (1ll << 31) || nf > (1ll << 31))
     tok.fail("bad vertex/face counts " + std::to_string(nv) + " " + std::to_string(nf));
+  // Every vertex takes at least (3 + extra) numbers of two bytes ("0 "), every face at least
+  // "3 0 1 2\n": a header claiming more than the file can hold is rejected before the (possibly
+  // many-gigabyte) allocation it asks for.
+  const auto min_bytes = static_cast<unsigned long long>(nv) * 2ull * (3ull + extra_per_vertex) +
+                         static_cast<unsigned long long>(nf) * 8ull;
+  if (min_bytes > tok.remaining() + 1)
+    tok.fail("header claims " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
+             " faces, more than the file's " + std::to_string(tok.remaining()) +
+             " remaining bytes can hold");
   TriangleMesh mesh;
   mesh.positions.resize(static_cast<size_t>(nv));
   std::vector<glm::vec3> file_normals;
+  auto coordinate = [&tok](const char* what) {
+    const double v = tok.number(what);
+    // NaN and inf pass here and validate_mesh names them; a finite value beyond float would be
+    // undefined behaviour to cast, so it is reported here.
+    if (std::isfinite(v) && !fits_float(v))
+      tok.fail(std::string(what) + " " + std::to_string(v) + " does not fit a 32-bit float");
+    return static_cast<float>(v);
+  };
   for (auto& p : mesh.positions) {
-    p.x = static_cast<float>(tok.number("x coordinate"));
-    p.y = static_cast<float>(tok.number("y coordinate"));
-    p.z = static_cast<float>(tok.number("z coordinate"));
+    p.x = coordinate("x coordinate");
+    p.y = coordinate("y coordinate");
+    p.z = coordinate("z coordinate");
     for (int k = 0; k < extra_per_vertex; ++k) tok.number("vertex attribute");
   }
   mesh.triangles.reserve(static_cast<size_t>(nf));

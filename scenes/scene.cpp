@@ -203,6 +203,11 @@ SceneObject load_object(JsonReader reader, const fs::path& scene_dir) {
   }
   Placement placement = read_placement(reader, obj.mesh.bounds());
   apply(placement, obj.mesh);
+  // The placed vertices are checked again: a translate, scale or fit that is valid on its own can
+  // still carry a vertex past float's range or the coordinate limit (input_limits.h).
+  if (reader.has("transform") || reader.has("fit"))
+    validate_mesh(obj.mesh, reader.file() + ": " +
+                                reader.where(reader.has("transform") ? "transform" : "fit"));
   if (auto p = reader.optional_object("proxy")) {
     if (obj.role != Role::tree)
       reader.fail("proxy", "only objects with role \"tree\" take a proxy");
@@ -230,10 +235,15 @@ View read_view(JsonReader r) {
   v.fov_y_deg = static_cast<float>(r.number("fov_y_deg", 45.0, 1.0, 170.0));
   v.width = static_cast<int>(r.integer("width", 320, 1, 16384));
   v.height = static_cast<int>(r.integer("height", 240, 1, 16384));
-  glm::vec3 fwd = v.target - v.eye;
-  if (glm::length(fwd) == 0.0f) r.fail("target", "eye and target coincide");
-  if (glm::length(glm::cross(fwd, v.up)) < 1e-6f * glm::length(fwd) * glm::length(v.up))
-    r.fail("up", "up is parallel to the viewing direction (or zero)");
+  // The camera basis is checked in double precision: in float, |target - eye|^2 overflows for
+  // eyes near 1e20 and a zero `up` gives a zero cross product that passed a relative test, and
+  // either made NaN rays that Embree rejects with an assertion.
+  const glm::dvec3 fwd = glm::dvec3(v.target) - glm::dvec3(v.eye);
+  const double fwd_length = glm::length(fwd), up_length = glm::length(glm::dvec3(v.up));
+  if (!(fwd_length > 1e-6)) r.fail("target", "eye and target coincide");
+  if (!(up_length > 0.0)) r.fail("up", "up must not be the zero vector");
+  if (!(glm::length(glm::cross(fwd / fwd_length, glm::dvec3(v.up) / up_length)) > 1e-6))
+    r.fail("up", "up is parallel to the viewing direction");
   r.finish();
   return v;
 }
