@@ -104,12 +104,16 @@ const ReferenceImage& EvaluationSession::reference(const std::string& scene_name
   settings.seed = reference_spec_.seed;
   settings.definition = definition;
   const Camera camera = make_camera(view, w, h);
-  const std::string path = reference_cache_path(reference_cache_key(s.scene, camera, settings));
-  if (disk_cache_ && fs::exists(path)) return references_[key] = read_reference_image(path);
+  const std::string cache_key = reference_cache_key(s.scene, camera, settings);
+  const std::string path = reference_cache_path(cache_key);
+  if (disk_cache_ && usable_cache_entry(path, cache_key))
+    return references_[key] = read_reference_image(path);
   ReferenceImage r = compute_reference(*s.embree, gbuffer(scene_name, view, w, h), settings);
   if (disk_cache_) {
-    write_exr(path, reference_to_image(r, false),
-              reference_attributes(s.scene, view, camera, settings));
+    const OIIO::ImageBuf image = reference_to_image(r, false);
+    Attributes attributes = reference_attributes(s.scene, view, camera, settings);
+    add_cache_attributes(attributes, cache_key, image);
+    write_exr(path, image, attributes);
   }
   return references_[key] = std::move(r);
 }

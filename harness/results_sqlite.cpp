@@ -5,11 +5,13 @@
 #include <sqlite3.h>
 
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <set>
 #include <stdexcept>
 
+#include "errors.h"
 #include "results_store.h"
 
 namespace aoeval {
@@ -135,7 +137,67 @@ constexpr int kBusyTimeoutMs = 60000;
 
 }  // namespace
 
-SqliteStore::SqliteStore(const std::string& path) : path_(path) {
+void SqliteStore::open_read_only() {
+  auto reject = [this](const std::string& why) {
+    sqlite3_close_v2(db_);  // deferred until the statements alive in this scope are finalized
+    db_ = nullptr;
+    throw InputError("--db " + path_ + ": " + why);
+  };
+  if (!fs::is_regular_file(path_)) reject("no such file");
+  // SQLite opens a WAL-mode file read-only by creating its -wal and -shm files beside it when they
+  // are absent: that would add files beside someone's database. With no -wal file there is
+  // nothing uncommitted to read, so the file is opened as immutable (no side files, no locks);
+  // with one (a writer is live, or died), SQLite reads it as usual so no committed row is missed.
+  std::error_code ec;
+  const bool has_wal = fs::exists(path_ + "-wal", ec);
+  std::string uri = "file:";
+  for (char c : path_) {
+    if (c == '%' || c == '?' || c == '#') {
+      char hex[4];
+      std::snprintf(hex, sizeof hex, "%%%02X", static_cast<unsigned char>(c));
+      uri += hex;
+    } else {
+      uri += c;
+    }
+  }
+  if (!has_wal) uri += "?immutable=1";
+  if (sqlite3_open_v2(uri.c_str(), &db_, SQLITE_OPEN_READONLY | SQLITE_OPEN_URI, nullptr) !=
+      SQLITE_OK)
+    reject(std::string("cannot open: ") + (db_ ? sqlite3_errmsg(db_) : "out of memory"));
+  sqlite3_busy_timeout(db_, kBusyTimeoutMs);
+  try {
+    // The first read of the schema is where a corrupt or non-SQLite file fails ("file is not a
+    // database"); a foreign database has other tables or another user_version.
+    Statement version(db_, path_, "PRAGMA user_version");
+    const int v = version.step() ? sqlite3_column_int(version.get(), 0) : 0;
+    if (v != kResultsSchemaVersion) {
+      reject("not an aoeval results database (schema version " + std::to_string(v) + ", expected " +
+             std::to_string(kResultsSchemaVersion) + ")");
+    }
+    Statement tables(db_, path_,
+                     "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name IN "
+                     "('runs', 'results', 'meta')");
+    if (!tables.step() || sqlite3_column_int(tables.get(), 0) != 3)
+      reject("not an aoeval results database (tables runs, results and meta missing)");
+    // Reads the whole file's b-tree structure once, so a corrupt page is found here, not halfway
+    // through building a page of results.
+    Statement check(db_, path_, "PRAGMA quick_check");
+    const std::string verdict = check.step() ? check.text(0) : "no answer";
+    if (verdict != "ok") reject("corrupt database (" + verdict + ")");
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    std::string what = e.what();
+    if (auto p = what.rfind(": "); p != std::string::npos) what = what.substr(p + 2);
+    reject("not a readable aoeval results database (" + what + ")");
+  }
+}
+
+SqliteStore::SqliteStore(const std::string& path, Mode mode) : path_(path) {
+  if (mode == Mode::read_only) {
+    open_read_only();
+    return;
+  }
   const fs::path parent = fs::path(path).parent_path();
   if (!parent.empty()) fs::create_directories(parent);
   if (sqlite3_open_v2(path.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) !=
@@ -225,6 +287,11 @@ void SqliteStore::add(const ResultRow& row) {
     }
     names.push_back(c);
   }
+  // Idempotent per (run_id, run_name): a resumed sweep that stores a row again replaces it.
+  Statement drop(db_, path_, "DELETE FROM results WHERE run_id = ? AND run_name = ?");
+  drop.bind_text(1, row.run_id);
+  drop.bind_text(2, row.run_name);
+  drop.step();
   std::string sql = "INSERT INTO results (", marks;
   for (size_t i = 0; i < names.size(); ++i) {
     sql += (i ? ", " : "") + quote_identifier(names[i]);

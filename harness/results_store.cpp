@@ -17,7 +17,9 @@
 #include <stdexcept>
 #include <thread>
 
+#include "errors.h"
 #include "exr_io.h"
+#include "json_reader.h"
 
 #if __has_include(<embree3/rtcore_config.h>)
 #include <embree3/rtcore_config.h>
@@ -368,25 +370,29 @@ std::vector<std::string> ResultsFolder::load_existing() {
   std::vector<std::string> names;
   if (!fs::exists(path)) return names;
   std::ifstream in(path, std::ios::binary);
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(path + ": not JSON: " + e.what());
-  }
+  std::stringstream text;
+  text << in.rdbuf();
+  // Bad input, not our failure: a results file that is not ours, or was damaged by hand.
+  const nlohmann::json j = parse_json_text(text.str(), path);
   if (!j.is_object() || !j.contains("rows") || !j["rows"].is_array()) {
-    throw std::runtime_error(path + ": not a results file (no \"rows\" array)");
+    throw InputError(path + ": rows: not a results file (no \"rows\" array)");
   }
   const int version = j.value("schema_version", 0);
   if (version > kResultsSchemaVersion) {
-    throw std::runtime_error(path + ": schema version " + std::to_string(version) +
-                             " is newer than this aoeval's (" +
-                             std::to_string(kResultsSchemaVersion) + ")");
+    throw InputError(path + ": schema_version " + std::to_string(version) +
+                     " is newer than this aoeval's (" + std::to_string(kResultsSchemaVersion) +
+                     ")");
   }
   std::vector<ResultRow> loaded;
-  for (const auto& flat : j["rows"]) {
-    loaded.push_back(unflatten(flat));
-    names.push_back(loaded.back().run_name);
+  try {
+    if (j.contains("context") && j["context"].is_object())
+      existing_context_ = run_context_from_json(j["context"]);
+    for (const auto& flat : j["rows"]) {
+      loaded.push_back(unflatten(flat));
+      names.push_back(loaded.back().run_name);
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(path + ": rows: not a results file (" + e.what() + ")");
   }
   for (const ResultRow& row : rows_) {  // rows added before loading stay, after the loaded ones
     bool present = false;
@@ -395,6 +401,12 @@ std::vector<std::string> ResultsFolder::load_existing() {
   }
   rows_ = std::move(loaded);
   return names;
+}
+
+void ResultsFolder::merge(const ResultRow& row) {
+  for (const ResultRow& r : rows_)
+    if (r.run_name == row.run_name) return;
+  rows_.push_back(row);
 }
 
 void ResultsFolder::add(const ResultRow& row) {

@@ -3,6 +3,7 @@
 // and the text writers (CSV, JSON, Markdown, console). Every writer reads the same ResultRows.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -47,17 +48,26 @@ class ResultsFolder {
   // file: none. Throws std::runtime_error naming the file when it is unreadable, not results JSON,
   // or of a newer schema version.
   std::vector<std::string> load_existing();
+  // The context of <dir>/<stem>.json as load_existing() found it (a resumed sweep keeps its run
+  // id, so one sweep is one run however often it was interrupted); empty before loading or when
+  // there was no file.
+  const std::optional<RunContext>& existing_context() const { return existing_context_; }
+  void set_context(const RunContext& context) { context_ = context; }
   // Appends `row` (replacing, in place, a row with the same run_name) and rewrites both files.
   void add(const ResultRow& row);
+  // Appends `row` when no row has its run_name, without rewriting the files (resume's repair).
+  void merge(const ResultRow& row);
+  // Rewrites both files from the rows held (JSON first, then CSV; each atomically).
+  void write() const;
   const std::vector<ResultRow>& rows() const { return rows_; }
   const RunContext& context() const { return context_; }
   std::string csv_path() const;
   std::string json_path() const;
 
  private:
-  void write() const;
   std::string dir_, stem_;
   RunContext context_;
+  std::optional<RunContext> existing_context_;
   std::vector<ResultRow> rows_;
 };
 
@@ -72,15 +82,22 @@ class ResultsFolder {
 // A psnr of +infinity (JSON null) is stored as REAL Inf; an absent value as NULL.
 class SqliteStore {
  public:
-  // Creates the parent folders and the database. Throws std::runtime_error with sqlite's message
-  // on failure, and when the database's schema version is newer than this build's.
-  explicit SqliteStore(const std::string& path);
+  // read_write creates the parent folders and the database (WAL journal, tables). read_only is for
+  // readers of someone's history (the dashboard): it never creates, converts or adds anything, and
+  // a file that is missing, corrupt, foreign (no aoeval tables) or of another schema version is an
+  // InputError naming it, so the caller can exit 2 and leave the file byte-identical.
+  enum class Mode { read_write, read_only };
+  // Throws std::runtime_error with sqlite's message on failure (read_write), and when the
+  // database's schema version is newer than this build's.
+  explicit SqliteStore(const std::string& path, Mode mode = Mode::read_write);
   ~SqliteStore();
   SqliteStore(const SqliteStore&) = delete;
   SqliteStore& operator=(const SqliteStore&) = delete;
 
   void add_run(const RunContext& context);  // a run_id already present is left as it is
-  void add(const ResultRow& row);           // one transaction
+  // One transaction. A row with the same run_id and run_name is replaced, so storing a row twice
+  // (a sweep killed between its SQLite commit and its file write, then resumed) keeps one.
+  void add(const ResultRow& row);
 
   std::vector<ResultRow> all_rows();  // in insertion order
   std::vector<ResultRow> rows_of_run(const std::string& run_id);
@@ -91,6 +108,7 @@ class SqliteStore {
 
  private:
   std::vector<ResultRow> select_rows(const std::string& sql, const std::string& bound);
+  void open_read_only();
   std::string path_;
   sqlite3* db_ = nullptr;
 };

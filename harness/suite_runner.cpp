@@ -12,6 +12,7 @@
 #include "exr_io.h"
 #include "harness/error_maps.h"
 #include "harness/evaluation.h"
+#include "harness/output_lock.h"
 #include "harness/progress.h"
 #include "harness/results_store.h"
 #include "harness/suite.h"
@@ -184,14 +185,17 @@ std::string run_suite(const SuiteRunOptions& o) {
   const std::vector<SuitePoint> points = expand_suite(suite);
 
   const std::string out = o.out_dir.empty() ? "out/" + suite.name : o.out_dir;
-  fs::create_directories(out);
+  // Database first (an unwritable --db leaves no folder), then one writer per folder (see
+  // sweep_runner.cpp for the order that makes results kill-safe).
+  SqliteStore store(o.database);
+  OutputFolderLock lock(out);
+  remove_stale_temporaries(out);
   std::string command = "run " + suite.name;
   for (const auto& s : o.sets) command += " --set " + s;
   RunContext context = make_run_context(command);
   context.output_dir = fs::weakly_canonical(fs::absolute(out)).string();
   const std::string run_dir = "runs/" + context.run_id;
   ResultsFolder folder(out, context);
-  SqliteStore store(o.database);
   store.add_run(context);
 
   std::set<std::string> scenes, estimators;
@@ -231,8 +235,8 @@ std::string run_suite(const SuiteRunOptions& o) {
       }
       SuiteReportEntry entry = run_point(sp, session, images, context, out, run_dir);
       skipped += entry.row.status != "ok";
-      folder.add(entry.row);
       store.add(entry.row);
+      folder.add(entry.row);
       report.entries.push_back(std::move(entry));
       progress.step(sp.point.name);
     }

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "errors.h"
+#include "harness/output_lock.h"
 #include "harness/progress.h"
 #include "harness/results_store.h"
 #include "harness/sweep_spec.h"
@@ -44,7 +45,7 @@ std::string file_stem_for(const std::string& run_name) {
 
 int run_sweep(const SweepOptions& o) {
   const SweepSpec spec = load_sweep_spec(o.spec_path);
-  std::vector<SweepPoint> points = expand_sweep(spec);
+  std::vector<SweepPoint> points = expand_sweep(spec, o.max_points);
   const size_t total = points.size();
   if (!o.shard.empty()) {
     const auto [index, count] = parse_shard(o.shard);
@@ -59,6 +60,20 @@ int run_sweep(const SweepOptions& o) {
       out += "/shard-" + std::to_string(index) + "-of-" + std::to_string(count);
     }
   }
+  // The order below is what makes a sweep safe to kill at any instant (SIGKILL included) and
+  // resume without losing or duplicating a row:
+  //  1. the database is opened first, so an unwritable --db fails before any folder exists;
+  //  2. the folder is locked, so no second process writes it, and leftovers of killed atomic
+  //     writes are removed;
+  //  3. results.json is written (with the run context, possibly no rows) before any row reaches
+  //     the database, so the run id is on disk before it is used: a resume keeps it, and one
+  //     sweep is one run in the history however often it was interrupted;
+  //  4. each row is committed to SQLite first, then the files derived from it are rewritten
+  //     (atomically). A kill between the two leaves the row in SQLite only; --resume takes it
+  //     back from there into the files instead of running the point again.
+  SqliteStore store(o.database);
+  OutputFolderLock lock(out);
+  remove_stale_temporaries(out);
   RunContext context =
       make_run_context("sweep " + spec.name + (o.shard.empty() ? "" : " --shard " + o.shard));
   // The dashboard finds a run's estimate images through this folder.
@@ -66,12 +81,27 @@ int run_sweep(const SweepOptions& o) {
   ResultsFolder folder(out, context);
   std::set<std::string> done;
   if (o.resume) {
-    for (const auto& name : folder.load_existing()) done.insert(name);
+    folder.load_existing();
+    if (const auto& existing = folder.existing_context()) {
+      context.run_id = existing->run_id;
+      context.started = existing->started;
+      folder.set_context(context);
+    }
+    std::set<std::string> in_files;
+    for (const ResultRow& r : folder.rows()) in_files.insert(r.run_name);
+    std::set<std::string> in_database;
+    for (const ResultRow& r : store.rows_of_run(context.run_id)) {
+      in_database.insert(r.run_name);
+      folder.merge(r);  // committed to SQLite, killed before the files were rewritten
+    }
+    for (const ResultRow& r : folder.rows())
+      if (!in_database.count(r.run_name) && in_files.count(r.run_name)) store.add(r);
+    for (const ResultRow& r : folder.rows()) done.insert(r.run_name);
   } else if (fs::exists(fs::path(out) / "results.json")) {
     throw InputError(out +
                      ": already holds results; pass --resume to continue it, or choose --out");
   }
-  SqliteStore store(o.database);
+  folder.write();  // also repairs a CSV that lagged behind results.json
   store.add_run(context);
 
   std::vector<const SweepPoint*> pending;
@@ -103,8 +133,8 @@ int run_sweep(const SweepOptions& o) {
     if (row.device.empty()) row.device = context.device;
     row.git_commit = context.git_commit;
     if (o.keep_estimates && row.status == "ok") row.estimate_file = estimate_rel;
-    folder.add(row);
     store.add(row);
+    folder.add(row);
     ++finished;
     progress.step(p->name);
   }

@@ -15,6 +15,7 @@ struct SweepOptions {
   std::string shard;  // "I/N" or ""
   std::string database = "out/results.sqlite";
   bool keep_estimates = true;  // write each estimate's EXR under <out>/estimates/
+  size_t max_points = 100000;  // kDefaultMaxSweepPoints (sweep_spec.h); --max-points
 };
 
 // Returns the exit status: 0 done, 130 interrupted.

@@ -1,7 +1,14 @@
 #include "reference_cache.h"
 
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <utility>
+#include <vector>
 
+#include "errors.h"
+#include "exr_io.h"
 #include "gbuffer.h"
 
 namespace aoeval {
@@ -43,6 +50,69 @@ Attributes reference_attributes(const Scene& scene, const View& view, const Came
   a.emplace_back("aoeval:estimator", "reference");
   a.emplace_back("aoeval:params", reference_params(settings).dump());
   return a;
+}
+
+std::string image_checksum(const OIIO::ImageBuf& image) {
+  // Channels in name order: OpenEXR stores them sorted by name, so the order in memory before a
+  // write and after a read differ; the checksum must not.
+  const OIIO::ImageSpec& spec = image.spec();
+  std::vector<std::pair<std::string, int>> channels;
+  for (int c = 0; c < spec.nchannels; ++c) channels.emplace_back(spec.channel_name(c), c);
+  std::sort(channels.begin(), channels.end());
+  uint64_t h = 0xcbf29ce484222325ull;
+  auto mix = [&h](const std::string& bytes) {
+    for (unsigned char c : bytes) {
+      h ^= c;
+      h *= 0x100000001b3ull;
+    }
+  };
+  std::vector<float> plane(static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height));
+  for (const auto& [name, index] : channels) {
+    mix(name);
+    OIIO::ROI roi = image.roi();
+    roi.chbegin = index;
+    roi.chend = index + 1;
+    image.get_pixels(roi, OIIO::TypeDesc::FLOAT, plane.data());
+    std::string bits(plane.size() * sizeof(float), '\0');
+    std::memcpy(bits.data(), plane.data(), bits.size());
+    mix(bits);
+  }
+  return hash_hex(h);
+}
+
+void add_cache_attributes(Attributes& attributes, const std::string& key,
+                          const OIIO::ImageBuf& image) {
+  attributes.emplace_back("aoeval:cache_key", key);
+  attributes.emplace_back("aoeval:checksum", image_checksum(image));
+}
+
+std::string cache_entry_problem(const std::string& path, const std::string& key) {
+  OIIO::ImageBuf image;
+  try {
+    image = read_image(path);  // a truncated EXR fails here
+  } catch (const std::exception& e) {
+    return std::string("unreadable (") + e.what() + ")";
+  }
+  const std::string stored_key = string_attribute(image, "aoeval:cache_key");
+  if (stored_key != key)
+    return stored_key.empty() ? "carries no cache key (not written by this cache)"
+                              : "carries the key of another entry (" + stored_key + ")";
+  for (const char* channel : {"AO", "AO_stderr", "A"})
+    if (image.spec().channelindex(channel) < 0) return std::string("has no channel ") + channel;
+  const std::string stored = string_attribute(image, "aoeval:checksum");
+  const std::string actual = image_checksum(image);
+  if (stored != actual) return "pixel checksum " + actual + " does not match the stored " + stored;
+  return "";
+}
+
+bool usable_cache_entry(const std::string& path, const std::string& key) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return false;
+  const std::string problem = cache_entry_problem(path, key);
+  if (problem.empty()) return true;
+  std::fprintf(stderr, "reference cache: %s: %s; recomputing\n", path.c_str(), problem.c_str());
+  std::filesystem::remove(path, ec);
+  return false;
 }
 
 }  // namespace aoeval

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "camera.h"
+#include "exr_io.h"
 #include "gbuffer.h"
 #include "references/reference.h"
 #include "scene.h"
@@ -26,5 +27,22 @@ std::string reference_cache_path(const std::string& key);
 // harness's cache, so a cached file reads the same whoever wrote it.
 Attributes reference_attributes(const Scene& scene, const View& view, const Camera& camera,
                                 const ReferenceSettings& settings);
+
+// Cache entries check themselves. A file in the cache folder can be truncated by a crash of
+// another tool, replaced by hand, or be any EXR that happens to carry the name: served blindly, it
+// would become the ground truth. So every entry carries its key (aoeval:cache_key) and a checksum
+// of its pixels (aoeval:checksum, FNV-1a over every channel's float bits in file order), both
+// verified on read.
+std::string image_checksum(const OIIO::ImageBuf& image);
+// Appends aoeval:cache_key and aoeval:checksum for `image` to `attributes`.
+void add_cache_attributes(Attributes& attributes, const std::string& key,
+                          const OIIO::ImageBuf& image);
+// Why the file at `path` is not a valid entry for `key` (unreadable or truncated, another key, a
+// checksum that does not match its pixels, missing channels), or "" when it is valid.
+std::string cache_entry_problem(const std::string& path, const std::string& key);
+// True when `path` exists and is a valid entry for `key`. A damaged entry is reported on stderr
+// ("reference cache: <path>: <problem>; recomputing"), removed, and false is returned, so the
+// caller recomputes it.
+bool usable_cache_entry(const std::string& path, const std::string& key);
 
 }  // namespace aoeval

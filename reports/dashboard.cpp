@@ -159,13 +159,21 @@ const RunContext* find_run(const std::vector<RunContext>& runs, const std::strin
 }  // namespace
 
 Dashboard build_dashboard(const DashboardOptions& o) {
-  if (!fs::exists(o.database)) throw InputError("--db " + o.database + ": no such file");
   const RegressionConfig config = RegressionConfig::load(
       o.config_path.empty() ? default_regression_config_path() : o.config_path);
-  SqliteStore store(o.database);
-  const std::vector<RunContext> runs = store.runs();
+  // Read-only: the dashboard judges someone's history and must never convert it to WAL or add
+  // tables; a missing, corrupt or foreign file is bad input (exit 2), never "regressed" (exit 1).
+  SqliteStore store(o.database, SqliteStore::Mode::read_only);
+  std::vector<RunContext> runs;
   std::map<std::string, std::vector<ResultRow>> rows_of;
-  for (const auto& r : runs) rows_of[r.run_id] = store.rows_of_run(r.run_id);
+  try {
+    runs = store.runs();
+    for (const auto& r : runs) rows_of[r.run_id] = store.rows_of_run(r.run_id);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError("--db " + o.database + ": cannot read the results (" + e.what() + ")");
+  }
 
   const RunContext* after = nullptr;
   if (!o.new_run.empty()) {

@@ -19,8 +19,9 @@ packages=(
 )
 # test.sh also drives Debian's chromium headless for the browser test of the reports (node comes
 # from the machine, or Debian's nodejs + npm where it has none).
+# The sanitizer stage (tools/sanitize.sh) builds with clang, its sanitizers and libFuzzer.
 if [ "${1:-}" = "--test" ]; then
-  packages+=(chromium)
+  packages+=(chromium clang libclang-rt-14-dev)
   command -v node >/dev/null && command -v npm >/dev/null || packages+=(nodejs npm)
 fi
 
