@@ -57,14 +57,16 @@ void add_bench_command(CLI::App& app) {
 
   static GtaoBenchOptions gt;
   auto* gtao = cmd->add_subcommand(
-      "gtao", "gtao: GPU time per pass, horizon samples/s, and against gtao-cpu on the same G-buffer");
+      "gtao",
+      "gtao: GPU time per pass, horizon samples/s, and against gtao-cpu on the same G-buffer");
   gtao->add_option("--scene", gt.scene, "corpus name or scene file (default bunny)");
   gtao->add_option("--view", gt.view, "view name (default: the scene's first view)");
   gtao->add_option("--res", gt.res, "resolution WIDTHxHEIGHT (default 640x480)");
   gtao->add_option("--set", gt.sets, "KEY=VALUE for gtao (repeatable)");
   gtao->add_option("--warmup", gt.warmup, "untimed runs first")->check(CLI::Range(0, 100));
   gtao->add_option("--repetitions", gt.repetitions, "timed runs")->check(CLI::Range(1, 1000));
-  gtao->add_option("--out", gt.out_dir, "output folder (bench_gtao.json, bench_gtao.md, results.*)");
+  gtao->add_option("--out", gt.out_dir,
+                   "output folder (bench_gtao.json, bench_gtao.md, results.*)");
   gtao->add_option("--db", gt.database, "SQLite results store");
   gtao->callback([] { bench_gtao(gt); });
 }

@@ -19,8 +19,8 @@ struct AoFile {
   std::string path;
   int width = 0, height = 0;
   std::vector<float> ao, coverage, stderr_ao;
-  std::vector<glm::vec3> bent;       // empty without bent.X/Y/Z
-  std::vector<float> bent_stderr;    // the reference's, empty without it
+  std::vector<glm::vec3> bent;     // empty without bent.X/Y/Z
+  std::vector<float> bent_stderr;  // the reference's, empty without it
   std::string scene, view, definition;
 };
 
@@ -33,8 +33,7 @@ AoFile read_ao_file(const std::string& path) {
   const int ao = channel_index(image, "AO", path), a = channel_index(image, "A", path);
   const int se = image.spec().channelindex("AO_stderr");
   const int bx = image.spec().channelindex("bent.X"), by = image.spec().channelindex("bent.Y"),
-            bz = image.spec().channelindex("bent.Z"),
-            bs = image.spec().channelindex("bent_stderr");
+            bz = image.spec().channelindex("bent.Z"), bs = image.spec().channelindex("bent_stderr");
   const bool has_bent = bx >= 0 && by >= 0 && bz >= 0;
   const size_t n = static_cast<size_t>(f.width) * f.height;
   const auto* px = static_cast<const float*>(image.localpixels());
@@ -82,7 +81,9 @@ void add_compare_command(CLI::App& app) {
   static Options o;
   auto* cmd =
       app.add_subcommand("compare", "metrics and error maps of an estimate against a reference");
-  cmd->add_option("REF", o.ref, "reference EXR (channels AO, A, optional AO_stderr, bent.X/Y/Z, bent_stderr)")->required();
+  cmd->add_option("REF", o.ref,
+                  "reference EXR (channels AO, A, optional AO_stderr, bent.X/Y/Z, bent_stderr)")
+      ->required();
   cmd->add_option("EST", o.est, "estimate EXR (channels AO, A, optional bent.X/Y/Z)")->required();
   cmd->add_option("--json", o.json, "write the metrics as JSON to this file (else to stdout)");
   cmd->add_option("--errmap", o.errmap, "absolute-error map (PNG)");
@@ -112,9 +113,9 @@ void add_compare_command(CLI::App& app) {
       const AoFile truth = read_ao_file(o.true_ref);
       check_same_view(truth, est);
       const std::vector<uint8_t> joint = joint_mask(truth, est);
-      const Metrics t = compare_images({truth.width, truth.height, truth.ao.data()},
-                                       {est.width, est.height, est.ao.data()}, joint,
-                                       truth.stderr_ao);
+      const Metrics t =
+          compare_images({truth.width, truth.height, truth.ao.data()},
+                         {est.width, est.height, est.ao.data()}, joint, truth.stderr_ao);
       out.update(to_json(t, "true_"));
       add_bent(truth, joint, "true_");
     }

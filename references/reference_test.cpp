@@ -78,8 +78,8 @@ TEST(Reference, BentNormalStderrMatchesItsScatter) {
     }
     const double n = static_cast<double>(r.ao.size());
     const double ratio = std::sqrt(angle2 / stderr2);
-    std::printf("%s: rms angle %.3f deg, rms bent_stderr %.3f deg, ratio %.3f\n",
-                sampler_name(k), std::sqrt(angle2 / n), std::sqrt(stderr2 / n), ratio);
+    std::printf("%s: rms angle %.3f deg, rms bent_stderr %.3f deg, ratio %.3f\n", sampler_name(k),
+                std::sqrt(angle2 / n), std::sqrt(stderr2 / n), ratio);
     EXPECT_GT(ratio, 0.8);
     EXPECT_LT(ratio, 1.2);
     if (k == SamplerKind::random) {
