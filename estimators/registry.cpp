@@ -2,6 +2,7 @@
 
 #include "errors.h"
 #include "estimators/constant/constant.h"
+#include "estimators/gtao/gtao.h"
 #include "estimators/hbao_split/hbao_split.h"
 #include "estimators/hbao_split/hbao_vulkan.h"
 #include "estimators/obscurances/obscurances.h"
@@ -28,6 +29,8 @@ const std::vector<EstimatorInfo>& estimator_registry() {
       hbao_split_estimator(),
       hbao_split_cpu_estimator(),
       raymarch_ssao_estimator(),
+      gtao_estimator(),
+      gtao_cpu_estimator(),
   };
   // clang-format on
   return registry;

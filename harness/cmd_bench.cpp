@@ -2,6 +2,7 @@
 #include "bench_reference.h"
 #include "commands.h"
 #include "harness/bench_estimators.h"
+#include "harness/bench_gtao.h"
 #include "harness/bench_hbao.h"
 
 namespace aoeval {
@@ -53,6 +54,21 @@ void add_bench_command(CLI::App& app) {
                    "output folder (bench_hbao.json, bench_hbao.md, results.*)");
   hbao->add_option("--db", hb.database, "SQLite results store");
   hbao->callback([] { bench_hbao(hb); });
+
+  static GtaoBenchOptions gt;
+  auto* gtao = cmd->add_subcommand(
+      "gtao",
+      "gtao: GPU time per pass, horizon samples/s, and against gtao-cpu on the same G-buffer");
+  gtao->add_option("--scene", gt.scene, "corpus name or scene file (default bunny)");
+  gtao->add_option("--view", gt.view, "view name (default: the scene's first view)");
+  gtao->add_option("--res", gt.res, "resolution WIDTHxHEIGHT (default 640x480)");
+  gtao->add_option("--set", gt.sets, "KEY=VALUE for gtao (repeatable)");
+  gtao->add_option("--warmup", gt.warmup, "untimed runs first")->check(CLI::Range(0, 100));
+  gtao->add_option("--repetitions", gt.repetitions, "timed runs")->check(CLI::Range(1, 1000));
+  gtao->add_option("--out", gt.out_dir,
+                   "output folder (bench_gtao.json, bench_gtao.md, results.*)");
+  gtao->add_option("--db", gt.database, "SQLite results store");
+  gtao->callback([] { bench_gtao(gt); });
 }
 
 }  // namespace aoeval

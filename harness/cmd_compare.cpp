@@ -10,6 +10,7 @@
 #include "commands.h"
 #include "errors.h"
 #include "exr_io.h"
+#include "harness/bent_metrics.h"
 #include "harness/error_maps.h"
 #include "harness/metrics.h"
 #include "json_reader.h"
@@ -22,6 +23,8 @@ struct AoFile {
   std::string path;
   int width = 0, height = 0;
   std::vector<float> ao, coverage, stderr_ao;
+  std::vector<glm::vec3> bent;     // empty without bent.X/Y/Z
+  std::vector<float> bent_stderr;  // the reference's, empty without it
   std::string scene, view, definition;
 };
 
@@ -33,16 +36,23 @@ AoFile read_ao_file(const std::string& path) {
   f.height = image.spec().height;
   const int ao = channel_index(image, "AO", path), a = channel_index(image, "A", path);
   const int se = image.spec().channelindex("AO_stderr");
+  const int bx = image.spec().channelindex("bent.X"), by = image.spec().channelindex("bent.Y"),
+            bz = image.spec().channelindex("bent.Z"), bs = image.spec().channelindex("bent_stderr");
+  const bool has_bent = bx >= 0 && by >= 0 && bz >= 0;
   const size_t n = static_cast<size_t>(f.width) * f.height;
   const auto* px = static_cast<const float*>(image.localpixels());
   const int nc = image.spec().nchannels;
   f.ao.resize(n);
   f.coverage.resize(n);
   if (se >= 0) f.stderr_ao.resize(n);
+  if (has_bent) f.bent.resize(n);
+  if (bs >= 0) f.bent_stderr.resize(n);
   for (size_t k = 0; k < n; ++k) {
     f.ao[k] = px[k * nc + ao];
     f.coverage[k] = px[k * nc + a];
     if (se >= 0) f.stderr_ao[k] = px[k * nc + se];
+    if (has_bent) f.bent[k] = {px[k * nc + bx], px[k * nc + by], px[k * nc + bz]};
+    if (bs >= 0) f.bent_stderr[k] = px[k * nc + bs];
   }
   f.scene = string_attribute(image, "aoeval:scene");
   f.view = string_attribute(image, "aoeval:view");
@@ -101,8 +111,10 @@ void add_compare_command(CLI::App& app) {
   static Options o;
   auto* cmd =
       app.add_subcommand("compare", "metrics and error maps of an estimate against a reference");
-  cmd->add_option("REF", o.ref, "reference EXR (channels AO, A, optional AO_stderr)")->required();
-  cmd->add_option("EST", o.est, "estimate EXR (channels AO, A)")->required();
+  cmd->add_option("REF", o.ref,
+                  "reference EXR (channels AO, A, optional AO_stderr, bent.X/Y/Z, bent_stderr)")
+      ->required();
+  cmd->add_option("EST", o.est, "estimate EXR (channels AO, A, optional bent.X/Y/Z)")->required();
   cmd->add_option("--json", o.json, "write the metrics as JSON to this file (else to stdout)");
   cmd->add_option("--errmap", o.errmap, "absolute-error map (PNG)");
   cmd->add_option("--signed", o.signed_map, "signed-error map (PNG)");
@@ -123,13 +135,23 @@ void add_compare_command(CLI::App& app) {
     const Metrics m = compare_images({ref.width, ref.height, ref.ao.data()},
                                      {est.width, est.height, est.ao.data()}, mask, ref.stderr_ao);
     nlohmann::json out = to_json(m);
+    // Bent-normal metrics (bent_metrics.h) where both images carry bent.X/Y/Z.
+    auto add_bent = [&](const AoFile& r, const std::vector<uint8_t>& joint,
+                        const std::string& prefix) {
+      if (r.bent.empty() || est.bent.empty()) return;
+      if (const auto b = compare_bent(r.width, r.height, r.bent, est.bent, joint, r.bent_stderr))
+        add_bent_json(*b, out, prefix);
+    };
+    add_bent(ref, mask, "");
     if (!o.true_ref.empty()) {
       const AoFile truth = read_ao_file(o.true_ref);
       check_same_view(truth, est);
-      const Metrics t = compare_images({truth.width, truth.height, truth.ao.data()},
-                                       {est.width, est.height, est.ao.data()},
-                                       joint_mask(truth, est), truth.stderr_ao);
+      const std::vector<uint8_t> joint = joint_mask(truth, est);
+      const Metrics t =
+          compare_images({truth.width, truth.height, truth.ao.data()},
+                         {est.width, est.height, est.ao.data()}, joint, truth.stderr_ao);
       out.update(to_json(t, "true_"));
+      add_bent(truth, joint, "true_");
     }
     const int w = ref.width, h = ref.height;
     OutputSet outputs;

@@ -7,6 +7,7 @@
 #include "corpus.h"
 #include "errors.h"
 #include "estimators/registry.h"
+#include "harness/bent_metrics.h"
 #include "harness/metrics.h"
 #include "references/reference_cache.h"
 #include "version.h"
@@ -130,13 +131,24 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+// The AO metrics and, when the estimate carries bent.X/Y/Z, the bent-normal ones (bent_metrics.h).
 nlohmann::json score(const GBuffer& g, const ReferenceImage& ref, const std::vector<float>& est,
-                     const std::string& prefix) {
+                     const std::optional<std::vector<glm::vec3>>& bent, const std::string& prefix) {
   std::vector<uint8_t> mask(g.pixel_count());
   for (size_t k = 0; k < mask.size(); ++k) mask[k] = g.covered(k) && ref.coverage[k] > 0.5f;
   const Metrics m = compare_images({g.width, g.height, ref.ao.data()},
                                    {g.width, g.height, est.data()}, mask, ref.stderr_ao);
-  return to_json(m, prefix);
+  nlohmann::json out = to_json(m, prefix);
+  if (bent) {
+    if (const auto b = compare_bent(g.width, g.height, ref.bent, *bent, mask, ref.bent_stderr))
+      add_bent_json(*b, out, prefix);
+  }
+  return out;
+}
+
+const std::vector<float>* channel(const EstimateResult& r, const std::string& name) {
+  const auto it = r.extra_channels.find(name);
+  return it == r.extra_channels.end() ? nullptr : &it->second;
 }
 
 std::string utc_now() {
@@ -215,9 +227,11 @@ ResultRow EvaluationSession::evaluate(const EvaluationRequest& req,
     if (pass != "total_ms") row.pass_ms[pass] = median(values);
   row.timestamp = utc_now();
 
-  row.metrics = score(g, reference(req.scene, view, w, h, definition), result.ao, "");
+  const auto bent = bent_of_channels(channel(result, "bent.X"), channel(result, "bent.Y"),
+                                     channel(result, "bent.Z"));
+  row.metrics = score(g, reference(req.scene, view, w, h, definition), result.ao, bent, "");
   row.true_metrics =
-      score(g, reference(req.scene, view, w, h, true_ao_definition()), result.ao, "");
+      score(g, reference(req.scene, view, w, h, true_ao_definition()), result.ao, bent, "");
   if (!estimate_path.empty()) {
     write_exr(estimate_path, estimate_to_image(g, result),
               estimate_attributes(s.scene, view, make_camera(view, w, h), e, params, derived));

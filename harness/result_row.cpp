@@ -26,9 +26,11 @@ namespace aoeval {
 namespace {
 
 const std::vector<std::string>& metric_names() {
-  static const std::vector<std::string> keys = {"pixels",    "rmse",           "mae",        "bias",
-                                                "max_abs",   "p95_abs",        "psnr",       "ssim",
-                                                "flip_mean", "ref_stderr_rms", "rmse_excess"};
+  static const std::vector<std::string> keys = {
+      "pixels", "rmse", "mae", "bias", "max_abs", "p95_abs", "psnr", "ssim", "flip_mean",
+      "ref_stderr_rms", "rmse_excess",
+      // bent_metrics.h: blank without bent normals
+      "bent_pixels", "bent_angle_mean", "bent_angle_p95", "bent_ref_stderr", "bent_angle_excess"};
   return keys;
 }
 

@@ -7,7 +7,10 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
 #include <limits>
+#include <numbers>
 
 #include "errors.h"
 
@@ -172,6 +175,43 @@ struct Accumulator {
   }
 };
 
+// Running statistics of the bent normal's mean vector m = E[value w] of one pixel, over the same
+// units as Accumulator (samples value * w, or replicate means of them): their sum and the sum of
+// their outer products, from which the covariance of the mean follows.
+struct VectorAccumulator {
+  glm::dvec3 sum{0.0};
+  glm::dmat3 outer{0.0};
+  long count = 0;
+  void add(const glm::dvec3& x) {
+    sum += x;
+    outer += glm::outerProduct(x, x);
+    ++count;
+  }
+  // The angular standard error of the unit mean direction, degrees: with C the covariance of the
+  // mean vector (sample covariance / n) and u = m / |m|, the error of m across u has variance
+  // tr(C) - u^T C u (both axes), and a small error e across u turns the direction by |e| / |m|
+  // radians, so E[angle^2] = (tr(C) - u^T C u) / |m|^2: the value is its square root, the rms
+  // angle between the reference's bent normal and its expectation. With fewer than two units,
+  // the bound of a unit vector weighted by a value in [0, 1] (second moment <= 1): 1 / sqrt(n).
+  // 0 where m = 0 (no bent normal).
+  double angular_stderr_deg() const {
+    const double n = static_cast<double>(count);
+    const glm::dvec3 m = n > 0.0 ? sum / n : glm::dvec3(0.0);
+    const double len = glm::length(m);
+    if (!(len > 0.0)) return 0.0;
+    double across = 0.0;
+    if (count < 2) {
+      across = 1.0 / std::max(1.0, n);
+    } else {
+      const glm::dmat3 cov = (outer - glm::outerProduct(sum, sum) / n) / (n - 1.0) / n;
+      const glm::dvec3 u = m / len;
+      const double trace = cov[0][0] + cov[1][1] + cov[2][2];
+      across = std::max(0.0, trace - glm::dot(u, cov * u));
+    }
+    return std::sqrt(across) / len * (180.0 / std::numbers::pi);
+  }
+};
+
 }  // namespace
 
 ReferenceImage compute_reference(const EmbreeScene& es, const GBuffer& g,
@@ -188,6 +228,7 @@ ReferenceImage compute_reference(const EmbreeScene& es, const GBuffer& g,
   r.ao.assign(n, 0.0f);
   r.stderr_ao.assign(n, 0.0f);
   r.bent.assign(n, glm::vec3(0.0f));
+  r.bent_stderr.assign(n, 0.0f);
   r.coverage = g.coverage;
   r.spp.assign(n, 0.0f);
   const float extent = scene_extent_of(es);
@@ -211,11 +252,13 @@ ReferenceImage compute_reference(const EmbreeScene& es, const GBuffer& g,
             const PixelInput in = pixel_input(g, k, s, extent);
             const Frame frame = make_frame(in.normal);
             Accumulator acc;
+            VectorAccumulator bent_acc;
             glm::dvec3 bent(0.0);
             long used = 0;
             for (uint32_t batch = 0;; ++batch) {
               for (int rep = 0; rep < replicates; ++rep) {
                 double rep_sum = 0.0;
+                glm::dvec3 rep_bent(0.0);
                 const auto replicate = static_cast<uint32_t>(batch * replicates + rep);
                 evaluate_replicate(es.handle(), context, s, k, replicate, m, in, frame, square,
                                    dirs, values, traced);
@@ -223,10 +266,18 @@ ReferenceImage compute_reference(const EmbreeScene& es, const GBuffer& g,
                      ++d) {  // in sample order: same bits whatever the packets
                   const float v = values[d];
                   rep_sum += v;
-                  bent += glm::dvec3(dirs[d]) * static_cast<double>(v);
-                  if (!replicated) acc.add(v);
+                  const glm::dvec3 weighted = glm::dvec3(dirs[d]) * static_cast<double>(v);
+                  bent += weighted;
+                  rep_bent += weighted;
+                  if (!replicated) {
+                    acc.add(v);
+                    bent_acc.add(weighted);
+                  }
                 }
-                if (replicated) acc.add(rep_sum / m);
+                if (replicated) {
+                  acc.add(rep_sum / m);
+                  bent_acc.add(rep_bent / static_cast<double>(m));
+                }
                 used += m;
               }
               if (s.target_stderr <= 0.0 || acc.standard_error() <= s.target_stderr ||
@@ -238,6 +289,7 @@ ReferenceImage compute_reference(const EmbreeScene& es, const GBuffer& g,
             r.stderr_ao[k] = static_cast<float>(acc.standard_error());
             const double len = glm::length(bent);
             r.bent[k] = len > 0.0 ? glm::vec3(bent / len) : glm::vec3(0.0f);
+            r.bent_stderr[k] = static_cast<float>(bent_acc.angular_stderr_deg());
             r.spp[k] = static_cast<float>(used);
           }
         }
@@ -272,7 +324,8 @@ std::vector<BareRay> generate_reference_rays(const GBuffer& g, const ReferenceSe
 }
 
 OIIO::ImageBuf reference_to_image(const ReferenceImage& r, bool with_spp) {
-  std::vector<std::string> names = {"AO", "AO_stderr", "bent.X", "bent.Y", "bent.Z", "A"};
+  std::vector<std::string> names = {"AO",     "AO_stderr", "bent.X",     "bent.Y",
+                                    "bent.Z", "A",         "bent_stderr"};
   if (with_spp) names.push_back("spp");
   OIIO::ImageSpec spec(r.width, r.height, static_cast<int>(names.size()), OIIO::TypeDesc::FLOAT);
   spec.channelnames = names;
@@ -287,7 +340,8 @@ OIIO::ImageBuf reference_to_image(const ReferenceImage& r, bool with_spp) {
     o[3] = r.bent[k].y;
     o[4] = r.bent[k].z;
     o[5] = r.coverage[k];
-    if (with_spp) o[6] = r.spp[k];
+    o[6] = r.bent_stderr.empty() ? 0.0f : r.bent_stderr[k];
+    if (with_spp) o[7] = r.spp[k];
   }
   return image;
 }
@@ -334,13 +388,15 @@ ReferenceImage read_reference_image(const std::string& path) {
   const int ao = channel_index(image, "AO", path), se = channel_index(image, "AO_stderr", path),
             a = channel_index(image, "A", path);
   const int bx = image.spec().channelindex("bent.X"), by = image.spec().channelindex("bent.Y"),
-            bz = image.spec().channelindex("bent.Z"), sp = image.spec().channelindex("spp");
+            bz = image.spec().channelindex("bent.Z"), sp = image.spec().channelindex("spp"),
+            bs = image.spec().channelindex("bent_stderr");
   const size_t n = static_cast<size_t>(r.width) * r.height;
   r.ao.resize(n);
   r.stderr_ao.resize(n);
   r.coverage.resize(n);
   r.bent.assign(n, glm::vec3(0.0f));
   r.spp.assign(n, 0.0f);
+  if (bs >= 0) r.bent_stderr.resize(n);
   const auto* px = static_cast<const float*>(image.localpixels());
   const int nc = image.spec().nchannels;
   for (size_t k = 0; k < n; ++k) {
@@ -350,6 +406,7 @@ ReferenceImage read_reference_image(const std::string& path) {
     r.coverage[k] = s[a];
     if (bx >= 0 && by >= 0 && bz >= 0) r.bent[k] = {s[bx], s[by], s[bz]};
     if (sp >= 0) r.spp[k] = s[sp];
+    if (bs >= 0) r.bent_stderr[k] = s[bs];
   }
   return r;
 }

@@ -41,6 +41,10 @@ struct ReferenceImage {
   std::vector<float> ao;         // AO, in [0, 1]; 0 where not covered
   std::vector<float> stderr_ao;  // standard error of the per-pixel mean
   std::vector<glm::vec3> bent;   // unit mean unoccluded direction; zero if fully occluded
+  // The bent normal's own noise: rms angle, degrees, between `bent` and its expectation, from the
+  // covariance of the mean vector over the same units as stderr_ao (samples, or replicates for
+  // stratified and sobol). Empty when read from a reference file written without it.
+  std::vector<float> bent_stderr;
   std::vector<float> coverage;   // A, copied from the G-buffer
   std::vector<float> spp;        // rays actually used per pixel
   uint64_t rays_traced = 0;      // rays sent to Embree (below-surface directions are not traced)
@@ -57,7 +61,8 @@ ReferenceImage compute_reference(const EmbreeScene& scene, const GBuffer& gbuffe
 // (barycentric interpolation: a few ulps of the coordinates' magnitude), small against any feature.
 float origin_offset(const glm::vec3& position, float scene_extent);
 
-// The reference as an EXR image (channels AO, AO_stderr, bent.X/Y/Z, A, and spp when adaptive).
+// The reference as an EXR image (channels AO, AO_stderr, bent.X/Y/Z, A, bent_stderr, and spp when
+// adaptive).
 OIIO::ImageBuf reference_to_image(const ReferenceImage& r, bool with_spp);
 // The effective settings as JSON (the aoeval:params attribute).
 nlohmann::json reference_params(const ReferenceSettings& s);

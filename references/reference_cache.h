@@ -14,8 +14,9 @@
 
 namespace aoeval {
 
-// Bump when the reference's output for the same inputs changes.
-inline constexpr const char* kReferenceGeneratorVersion = "reference-1";
+// Bump when the reference's output for the same inputs changes (reference-2: the bent_stderr
+// channel, the bent normal's own noise).
+inline constexpr const char* kReferenceGeneratorVersion = "reference-2";
 
 std::string reference_cache_key(const Scene& scene, const Camera& camera,
                                 const ReferenceSettings& settings);

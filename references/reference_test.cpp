@@ -53,6 +53,41 @@ TEST(Reference, OpenPlaneIsFullyOpen) {
     }
 }
 
+// The bent normal knows its own noise (reference.h, bent_stderr). On an open plane every sample is
+// unoccluded, the true bent normal is the normal, and each pixel's angle from it is the
+// reference's angular error alone, so over many pixels mean(angle^2) must equal
+// mean(bent_stderr^2). Per pixel angle^2 is about (s^2 / 2) chi^2 with 2 degrees of freedom
+// (exponential: its standard deviation equals its mean), so the mean over M = 2048 pixels has a
+// relative standard error of 1/sqrt(M) = 2.2 %: 4 of them, plus 4 % for the spread of the
+// per-pixel stderr estimates themselves (64 samples or 8 replicates each) allow a ratio within
+// 0.8 .. 1.2. For i.i.d. cosine samples the closed form is s = sqrt(E[sin^2] / n) / E[cos] =
+// sqrt(1/2 / 64) / (2/3) rad = 7.60 degrees.
+TEST(Reference, BentNormalStderrMatchesItsScatter) {
+  Scene s = scene_of({generated("floor", "plane", {{"size", {100, 100}}})});
+  EmbreeScene es(s);
+  const GBuffer g = probe({0.3f, 0.0f, -0.2f}, {0, 1, 0}, 2048);
+  for (auto k : {SamplerKind::random, SamplerKind::sobol}) {
+    const ReferenceImage r = compute_reference(es, g, settings(Weighting::cosine, k, 64));
+    ASSERT_EQ(r.bent_stderr.size(), r.ao.size());
+    double angle2 = 0.0, stderr2 = 0.0;
+    for (size_t i = 0; i < r.ao.size(); ++i) {
+      const double c = std::min(1.0, static_cast<double>(glm::normalize(r.bent[i]).y));
+      const double angle = std::acos(c) * 180.0 / 3.14159265358979;
+      angle2 += angle * angle;
+      stderr2 += static_cast<double>(r.bent_stderr[i]) * r.bent_stderr[i];
+    }
+    const double n = static_cast<double>(r.ao.size());
+    const double ratio = std::sqrt(angle2 / stderr2);
+    std::printf("%s: rms angle %.3f deg, rms bent_stderr %.3f deg, ratio %.3f\n", sampler_name(k),
+                std::sqrt(angle2 / n), std::sqrt(stderr2 / n), ratio);
+    EXPECT_GT(ratio, 0.8);
+    EXPECT_LT(ratio, 1.2);
+    if (k == SamplerKind::random) {
+      EXPECT_NEAR(std::sqrt(stderr2 / n), 7.60, 0.3);
+    }
+  }
+}
+
 TEST(Reference, InsideAClosedBoxIsFullyOccluded) {
   Scene s = scene_of({generated("box", "box", {{"size", {2, 2, 2}}, {"inward", true}})});
   EmbreeScene es(s);

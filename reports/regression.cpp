@@ -23,6 +23,14 @@
 // left is the absolute floor for round-off. Bias: (1/N) sum (e_i - r_i) has reference noise of
 // variance s^2 / N per run, independent references add; with the same reference it cancels
 // exactly (bias_a - bias_b = mean(e' - e)).
+// Bent normals (bent_metrics.h): per pixel the squared angle |e_i - n_i|^2, with n_i the
+// reference's angular error, a 2-D vector across the bent normal of total variance sigma_i^2
+// (bent_stderr^2; Gaussian, so |n|^2 has variance sigma^4) independent of the estimate's error e_i.
+// Var(|e - n|^2) = 4 Var(e . n) + Var(|n|^2) = 2 |e|^2 sigma^2 + sigma^4, hence
+//   Var(D^2) ~= (2 D^2 s^2 + s^4) / N,   sigma(D) = s sqrt(2 D^2 + s^2) / (2 D sqrt(N)),
+// and near D = 0, D^2 has sigma s^2 / sqrt(N): D is known to within s N^(-1/4); the smaller of
+// the two is used, and two rows add variances (the independent-reference model throughout:
+// conservative when both rows share one reference).
 // Not modelled: an estimator's own randomness across seeds (rows do not carry it; deterministic
 // estimators repeat bit for bit, CONTRACT "same seed, same bits").
 #include "reports/regression.h"
@@ -220,6 +228,13 @@ AccuracyNoise accuracy_noise(const AccuracySample& b, const AccuracySample& a, b
   return noise;
 }
 
+double bent_excess_sigma(double d, double s, double n) {
+  if (n <= 0.0 || s <= 0.0) return 0.0;
+  const double near_zero = s * std::pow(n, -0.25);
+  if (d <= 0.0) return near_zero;
+  return std::min(near_zero, s * std::sqrt(2.0 * d * d + s * s) / (2.0 * d * std::sqrt(n)));
+}
+
 bool same_reference(const ResultRow& b, const ResultRow& a) {
   if (b.scene != a.scene || b.view != a.view || b.width != a.width || b.height != a.height ||
       b.definition != a.definition || b.reference != a.reference)
@@ -262,6 +277,24 @@ std::vector<Check> compare_rows(const ResultRow& before, const ResultRow& after,
     c.figure = "rmse_excess";
     c.detail = "a row lacks rmse_excess, ref_stderr_rms, bias or pixels";
     checks.push_back(c);
+  }
+
+  // Bent normals, where both rows carry them (bent_metrics.h); absent otherwise.
+  {
+    bool ok = true;
+    const double db = metric(before.metrics, "bent_angle_excess", &ok),
+                 da = metric(after.metrics, "bent_angle_excess", &ok),
+                 noise_b = metric(before.metrics, "bent_ref_stderr", &ok),
+                 noise_a = metric(after.metrics, "bent_ref_stderr", &ok),
+                 nb = metric(before.metrics, "bent_pixels", &ok),
+                 na = metric(after.metrics, "bent_pixels", &ok);
+    if (ok) {
+      const double sigma =
+          std::hypot(bent_excess_sigma(db, noise_b, nb), bent_excess_sigma(da, noise_a, na));
+      checks.push_back(threshold_check("bent_angle_excess", db, da, t.bent_relative, t.bent_sigmas,
+                                       sigma, t.bent_absolute,
+                                       "reference bent-normal noise, independent references"));
+    }
   }
 
   Check time;

@@ -6,6 +6,8 @@
 //             sigma the standard deviation of the change that the reference's Monte-Carlo noise
 //             alone would cause (accuracy_sigma below derives it);
 //   bias      |bias| rises by more than max(relative * |baseline|, sigmas * sigma, absolute);
+//   bent      bent_angle_excess (rows with bent normals) rises by more than max(relative *
+//             baseline, sigmas * sigma, absolute), sigma from the reference bent normal's noise;
 //   timing    a one-sided Mann-Whitney rank test over the timed repetitions says "slower" at level
 //             alpha AND the median time rose by more than `relative`.
 // Every function here is pure: rows and numbers in, verdicts out (reports/dashboard.* does I/O).
@@ -29,6 +31,11 @@ struct Thresholds {
   double bias_relative = 0.10;
   double bias_sigmas = 3.0;
   double bias_absolute = 0.005;
+  // bent_angle_excess (degrees, bent_metrics.h), for rows with bent normals; the floor is far
+  // below what shading shows and above float round-off of unit vectors.
+  double bent_relative = 0.05;
+  double bent_sigmas = 3.0;
+  double bent_absolute = 0.01;
   double time_relative = 0.10;  // median time may grow by this fraction
   double time_alpha = 0.01;     // one-sided rank-test level
   bool missing_fails = true;  // a row ok in the baseline, now skipped or absent: failure or warning
@@ -83,6 +90,11 @@ AccuracyNoise accuracy_noise(const AccuracySample& before, const AccuracySample&
                              bool same_reference, std::optional<double> delta_rms);
 // sigma of one row's rmse_excess from reference noise alone.
 double rmse_excess_sigma(const AccuracySample& s);
+
+// sigma of one row's bent_angle_excess from the reference bent normal's noise alone: D =
+// bent_angle_excess, s = bent_ref_stderr, N = bent_pixels (derivation in regression.cpp);
+// 0 when a row lacks them.
+double bent_excess_sigma(double excess, double ref_stderr, double pixels);
 
 // True when both rows were scored against the same reference image: same scene, view,
 // resolution, AO definition, reference settings (spp, sampler, seed), pixel count and a

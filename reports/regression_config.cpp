@@ -26,6 +26,9 @@ void apply(const nlohmann::json& j, Thresholds& t, const std::string& where) {
                     : key == "bias_relative"        ? &t.bias_relative
                     : key == "bias_sigmas"          ? &t.bias_sigmas
                     : key == "bias_absolute"        ? &t.bias_absolute
+                    : key == "bent_relative"        ? &t.bent_relative
+                    : key == "bent_sigmas"          ? &t.bent_sigmas
+                    : key == "bent_absolute"        ? &t.bent_absolute
                     : key == "time_relative"        ? &t.time_relative
                     : key == "time_alpha"           ? &t.time_alpha
                                                     : nullptr;
@@ -33,7 +36,8 @@ void apply(const nlohmann::json& j, Thresholds& t, const std::string& where) {
       throw InputError(at +
                        ": unknown key (known: rmse_excess_relative, rmse_excess_sigmas, "
                        "rmse_excess_absolute, bias_relative, bias_sigmas, bias_absolute, "
-                       "time_relative, time_alpha, missing)");
+                       "bent_relative, bent_sigmas, bent_absolute, time_relative, time_alpha, "
+                       "missing)");
     }
     if (!value.is_number() || value.get<double>() < 0.0)
       throw InputError(at + ": expected a number >= 0");

@@ -357,5 +357,47 @@ TEST(RegressionConfig, TheShippedFileLoads) {
   EXPECT_THROW(RegressionConfig::load("/nonexistent/dashboard.json"), InputError);
 }
 
+// Bent normals (regression.cpp): a fixed 2-D angular error pattern of rms D and the reference's
+// Gaussian 2-D noise of total variance s^2 per pixel; the spread of bent_angle_excess over
+// 1500 draws matches bent_excess_sigma within four standard errors of a standard deviation (8 %).
+TEST(AccuracyNoise, BentExcessSigmaMatchesSimulation) {
+  const int pixels = 4000;
+  const double s = 2.0, d = 6.0;  // degrees
+  std::mt19937_64 rng{5};
+  std::normal_distribution<double> g(0.0, s / std::sqrt(2.0));  // per axis
+  std::vector<double> excess;
+  for (int t = 0; t < 1500; ++t) {
+    double sum = 0.0;
+    for (int i = 0; i < pixels; ++i) {
+      const double ex = d * std::cos(0.37 * i), ey = d * std::sin(0.37 * i);  // |e| = D
+      const double x = ex - g(rng), y = ey - g(rng);
+      sum += x * x + y * y;
+    }
+    excess.push_back(std::sqrt(std::max(0.0, sum / pixels - s * s)));
+  }
+  EXPECT_NEAR(stddev(excess) / bent_excess_sigma(d, s, pixels), 1.0, 0.08);
+  EXPECT_EQ(bent_excess_sigma(d, 0.0, pixels), 0.0);
+}
+
+TEST(CompareRows, BentNormalsAreTrackedWhereRowsCarryThem) {
+  const Thresholds t;
+  ResultRow before = row(0.05, 0.01, kTimes), after = row(0.05, 0.01, kTimes);
+  EXPECT_THROW(check(compare_rows(before, after, t, 0.0), "bent_angle_excess"),
+               std::runtime_error);  // no bent metrics: no check
+  for (ResultRow* r : {&before, &after}) {
+    r->metrics["bent_angle_excess"] = 5.0;
+    r->metrics["bent_ref_stderr"] = 2.0;
+    r->metrics["bent_pixels"] = 10000;
+  }
+  EXPECT_EQ(check(compare_rows(before, after, t, 0.0), "bent_angle_excess").verdict,
+            Verdict::unchanged);
+  after.metrics["bent_angle_excess"] = 7.0;  // +40 %, far beyond 3 sigma (~0.06 degrees)
+  EXPECT_EQ(check(compare_rows(before, after, t, 0.0), "bent_angle_excess").verdict,
+            Verdict::regressed);
+  after.metrics["bent_angle_excess"] = 5.1;  // +2 %: under the 5 % threshold
+  EXPECT_EQ(check(compare_rows(before, after, t, 0.0), "bent_angle_excess").verdict,
+            Verdict::unchanged);
+}
+
 }  // namespace
 }  // namespace aoeval

@@ -150,19 +150,23 @@ void scene_section(std::ostringstream& h, const std::string& scene,
   h << "<h3>Metrics</h3>\n<table class=\"metrics\"><tr><th class=\"l\">estimator</th><th "
        "class=\"l\">parameters</th><th class=\"l\">view</th><th class=\"l\">matched "
        "definition</th><th>rmse</th><th>rmse_excess</th>"
-       "<th>ssim</th><th>flip_mean</th><th>bias</th><th>true_rmse</th><th>true_ssim</th></tr>\n";
+       "<th>ssim</th><th>flip_mean</th><th>bias</th><th>true_rmse</th><th>true_ssim</th>"
+       "<th>bent_angle_mean</th><th>bent_angle_p95</th><th>bent_angle_excess</th></tr>\n";
   for (const auto* e : rows) {
     const ResultRow& r = e->row;
     h << "<tr><td class=\"l\">" << html_escape(r.estimator) << "</td><td class=\"l\">"
       << html_escape(params_of(r)) << "</td><td class=\"l\">" << view_of(r)
       << "</td><td class=\"l\">" << html_escape(definition_text(r.definition)) << "</td>";
     if (r.status != "ok") {
-      h << "<td colspan=\"7\" class=\"l skipped\">" << html_escape(r.status) << "</td></tr>\n";
+      h << "<td colspan=\"10\" class=\"l skipped\">" << html_escape(r.status) << "</td></tr>\n";
       continue;
     }
     for (const char* k : {"rmse", "rmse_excess", "ssim", "flip_mean", "bias"})
       h << "<td>" << metric(r.metrics, k) << "</td>";
     for (const char* k : {"rmse", "ssim"}) h << "<td>" << metric(r.true_metrics, k) << "</td>";
+    // Bent normals (degrees; blank for estimators without them, bent_metrics.h).
+    for (const char* k : {"bent_angle_mean", "bent_angle_p95", "bent_angle_excess"})
+      h << "<td>" << metric(r.metrics, k) << "</td>";
     h << "</tr>\n";
   }
   h << "</table>\n";
@@ -255,6 +259,9 @@ std::string write_suite_report(const std::string& out_dir, const SuiteReport& r)
        "suite says otherwise). Metrics compare the estimate with the reference of the AO "
        "definition the estimator declares (&ldquo;matched&rdquo;) and, as true_*, with unbounded "
        "cosine AO; rmse_excess is the RMSE with the reference's own Monte-Carlo noise removed. "
+       "Estimators with bent normals add bent_angle_mean and bent_angle_p95 (degrees between "
+       "their bent normal and the reference's) and bent_angle_excess (the rms angle with the "
+       "reference bent normal's own noise removed). "
        "Each mosaic links to the estimate EXR; its caption links to the reference EXRs.</p>\n";
   for (const auto& s : scenes) scene_section(h, s, featured[s]);
   for (const auto& c : charts) estimator_section(h, c);

@@ -50,6 +50,36 @@ TEST(FiguresCli, QuickFigureWritesPngCsvCaptionAndIndex) {
   EXPECT_EQ(r.err.find('\x1b'), std::string::npos);  // stderr is not a terminal: no bar
 }
 
+// equal-time (ours): every contender on the four scenes, a table row each, three checks and a
+// verdict derived from them, the gtao rows with bent-normal scores.
+TEST(FiguresCli, EqualTimeQuickWritesRowsChecksAndBentScores) {
+  const fs::path d = fresh_dir("equal_time");
+  const fs::path out = d / "figs";
+  const Result r = run(d, "equal-time --quick --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::file_size(out / "equal-time.png") > 1000);
+  EXPECT_TRUE(fs::file_size(out / "equal-time-plot.png") > 1000);
+  const std::string csv = slurp(out / "equal-time.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "scene,view,estimator,knob,value,budget_ms,time_ms,rmse_excess,true_rmse,"
+            "bent_angle_mean,bent_angle_excess,bent_ref_stderr");
+  // 4 scenes x 3 contenders (a contender without a device still fills no row: lavapipe has one)
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 13);
+  std::istringstream lines(csv);
+  std::string line;
+  size_t gtao_rows = 0;
+  while (std::getline(lines, line))
+    if (line.find(",gtao,") != std::string::npos) {
+      ++gtao_rows;
+      EXPECT_EQ(line.find(",nan,"), std::string::npos) << line;  // bent scores present
+    }
+  EXPECT_EQ(gtao_rows, 4u);
+  const std::string caption = slurp(out / "equal-time.txt");
+  EXPECT_NE(caption.find("Verdict: "), std::string::npos);
+  EXPECT_NE(caption.find("equal time holds"), std::string::npos);
+  EXPECT_NE(caption.find("Winners per scene"), std::string::npos);
+}
+
 TEST(FiguresCli, UnknownNameExits2ListingTheNames) {
   const fs::path d = fresh_dir("unknown");
   const Result r = run(d, "no-such-figure --out " + (d / "figs").string());

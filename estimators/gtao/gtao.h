@@ -1,0 +1,106 @@
+// gtao, gtao-cpu: Jimenez, Wu, Pesce, Jarabo 2016, "Practical Real-Time Strategies for Accurate
+// Indirect Occlusion" (ground-truth ambient occlusion, GTAO). Implements the cosine-weighted AO
+// integral in view-aligned slices (the paper's eq. 1-3), the projected normal (eq. 4-6), horizon
+// search per side with the radius and a linear falloff of the horizon, clamped to the normal's
+// hemisphere (eq. 7-8), the closed-form inner integral "a^" (eq. 10), the bent normal extension
+// (the cosine-weighted mean unoccluded direction, the paper's Algorithm 2), a polynomial arccosine
+// (§5), the thin-occluder (thickness) heuristic, a final power and the spatial 4 x 4 denoise of the
+// per-pixel slice rotation noise (§5.2). The paper's temporal accumulation and multi-bounce
+// approximation are not part of AO and are left out. The formulas, and which are ours, are in
+// gtao_kernel.glsl.
+//
+// The per-pixel algorithm is one source, gtao_kernel.glsl, compiled as C++ for the CPU twin
+// (gtao-cpu, TBB over rows) and as GLSL for the Vulkan twin (gtao); both read the same eye-space
+// depth and normals (hbao-split's conversion of the G-buffer), the same noise and step tables made
+// here, and apply the final power and the world-space bent normal on the host with the same code,
+// so they agree bit for bit where the device rounds like IEEE 754 (gtao_test.cpp).
+//
+// Declared AO definition: cosine weighting (eq. 1), dmax = R; falloff none when the falloff range
+// is 0 (an occluder counts fully within R: the horizon is the highest point seen within R), linear
+// otherwise (approximate: GTAO fades the horizon's cosine towards the tangent plane between
+// (1 - falloff) R and R, not the occlusion of each direction). What the depth buffer hides (behind
+// the first surface, outside the screen) does not occlude, and each slice's visible set is taken
+// to be the arc above its two horizons.
+#pragma once
+
+#include <cstdint>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "camera.h"
+#include "estimators/estimator.h"
+#include "estimators/hbao_split/hbao_split.h"
+
+namespace aoeval {
+namespace gtao_glsl {
+#include "estimators/gtao/gtao_constants.glsl"
+}  // namespace gtao_glsl
+using gtao_glsl::GtaoConstants;
+
+// Filled from the parameter table (gtao_param_specs), which holds every default.
+struct GtaoSettings {
+  double radius;
+  int slices;
+  int steps;
+  double falloff;
+  double power;
+  double thickness;
+  double final_power;
+  bool normalise;
+  bool bent;
+  bool denoise;
+  bool jitter;
+  int tile;
+  uint64_t seed;
+};
+
+// The parameter table shared by both twins (gtao adds `gbuffer`).
+std::vector<ParamSpec> gtao_param_specs();
+GtaoSettings gtao_settings_of(const ParamSet& params);
+AoDefinition gtao_definition(const GtaoSettings& settings);
+extern const char* const kGtaoPaper;
+extern const char* const kGtaoDefinitionDoc;
+
+// The host-made inputs of the kernel. rotation: tile x tile texels (cos a, sin a), a uniform in
+// [0, pi / slices) from `seed` (a = pi / (2 slices), the middle, without jitter); steps: for each
+// texel, `steps` sample distances ((k + u) / steps)^power, u uniform in [0, 1) (1/2 without
+// jitter); slices: (cos, sin) of pi s / slices. All evaluated in double and rounded.
+struct GtaoTables {
+  std::vector<glm::vec2> rotation;
+  std::vector<float> steps;
+  std::vector<glm::vec2> slices;
+};
+GtaoTables gtao_tables(const GtaoSettings& settings);
+// The workgroup side of the compute shaders (local_size_x = local_size_y).
+inline constexpr int kGtaoGroupSize = 8;
+GtaoConstants gtao_constants(const GtaoSettings& settings, int width, int height, float focal);
+// Checks what the parameter table cannot (a frame of at least 2 x 2 pixels with a finite focal
+// length); InputError otherwise.
+void validate_gtao_frame(const HbaoFrame& frame);
+
+struct GtaoOutput {
+  std::vector<float> ao;        // final AO (denoised, then ^final_power), 0 where not covered
+  std::vector<float> raw_ao;    // before the denoise pass and the power
+  std::vector<glm::vec3> bent;  // unit world-space bent normal, 0 where none (bent on only)
+  std::map<std::string, double> pass_ms;
+};
+
+// What both twins do after the kernel, on the host with one piece of code: the final power
+// AO^final_power and the bent normals from eye space (camera right, up, forward) to world space.
+void gtao_finish(const GtaoSettings& settings, const Camera& camera, const HbaoFrame& frame,
+                 std::vector<float>& ao, const std::vector<glm::vec3>& eye_bent, GtaoOutput& out);
+
+// The CPU twin. Deterministic: same inputs, same bits, whatever the thread count. The camera only
+// orients the bent normals in world space.
+GtaoOutput gtao_cpu(const HbaoFrame& frame, const Camera& camera, const GtaoSettings& settings);
+
+// The estimate's channels: AO, and bent.X/Y/Z when settings.bent.
+EstimateResult gtao_estimate_result(const GtaoSettings& settings, GtaoOutput output);
+
+EstimatorInfo gtao_cpu_estimator();
+EstimatorInfo gtao_estimator();
+
+}  // namespace aoeval

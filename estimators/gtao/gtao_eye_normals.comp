@@ -1,0 +1,27 @@
+// gtao, part of the geometry pass with gbuffer=raster: the raster G-buffer's world-space normals in
+// eye space with hbao-split's conversion (hbao_eye_normal), the one the CPU twin applies to the
+// Embree G-buffer's (hbao_frame_from_gbuffer).
+#version 450
+#extension GL_GOOGLE_include_directive : require
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(set = 0, binding = 0, rgba32f) uniform readonly image2D world_normal_image;
+layout(set = 0, binding = 1, rgba32f) uniform writeonly image2D eye_normal_image;
+
+layout(push_constant) uniform Push {
+  vec4 right;
+  vec4 up;
+  vec4 forward;
+  ivec2 size;
+} pc;
+
+#include "../hbao_split/hbao_basics.glsl"
+
+void main() {
+  ivec2 xy = ivec2(gl_GlobalInvocationID.xy);
+  if (xy.x >= pc.size.x || xy.y >= pc.size.y) return;
+  vec3 n = imageLoad(world_normal_image, xy).xyz;
+  vec3 e = hbao_eye_normal(n, pc.right.xyz, pc.up.xyz, pc.forward.xyz);
+  imageStore(eye_normal_image, xy, vec4(e, 0.0f));
+}

@@ -1,0 +1,263 @@
+// gtao's parameter table (declared once for both twins) and the host side that both twins share:
+// the noise and step tables, the constants, and the finishing step (final power, world-space bent
+// normals). See gtao.h.
+#include <cmath>
+#include <numbers>
+
+#include "errors.h"
+#include "estimators/gtao/gtao.h"
+#include "random.h"
+
+namespace aoeval {
+
+const char* const kGtaoPaper =
+    "Jimenez, Wu, Pesce, Jarabo 2016, Practical Real-Time Strategies for Accurate Indirect "
+    "Occlusion (GTAO): cosine AO in view-aligned slices (eq. 1-3), projected normal (eq. 4-6), "
+    "horizons clamped to the normal's hemisphere (eq. 7-8), closed-form inner integral a^ "
+    "(eq. 10), bent normals (Algorithm 2), polynomial acos (§5), thickness heuristic, spatial "
+    "4x4 denoise (§5.2)";
+
+const char* const kGtaoDefinitionDoc =
+    "cosine weighting (eq. 1), dmax = R; falloff none when falloff = 0 (an occluder within R "
+    "counts fully), linear when falloff > 0 (approximate: the horizon's cosine fades towards the "
+    "tangent plane between (1 - falloff) R and R); only what the depth buffer shows can occlude, "
+    "and each slice's visible set is the arc above its two horizons";
+
+std::vector<ParamSpec> gtao_param_specs() {
+  return {
+      {"R",
+       ParamType::real,
+       0.3,
+       1e-4,
+       1e4,
+       true,
+       "scene units",
+       "radius: samples farther than R from P do not occlude (dmax of the definition, eq. 7)",
+       {}},
+      {"slices",
+       ParamType::integer,
+       4,
+       1,
+       64,
+       false,
+       "directions",
+       "slices per pixel, evenly spaced in [0, pi) around v and rotated per pixel (eq. 3, §5.2)",
+       {}},
+      {"steps",
+       ParamType::integer,
+       8,
+       1,
+       128,
+       false,
+       "samples",
+       "horizon samples per side of each slice (eq. 7)",
+       {}},
+      {"falloff",
+       ParamType::real,
+       0.0,
+       0.0,
+       1.0,
+       false,
+       "fraction of R",
+       "falloff range: a sample's horizon fades linearly to the tangent plane between (1 - "
+       "falloff) R and R; 0 = hard cut at R (the definition's falloff none)",
+       {}},
+      {"power",
+       ParamType::real,
+       2.0,
+       0.25,
+       8.0,
+       false,
+       "",
+       "sample distribution: sample k of a side lies at ((k + u) / steps)^power of the screen "
+       "radius (plus one pixel); > 1 puts more samples near P",
+       {}},
+      {"thickness",
+       ParamType::real,
+       0.0,
+       0.0,
+       1.0,
+       false,
+       "",
+       "thin-occluder compensation (the paper's thickness heuristic): a sample below the horizon "
+       "pulls it down by this fraction; 0 = off (the exact horizon of a heightfield)",
+       {}},
+      {"final_power",
+       ParamType::real,
+       1.0,
+       0.1,
+       8.0,
+       false,
+       "",
+       "AO^final_power, an artistic contrast control; 1 estimates the declared definition",
+       {}},
+      {"normalise",
+       ParamType::boolean,
+       true,
+       0,
+       0,
+       false,
+       "",
+       "divide by the same slice sum over the unoccluded hemisphere, so that an open surface is "
+       "exactly 1 with any slice count (ours); false: the paper's (1/slices) sum |n_p| a^",
+       {}},
+      {"bent",
+       ParamType::boolean,
+       true,
+       0,
+       0,
+       false,
+       "",
+       "also output the bent normal (bent.X/Y/Z, world space, unit): the cosine-weighted mean "
+       "unoccluded direction in closed form (Algorithm 2)",
+       {}},
+      {"denoise",
+       ParamType::boolean,
+       true,
+       0,
+       0,
+       false,
+       "",
+       "spatial denoise: depth-aware tile x tile average over one period of the noise (§5.2)",
+       {}},
+      {"jitter",
+       ParamType::boolean,
+       true,
+       0,
+       0,
+       false,
+       "",
+       "per-pixel slice rotation and sample offset from the tiled noise (§5.2); off: the same "
+       "slices and samples everywhere",
+       {}},
+      {"tile",
+       ParamType::integer,
+       4,
+       1,
+       16,
+       false,
+       "pixels",
+       "side of the tiled noise texture and of the denoise window (§5.2: 4)",
+       {}},
+      {"seed", ParamType::integer, 7, 0, 1e15, false, "", "seed of the noise texture", {}},
+  };
+}
+
+GtaoSettings gtao_settings_of(const ParamSet& p) {
+  GtaoSettings s;
+  s.radius = p.real("R");
+  s.slices = static_cast<int>(p.integer("slices"));
+  s.steps = static_cast<int>(p.integer("steps"));
+  s.falloff = p.real("falloff");
+  s.power = p.real("power");
+  s.thickness = p.real("thickness");
+  s.final_power = p.real("final_power");
+  s.normalise = p.boolean("normalise");
+  s.bent = p.boolean("bent");
+  s.denoise = p.boolean("denoise");
+  s.jitter = p.boolean("jitter");
+  s.tile = static_cast<int>(p.integer("tile"));
+  s.seed = static_cast<uint64_t>(p.integer("seed"));
+  return s;
+}
+
+AoDefinition gtao_definition(const GtaoSettings& s) {
+  AoDefinition d;
+  d.weighting = Weighting::cosine;
+  d.dmax = s.radius;
+  d.falloff = s.falloff > 0.0 ? Falloff::linear : Falloff::none;
+  return d;
+}
+
+GtaoTables gtao_tables(const GtaoSettings& s) {
+  GtaoTables t;
+  const size_t texels = static_cast<size_t>(s.tile) * static_cast<size_t>(s.tile);
+  const double sector = std::numbers::pi / s.slices;
+  t.rotation.resize(texels);
+  t.steps.resize(texels * static_cast<size_t>(s.steps));
+  for (size_t k = 0; k < texels; ++k) {
+    SplitMix64 rng(mix_seed(s.seed, k, 0x4754414F));  // "GTAO"
+    const double a = s.jitter ? rng.uniform_double() : 0.5;
+    const double u = s.jitter ? rng.uniform_double() : 0.5;
+    t.rotation[k] = glm::vec2(static_cast<float>(std::cos(a * sector)),
+                              static_cast<float>(std::sin(a * sector)));
+    for (int step = 0; step < s.steps; ++step)
+      t.steps[k * static_cast<size_t>(s.steps) + static_cast<size_t>(step)] =
+          static_cast<float>(std::pow((step + u) / s.steps, s.power));
+  }
+  t.slices.resize(static_cast<size_t>(s.slices));
+  for (int k = 0; k < s.slices; ++k) {
+    const double phi = std::numbers::pi * k / s.slices;
+    t.slices[static_cast<size_t>(k)] =
+        glm::vec2(static_cast<float>(std::cos(phi)), static_cast<float>(std::sin(phi)));
+  }
+  return t;
+}
+
+GtaoConstants gtao_constants(const GtaoSettings& s, int width, int height, float focal) {
+  GtaoConstants c{};
+  c.radius = static_cast<float>(s.radius);
+  // falloff 0: a weight of (R - d) 1e30, clamped: 1 for every d < R, 0 from R on (no inf * 0).
+  c.falloff_mul = s.falloff > 0.0 ? static_cast<float>(1.0 / (s.falloff * s.radius)) : 1e30f;
+  c.thickness = static_cast<float>(s.thickness);
+  c.focal = focal;
+  c.half_width = 0.5f * static_cast<float>(width);
+  c.half_height = 0.5f * static_cast<float>(height);
+  c.radius_scale = static_cast<float>(s.radius) * focal;
+  c.width = width;
+  c.height = height;
+  c.slices = s.slices;
+  c.steps = s.steps;
+  c.tile = s.tile;
+  c.normalise = s.normalise ? 1 : 0;
+  c.row_stride = hbao_row_stride((height + kGtaoGroupSize - 1) / kGtaoGroupSize);
+  return c;
+}
+
+void validate_gtao_frame(const HbaoFrame& f) {
+  if (f.width < 2 || f.height < 2)
+    throw InputError("gtao: the G-buffer must be at least 2x2 pixels (it is " +
+                     std::to_string(f.width) + "x" + std::to_string(f.height) + ")");
+  if (!(f.focal > 0.0f) || !std::isfinite(f.focal))
+    throw InputError("gtao: the camera's field of view gives no finite focal length");
+}
+
+void gtao_finish(const GtaoSettings& s, const Camera& camera, const HbaoFrame& frame,
+                 std::vector<float>& ao, const std::vector<glm::vec3>& eye_bent, GtaoOutput& out) {
+  if (s.final_power != 1.0)
+    for (float& a : ao)
+      if (a > 0.0f) a = static_cast<float>(std::pow(static_cast<double>(a), s.final_power));
+  out.ao = std::move(ao);
+  out.bent.clear();
+  if (!s.bent) return;
+  out.bent.assign(eye_bent.size(), glm::vec3(0.0f));
+  for (size_t k = 0; k < eye_bent.size(); ++k) {
+    if (!(frame.depth[k] > 0.0f)) continue;
+    const glm::dvec3 e(eye_bent[k]);
+    const glm::dvec3 w = glm::dvec3(camera.right) * e.x + glm::dvec3(camera.up) * e.y +
+                         glm::dvec3(camera.forward) * e.z;
+    const double len = glm::length(w);
+    if (len > 0.0) out.bent[k] = glm::vec3(w / len);
+  }
+}
+
+EstimateResult gtao_estimate_result(const GtaoSettings& s, GtaoOutput output) {
+  EstimateResult r;
+  r.ao = std::move(output.ao);
+  if (s.bent) {
+    const size_t n = output.bent.size();
+    std::vector<float> x(n), y(n), z(n);
+    for (size_t k = 0; k < n; ++k) {
+      x[k] = output.bent[k].x;
+      y[k] = output.bent[k].y;
+      z[k] = output.bent[k].z;
+    }
+    r.extra_channels["bent.X"] = std::move(x);
+    r.extra_channels["bent.Y"] = std::move(y);
+    r.extra_channels["bent.Z"] = std::move(z);
+  }
+  r.pass_ms = std::move(output.pass_ms);
+  return r;
+}
+
+}  // namespace aoeval

@@ -1,0 +1,245 @@
+// gtao: the Vulkan twin (see gtao_vulkan.h and, for the algorithm, gtao.h).
+#include "estimators/gtao/gtao_vulkan.h"
+
+#include <glm/vec4.hpp>
+
+#include "estimators/vulkan/raster_gbuffer.h"
+#include "estimators/vulkan/vk_commands.h"
+#include "estimators/vulkan/vk_pipelines.h"
+#include "estimators/vulkan/vk_resources.h"
+#include "gtao_denoise_comp_spv.h"
+#include "gtao_eye_normals_comp_spv.h"
+#include "gtao_main_comp_spv.h"
+
+namespace aoeval {
+
+namespace {
+
+constexpr auto kGroup = static_cast<uint32_t>(kGtaoGroupSize);
+
+// gtao_common.glsl's bindings, in order.
+const std::vector<VkDescriptorType> kPassBindings = {
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 0 depth
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 1 eye-space normal
+    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,  // 2 rotation
+    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,  // 3 steps
+    VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,  // 4 slices
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 5 raw AO
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 6 raw bent
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 7 AO
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 8 bent
+};
+
+struct EyeNormalsPush {
+  glm::vec4 right, up, forward;
+  int32_t width, height;
+};
+
+std::vector<glm::vec4> padded(const std::vector<glm::vec3>& v) {
+  std::vector<glm::vec4> out(v.size());
+  for (size_t k = 0; k < v.size(); ++k) out[k] = glm::vec4(v[k], 0.0f);
+  return out;
+}
+
+std::vector<glm::vec3> unpadded(const std::vector<float>& v) {
+  std::vector<glm::vec3> out(v.size() / 4);
+  for (size_t k = 0; k < out.size(); ++k) out[k] = glm::vec3(v[4 * k], v[4 * k + 1], v[4 * k + 2]);
+  return out;
+}
+
+template <class T>
+vk::Buffer storage_buffer(vk::Context& vk, const std::vector<T>& values) {
+  vk::Buffer b(vk, values.size() * sizeof(T), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  b.upload(values);
+  return b;
+}
+
+}  // namespace
+
+struct GtaoDevice::Impl {
+  vk::Context& vk;
+  GtaoSettings settings;
+  GtaoConstants constants{};
+  Camera camera;
+  int width = 0, height = 0;
+  HbaoFrame embree_frame;  // gbuffer=embree
+  std::unique_ptr<vk::RasterGBuffer> raster;
+  vk::DeviceGBuffer gbuffer;  // gbuffer=raster
+  vk::Image2D depth, normal, raw_ao, raw_bent, ao, bent;
+  vk::Buffer rotation, steps, slices;
+  std::unique_ptr<vk::ComputePipeline> eye_normals, main_pass, denoise;
+  VkDescriptorSet eye_set = VK_NULL_HANDLE, main_set = VK_NULL_HANDLE, denoise_set = VK_NULL_HANDLE;
+  vk::PassTimer timer;
+
+  Impl(vk::Context& context, const GtaoSettings& s, const Camera& cam, int w, int h, float focal)
+      : vk(context), settings(s), camera(cam), width(w), height(h), timer(context) {
+    constants = gtao_constants(s, w, h, focal);
+    normal = vk::Image2D(vk, w, h, VK_FORMAT_R32G32B32A32_SFLOAT);
+    raw_ao = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
+    raw_bent = vk::Image2D(vk, w, h, VK_FORMAT_R32G32B32A32_SFLOAT);
+    ao = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
+    bent = vk::Image2D(vk, w, h, VK_FORMAT_R32G32B32A32_SFLOAT);
+    const GtaoTables tables = gtao_tables(s);
+    rotation = storage_buffer(vk, tables.rotation);
+    steps = storage_buffer(vk, tables.steps);
+    slices = storage_buffer(vk, tables.slices);
+  }
+
+  const vk::Image2D& depth_image() const { return raster ? gbuffer.depth : depth; }
+
+  void make_pipelines() {
+    const uint32_t push = sizeof(GtaoConstants);
+    main_pass = std::make_unique<vk::ComputePipeline>(vk, "gtao main", gtao_main_comp_spv,
+                                                      kPassBindings, push);
+    denoise = std::make_unique<vk::ComputePipeline>(vk, "gtao denoise", gtao_denoise_comp_spv,
+                                                    kPassBindings, push);
+    const std::vector<vk::Resource> resources = {depth_image(), normal,   rotation, steps, slices,
+                                                 raw_ao,        raw_bent, ao,       bent};
+    main_set = main_pass->make_set(resources);
+    denoise_set = denoise->make_set(resources);
+    if (raster) {
+      eye_normals = std::make_unique<vk::ComputePipeline>(
+          vk, "gtao eye normals", gtao_eye_normals_comp_spv,
+          std::vector<VkDescriptorType>{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+                                        VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
+          sizeof(EyeNormalsPush));
+      eye_set = eye_normals->make_set({gbuffer.normal, normal});
+    }
+  }
+};
+
+GtaoDevice::GtaoDevice(vk::Context& vk, const GtaoSettings& settings, const HbaoFrame& frame,
+                       const Camera& camera) {
+  validate_gtao_frame(frame);
+  impl_ = std::make_unique<Impl>(vk, settings, camera, frame.width, frame.height, frame.focal);
+  impl_->embree_frame = frame;
+  impl_->depth = vk::Image2D(vk, frame.width, frame.height, VK_FORMAT_R32_SFLOAT);
+  impl_->depth.upload(frame.depth);
+  impl_->normal.upload(padded(frame.normal));
+  impl_->make_pipelines();
+}
+
+GtaoDevice::GtaoDevice(vk::Context& vk, const GtaoSettings& settings, const Scene& scene,
+                       const Camera& camera) {
+  const float focal = static_cast<float>(camera.height) / (2.0f * camera.tan_half_fov_y);
+  HbaoFrame shape;
+  shape.width = camera.width;
+  shape.height = camera.height;
+  shape.focal = focal;
+  validate_gtao_frame(shape);
+  impl_ = std::make_unique<Impl>(vk, settings, camera, camera.width, camera.height, focal);
+  impl_->raster = std::make_unique<vk::RasterGBuffer>(vk, scene);
+  impl_->gbuffer = vk::make_device_gbuffer(vk, camera.width, camera.height);
+  impl_->make_pipelines();
+}
+
+GtaoDevice::~GtaoDevice() = default;
+
+GtaoOutput GtaoDevice::run() {
+  Impl& m = *impl_;
+  const uint32_t gx = vk::group_count(static_cast<uint32_t>(m.width), kGroup);
+  const uint32_t gy = vk::group_count(static_cast<uint32_t>(m.height), kGroup);
+  m.vk.submit([&](VkCommandBuffer cmd) {
+    m.timer.reset(cmd);
+    if (m.raster) {
+      // The geometry stage: the raster G-buffer and its normals in eye space, both timed as
+      // "geometry" (the spans add up).
+      m.raster->record(cmd, m.camera, m.gbuffer, &m.timer);
+      EyeNormalsPush push{glm::vec4(m.camera.right, 0.0f), glm::vec4(m.camera.up, 0.0f),
+                          glm::vec4(m.camera.forward, 0.0f), m.width, m.height};
+      m.timer.begin(cmd, "geometry");
+      m.eye_normals->dispatch(cmd, m.eye_set, push, gx, gy);
+      m.timer.end(cmd);
+      vk::pass_barrier(cmd);
+    }
+    m.timer.begin(cmd, "horizon");
+    m.main_pass->dispatch(cmd, m.main_set, m.constants, gx, gy);
+    m.timer.end(cmd);
+    vk::pass_barrier(cmd);
+    if (m.settings.denoise) {
+      m.timer.begin(cmd, "denoise");
+      m.denoise->dispatch(cmd, m.denoise_set, m.constants, gx, gy);
+      m.timer.end(cmd);
+      vk::pass_barrier(cmd);
+    }
+  });
+  GtaoOutput out;
+  out.pass_ms = m.timer.read();
+  out.raw_ao = m.raw_ao.download<float>();
+  std::vector<float> ao = m.settings.denoise ? m.ao.download<float>() : out.raw_ao;
+  std::vector<glm::vec3> eye_bent;
+  if (m.settings.bent)
+    eye_bent = unpadded((m.settings.denoise ? m.bent : m.raw_bent).download<float>());
+  const HbaoFrame seen = frame();
+  gtao_finish(m.settings, m.camera, seen, ao, eye_bent, out);
+  return out;
+}
+
+HbaoFrame GtaoDevice::frame() const {
+  const Impl& m = *impl_;
+  if (!m.raster) return m.embree_frame;
+  HbaoFrame f;
+  f.width = m.width;
+  f.height = m.height;
+  f.focal = m.constants.focal;
+  f.depth = m.gbuffer.depth.download<float>();
+  f.normal = unpadded(m.normal.download<float>());
+  return f;
+}
+
+namespace {
+
+class GtaoVulkanEstimator : public Estimator {
+ public:
+  explicit GtaoVulkanEstimator(const ParamSet& p)
+      : settings_(gtao_settings_of(p)), raster_(p.choice("gbuffer") == "raster") {}
+  void prepare(const EstimateContext& context) override {
+    vk::Context& vk = vk::require_shared_context();
+    const Camera& camera = context.gbuffer.camera;
+    if (raster_)
+      device_ = std::make_unique<GtaoDevice>(vk, settings_, context.scene, camera);
+    else
+      device_ = std::make_unique<GtaoDevice>(vk, settings_,
+                                             hbao_frame_from_gbuffer(context.gbuffer), camera);
+  }
+  EstimateResult run(const EstimateContext& context) override {
+    if (!device_) prepare(context);
+    return gtao_estimate_result(settings_, device_->run());
+  }
+
+ private:
+  GtaoSettings settings_;
+  bool raster_;
+  std::unique_ptr<GtaoDevice> device_;
+};
+
+}  // namespace
+
+EstimatorInfo gtao_estimator() {
+  EstimatorInfo info;
+  info.name = "gtao";
+  info.summary =
+      "ground-truth AO (GTAO) on Vulkan: horizon-and-integral and denoise compute passes, bent "
+      "normals, GPU timestamps per pass";
+  info.paper = kGtaoPaper;
+  info.backend = Backend::vulkan;
+  info.inputs = {EstimatorInput::gbuffer, EstimatorInput::scene_geometry};
+  info.params = gtao_param_specs();
+  info.params.push_back(
+      {"gbuffer",
+       ParamType::choice,
+       "raster",
+       0,
+       0,
+       false,
+       "",
+       "raster: the scene rasterised on the device every frame (timed as geometry_ms); embree: "
+       "the shared Embree G-buffer, uploaded once in prepare() (no geometry_ms)",
+       {"raster", "embree"}});
+  info.definition_doc = kGtaoDefinitionDoc;
+  info.definition = [](const ParamSet& p) { return gtao_definition(gtao_settings_of(p)); };
+  info.create = [](const ParamSet& p) { return std::make_unique<GtaoVulkanEstimator>(p); };
+  return info;
+}
+
+}  // namespace aoeval
