@@ -8,6 +8,7 @@
 #include "estimators/raymarch_ssao/raymarch_ssao.h"
 #include "estimators/raytraced/raytraced.h"
 #include "estimators/reeves_blau/reeves_blau.h"
+#include "estimators/shadowmap_ao/shadowmap_ao.h"
 #include "estimators/tree_hegeman/tree_hegeman.h"
 #include "estimators/vertex_baked/vertex_baked.h"
 #include "estimators/vulkan/vk_context.h"
@@ -28,6 +29,7 @@ const std::vector<EstimatorInfo>& estimator_registry() {
       hbao_split_estimator(),
       hbao_split_cpu_estimator(),
       raymarch_ssao_estimator(),
+      shadowmap_ao_estimator(),
   };
   // clang-format on
   return registry;
