@@ -120,8 +120,7 @@ class ShadowmapDevice {
             VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
             VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
         static_cast<uint32_t>(sizeof(AccumulatePush)),
-        std::vector<vk::SpecConstant>{
-            vk::spec_uint(0, s.mode == ShadowmapMode::vertex ? 1u : 0u)});
+        std::vector<vk::SpecConstant>{vk::spec_uint(0, s.mode == ShadowmapMode::vertex ? 1u : 0u)});
   }
 
   static int batches(const ShadowmapSettings& s) {
@@ -148,8 +147,8 @@ class ShadowmapDevice {
     if (!position_normal.empty()) receivers_.upload(position_normal);
     dummy_ = vk::Image2D(vk_, 1, 1, VK_FORMAT_R32G32B32A32_SFLOAT);
     make_accumulators();
-    set_ = accumulate_->make_set(
-        {atlas_, lights_, dummy_, dummy_, dummy_, receivers_, accumulators_});
+    set_ =
+        accumulate_->make_set({atlas_, lights_, dummy_, dummy_, dummy_, receivers_, accumulators_});
   }
 
   // Every pass: per batch, lights_per_pass shadow maps into the atlas ("shadow_maps"), then one
@@ -171,7 +170,7 @@ class ShadowmapDevice {
         for (int k = 0; k < count; ++k) {
           // Light first + k draws into tile k: x in [k res, (k + 1) res).
           const VkViewport viewport{static_cast<float>(k * res), 0.0f, static_cast<float>(res),
-                                    static_cast<float>(res), 0.0f, 1.0f};
+                                    static_cast<float>(res),     0.0f, 1.0f};
           const VkRect2D scissor{{static_cast<int32_t>(k * res), 0}, {res, res}};
           vkCmdSetViewport(cmd, 0, 1, &viewport);
           vkCmdSetScissor(cmd, 0, 1, &scissor);
@@ -209,8 +208,9 @@ class ShadowmapDevice {
 
  private:
   void make_accumulators() {
-    accumulators_ = vk::Buffer(vk_, std::max<VkDeviceSize>(1, receiver_count_) * 4 * sizeof(glm::vec4),
-                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    accumulators_ =
+        vk::Buffer(vk_, std::max<VkDeviceSize>(1, receiver_count_) * 4 * sizeof(glm::vec4),
+                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   }
 
   vk::Context& vk_;
@@ -383,8 +383,8 @@ ShadowmapSettings shadowmap_settings(const ParamSet& p) {
   ShadowmapSettings s;
   s.lights = static_cast<int>(p.integer("lights"));
   s.resolution = static_cast<int>(p.integer("resolution"));
-  s.distribution =
-      p.choice("distribution") == "latlong" ? LightDistribution::latlong : LightDistribution::uniform;
+  s.distribution = p.choice("distribution") == "latlong" ? LightDistribution::latlong
+                                                         : LightDistribution::uniform;
   s.dome = p.choice("layout") == "dome";
   s.bias = static_cast<float>(p.real("bias"));
   s.slope_bias = static_cast<float>(p.real("slope_bias"));
@@ -403,45 +403,108 @@ EstimatorInfo shadowmap_ao_estimator() {
   info.paper =
       "Pharr and Green 2004, GPU Gems ch. 17, Ambient Occlusion: §17.3 Hardware-Accelerated "
       "Occlusion (a spherical array of shadow-mapped lights, uniform vs. lat-long placement, dome, "
-      "several shadow maps per accumulation pass, bent normal), §17.2/§17.4 for the per-vertex bake";
+      "several shadow maps per accumulation pass, bent normal), §17.2/§17.4 for the per-vertex "
+      "bake";
   info.backend = Backend::vulkan;
   info.inputs = {EstimatorInput::gbuffer, EstimatorInput::scene_geometry};
   info.params = {
-      {"lights", ParamType::integer, 256, 1, 4096, true, "lights",
+      {"lights",
+       ParamType::integer,
+       256,
+       1,
+       4096,
+       true,
+       "lights",
        "shadow-casting directional lights (§17.3: \"128 to 1024 is required for good results\")",
        {}},
-      {"resolution", ParamType::integer, 512, 16, 4096, true, "texels",
+      {"resolution",
+       ParamType::integer,
+       512,
+       16,
+       4096,
+       true,
+       "texels",
        "texels per side of each light's orthographic shadow map, fitted to the scene's bounding "
        "sphere",
        {}},
-      {"distribution", ParamType::choice, "uniform", 0, 0, false, "",
+      {"distribution",
+       ParamType::choice,
+       "uniform",
+       0,
+       0,
+       false,
+       "",
        "light placement: uniform (spherical Fibonacci lattice under a seeded rotation, §17.3's "
        "\"uniform distribution on the sphere\") or latlong (evenly spaced latitudes and "
        "longitudes, which \"concentrate too many samples at the poles\")",
        {"uniform", "latlong"}},
-      {"layout", ParamType::choice, "sphere", 0, 0, false, "",
+      {"layout",
+       ParamType::choice,
+       "sphere",
+       0,
+       0,
+       false,
+       "",
        "sphere, or dome: lights over the +Y hemisphere only, the ground assumed to block the rest "
        "(§17.3: \"a dome or a hemisphere can be used instead\")",
        {"sphere", "dome"}},
-      {"bias", ParamType::real, 1.0, 0.0, 64.0, false, "texels",
-       "constant depth bias of the shadow test at the receiver", {}},
-      {"slope_bias", ParamType::real, 1.0, 0.0, 64.0, false, "texels",
+      {"bias",
+       ParamType::real,
+       1.0,
+       0.0,
+       64.0,
+       false,
+       "texels",
+       "constant depth bias of the shadow test at the receiver",
+       {}},
+      {"slope_bias",
+       ParamType::real,
+       1.0,
+       0.0,
+       64.0,
+       false,
+       "texels",
        "slope-scaled depth bias: slope_bias * tan(angle between light and surface normal), tan "
        "capped at 1000 (§17.3's \"streaking ... at the transition from lit to shadowed\")",
        {}},
-      {"lights_per_pass", ParamType::integer, 8, 1, 16, false, "lights",
+      {"lights_per_pass",
+       ParamType::integer,
+       8,
+       1,
+       16,
+       false,
+       "lights",
        "shadow maps tested in one accumulation pass (§17.3: \"accumulate eight shadows in the "
        "shader at once\")",
        {}},
-      {"weighting", ParamType::choice, "uniform", 0, 0, false, "",
+      {"weighting",
+       ParamType::choice,
+       "uniform",
+       0,
+       0,
+       false,
+       "",
        "uniform: every light above the surface counts 1 (the chapter's accessibility); cosine: "
        "each counts n.l, estimating the cosine-weighted AO",
        {"uniform", "cosine"}},
-      {"mode", ParamType::choice, "pixel", 0, 0, false, "",
+      {"mode",
+       ParamType::choice,
+       "pixel",
+       0,
+       0,
+       false,
+       "",
        "pixel: every camera G-buffer pixel is a receiver; vertex: triangle centres baked, "
        "area-averaged to vertices and interpolated per pixel (§17.2, §17.4), as vertex-baked",
        {"pixel", "vertex"}},
-      {"seed", ParamType::integer, 7, 0, 1e15, false, "", "random seed of the lights' rotation",
+      {"seed",
+       ParamType::integer,
+       7,
+       0,
+       1e15,
+       false,
+       "",
+       "random seed of the lights' rotation",
        {}},
   };
   info.definition_doc = "the weighting parameter's (uniform or cosine), unbounded, no falloff";

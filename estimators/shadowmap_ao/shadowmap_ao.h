@@ -17,9 +17,9 @@
 //   surface facing away from the light is always black". AO = lit sum / total: a ratio
 //   estimator, exactly 1 on an open surface. In dome mode the lights' mirror images below the
 //   horizon enter the total only (the ground plane the dome assumes blocks them), so a surface that
-//   faces sideways is still normalised over its whole hemisphere. The mean lit direction (unweighted,
-//   the chapter's "direction to the light multiplied by the shadow value", normalised) is written
-//   as bent.X/Y/Z.
+//   faces sideways is still normalised over its whole hemisphere. The mean lit direction
+//   (unweighted, the chapter's "direction to the light multiplied by the shadow value", normalised)
+//   is written as bent.X/Y/Z.
 // - Receivers: mode=pixel, every covered pixel of the camera's G-buffer (its P, N and Ng, uploaded
 //   to the device); mode=vertex, the chapter's use of the values as a bake: the centre of every
 //   triangle, both sides, area-averaged to the vertices and interpolated per pixel exactly as

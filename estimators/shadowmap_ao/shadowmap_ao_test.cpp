@@ -18,10 +18,9 @@
 namespace aoeval {
 namespace {
 
-#define REQUIRE_VULKAN()                                        \
-  std::string skip_reason;                                      \
-  if (!vk::shared_context(&skip_reason))                        \
-  GTEST_SKIP() << "no Vulkan device: " << skip_reason
+#define REQUIRE_VULKAN()   \
+  std::string skip_reason; \
+  if (!vk::shared_context(&skip_reason)) GTEST_SKIP() << "no Vulkan device: " << skip_reason
 
 EstimateResult estimate(const Scene& scene, const GBuffer& g, nlohmann::json overrides) {
   const EstimatorInfo& e = find_estimator("shadowmap-ao");
@@ -71,7 +70,8 @@ TEST(ShadowmapAo, LatLongConcentratesLightsAtThePoles) {
 
 TEST(ShadowmapAo, LightsAreTheSameBitsForTheSameSeed) {
   for (auto dist : {LightDistribution::uniform, LightDistribution::latlong}) {
-    const auto a = light_directions(129, dist, false, 11), b = light_directions(129, dist, false, 11);
+    const auto a = light_directions(129, dist, false, 11),
+               b = light_directions(129, dist, false, 11);
     const auto c = light_directions(129, dist, false, 12);
     ASSERT_EQ(a.size(), 129u);
     EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec3)), 0);
@@ -88,8 +88,11 @@ TEST(ShadowmapAo, OpenPlaneIsOne) {
     for (const char* w : {"uniform", "cosine"})
       for (const char* mode : {"pixel", "vertex"}) {
         const EstimateResult r = estimate(s, g,
-                                          {{"lights", 64}, {"resolution", 64}, {"layout", layout},
-                                           {"weighting", w}, {"mode", mode}});
+                                          {{"lights", 64},
+                                           {"resolution", 64},
+                                           {"layout", layout},
+                                           {"weighting", w},
+                                           {"mode", mode}});
         for (size_t k = 0; k < g.pixel_count(); ++k) {
           if (!g.covered(k)) continue;
           // Every light above is lit, and the total counts the same lights: exactly 1 per pixel
@@ -113,9 +116,9 @@ TEST(ShadowmapAo, InsideAClosedBoxIsNearlyZero) {
   const Scene s = scene_of({generated("box", "box", {{"size", {2, 2, 2}}, {"inward", true}})});
   const GBuffer g = view_of(s, {0.2f, 1.1f, 0.3f}, {-1, 0.5f, -1}, {0, 1, 0}, 24, 16);
   for (const char* mode : {"pixel", "vertex"}) {
-    const EstimateResult r = estimate(s, g,
-                                      {{"lights", 32}, {"resolution", 128}, {"mode", mode},
-                                       {"bias", 0}, {"slope_bias", 0}});
+    const EstimateResult r = estimate(
+        s, g,
+        {{"lights", 32}, {"resolution", 128}, {"mode", mode}, {"bias", 0}, {"slope_bias", 0}});
     double sum = 0.0;
     size_t zero = 0;
     for (size_t k = 0; k < g.pixel_count(); ++k) {
@@ -186,14 +189,13 @@ TEST_F(DiskAbovePlane, LatLongOverweightsThePoleAbove) {
 // second run with the same seed.
 TEST(ShadowmapAo, SameSeedSameBitsWhateverTheBatching) {
   REQUIRE_VULKAN();
-  const Scene s =
-      scene_of({generated("floor", "plane", {{"size", {4, 4}}, {"subdivisions", 2}}),
-                generated("box", "box", {{"size", {1, 1, 1}}}, {0.0f, 0.5f, 0.0f})});
+  const Scene s = scene_of({generated("floor", "plane", {{"size", {4, 4}}, {"subdivisions", 2}}),
+                            generated("box", "box", {{"size", {1, 1, 1}}}, {0.0f, 0.5f, 0.0f})});
   const GBuffer g = view_of(s, {2.0f, 1.5f, 2.0f}, {0, 0.2f, 0}, {0, 1, 0}, 16, 12);
   auto run = [&](int per_pass, int seed) {
-    return estimate(s, g,
-                    {{"lights", 48}, {"resolution", 64}, {"lights_per_pass", per_pass},
-                     {"seed", seed}})
+    return estimate(
+               s, g,
+               {{"lights", 48}, {"resolution", 64}, {"lights_per_pass", per_pass}, {"seed", seed}})
         .ao;
   };
   const auto a = run(1, 5), b = run(16, 5), c = run(16, 5), d = run(16, 6);
