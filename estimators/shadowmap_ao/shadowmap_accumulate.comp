@@ -29,7 +29,8 @@ layout(push_constant) uniform Push {
 } pc;
 
 void main() {
-  const uint r = gl_GlobalInvocationID.x;
+  // Rows of work groups: a dispatch has at most 65535 groups per axis (millions of receivers).
+  const uint r = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * 64;
   if (r >= pc.receiver_count) return;
   vec3 p, n, ng;
   if (kVertexMode == 1) {

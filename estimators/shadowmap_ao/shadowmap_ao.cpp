@@ -38,7 +38,8 @@ struct AccumulatePush {
 };
 static_assert(sizeof(AccumulatePush) == 64);
 
-constexpr uint32_t kGroup = 64;  // shadowmap_accumulate.comp's local_size_x
+constexpr uint32_t kGroup = 64;         // shadowmap_accumulate.comp's local_size_x
+constexpr uint32_t kMaxGroups = 65535;  // the least maxComputeWorkGroupCount Vulkan guarantees
 
 // The accumulators of one receiver side: (sum of lit · l, sum of w · lit) and the weight total.
 struct SideSums {
@@ -194,7 +195,9 @@ class ShadowmapDevice {
         push.bias = s.bias;
         push.slope_bias = s.slope_bias;
         push.max_tan = kMaxBiasTan;
-        accumulate_->dispatch(cmd, set_, push, vk::group_count(receiver_count_, kGroup), 1);
+        const uint32_t groups = vk::group_count(receiver_count_, kGroup);
+        const uint32_t columns = std::min(groups, kMaxGroups);
+        accumulate_->dispatch(cmd, set_, push, columns, vk::group_count(groups, columns));
         vk::pass_barrier(cmd);
         timer_.end(cmd);
       }

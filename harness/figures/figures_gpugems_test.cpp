@@ -1,6 +1,7 @@
 // gpugems-lights: its checks pass and fail on numbers made to do each (so the verdict can go either
 // way), and the figure at --quick scale through the command line writes its plot, CSV and caption.
-// gpugems-fig17-3's floor variants keep the corpus scene's surfaces and change only the floor.
+// gpugems-fig17-3 at --quick scale scores both bakes on each floor tessellation, the variants being
+// the corpus scene with only the floor's subdivisions changed.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -57,6 +58,28 @@ TEST(GpugemsLights, QuickFigureWritesPlotCsvAndVerdict) {
   const std::string caption = cli_test::slurp(out / "gpugems-lights.txt");
   EXPECT_NE(caption.find("Verdict: "), std::string::npos);
   EXPECT_NE(caption.find("lat-long concentrates lights at the poles"), std::string::npos);
+}
+
+TEST(GpugemsFig17_3, QuickFigureScoresBothEstimatorsOnEachFloorTessellation) {
+  const fs::path d = testutil::test_temp_dir("figures_gpugems_fig17_3");
+  const fs::path out = d / "figs";
+  const auto r =
+      cli_test::run_aoeval("", "figures gpugems-fig17-3 --quick --out " + out.string(), d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string csv = cli_test::slurp(out / "gpugems-fig17-3.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "estimator,mode,floor_subdivisions,floor_triangles,rays_or_lights,width,height,rmse,"
+            "model_rmse,model_pearson,ground_rmse,ground_shadow,ref_ground_shadow,precompute_ms");
+  // --quick: floors 1 and 16 (2 and 512 triangles) for both bakes, and shadowmap-ao per pixel.
+  EXPECT_NE(csv.find("vertex-baked,vertex,1,2,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("vertex-baked,vertex,16,512,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("shadowmap-ao,vertex,16,512,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("shadowmap-ao,pixel,"), std::string::npos) << csv;
+  // The variants are the corpus scene with only the floor's subdivisions changed.
+  const std::string variant = cli_test::slurp(out / "scenes" / "elephant-floor16.json");
+  EXPECT_NE(variant.find("\"subdivisions\": 16"), std::string::npos) << variant;
+  const std::string caption = cli_test::slurp(out / "gpugems-fig17-3.txt");
+  EXPECT_NE(caption.find("shadow contrast against the floor's tessellation"), std::string::npos);
 }
 
 }  // namespace
