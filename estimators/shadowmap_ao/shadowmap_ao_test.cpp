@@ -138,10 +138,10 @@ TEST(ShadowmapAo, InsideAClosedBoxIsNearlyZero) {
 // cosine weighting: (1/π) ∫ V cos θ dω = 1 - (1/π) 2π ∫_0^α cos θ sin θ dθ = 1 - sin² α
 //   = h² / (r² + h²).
 // With r = 1, h = 0.5: 0.4472 and 0.2. The inscribed 256-gon changes them by < 3e-5.
-class DiskAbovePlane : public ::testing::Test {
+class ShadowmapDiskAbovePlane : public ::testing::Test {
  protected:
   static constexpr double r = 1.0, h = 0.5;
-  DiskAbovePlane()
+  ShadowmapDiskAbovePlane()
       : scene_(scene_of(
             {generated("floor", "plane", {{"size", {0.002, 0.002}}}),
              generated("disk", "disk", {{"radius", r}, {"segments", 256}, {"facing", "down"}},
@@ -156,7 +156,7 @@ class DiskAbovePlane : public ::testing::Test {
 // 2π sin α / sqrt(4π/1024) = 50 lattice cells, an error of a few lights in 512 (< 1 %); the
 // 256-texel maps (texel 0.011 here) move the disk's edge by at most half a texel, which changes
 // cos α by < 0.4 %. The bound, 2 %, holds with margin.
-TEST_F(DiskAbovePlane, ThousandUniformLightsMatchBothClosedForms) {
+TEST_F(ShadowmapDiskAbovePlane, ThousandUniformLightsMatchBothClosedForms) {
   REQUIRE_VULKAN();
   const double uniform = h / std::sqrt(r * r + h * h), cosine = h * h / (r * r + h * h);
   const nlohmann::json base = {{"lights", 1024}, {"resolution", 256}};
@@ -174,7 +174,7 @@ TEST_F(DiskAbovePlane, ThousandUniformLightsMatchBothClosedForms) {
 // (θ < α = 63.4°) holds about α / 90° = 70 % of the upper lights instead of 1 - cos α = 55 %:
 // AO about 0.30 instead of 0.447. The uniform set's 256 lights put about 128 above the floor and
 // the cap's edge crosses about 25 lattice cells: a few lights off, sqrt(25) = 5 of 128 = 0.04.
-TEST_F(DiskAbovePlane, LatLongOverweightsThePoleAbove) {
+TEST_F(ShadowmapDiskAbovePlane, LatLongOverweightsThePoleAbove) {
   REQUIRE_VULKAN();
   const double exact = h / std::sqrt(r * r + h * h);
   const float uniform = ao({{"lights", 256}, {"resolution", 128}});
@@ -204,7 +204,7 @@ TEST(ShadowmapAo, SameSeedSameBitsWhateverTheBatching) {
   EXPECT_NE(c, d);  // the seed turns the lattice: the box's shadows move
 }
 
-TEST_F(DiskAbovePlane, AnAtlasWiderThanTheDeviceAllowsIsAnInputError) {
+TEST_F(ShadowmapDiskAbovePlane, AnAtlasWiderThanTheDeviceAllowsIsAnInputError) {
   REQUIRE_VULKAN();
   EXPECT_THROW(ao({{"lights", 16}, {"resolution", 4096}, {"lights_per_pass", 16}}), InputError);
 }
