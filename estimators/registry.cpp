@@ -9,6 +9,7 @@
 #include "estimators/raymarch_ssao/raymarch_ssao.h"
 #include "estimators/raytraced/raytraced.h"
 #include "estimators/reeves_blau/reeves_blau.h"
+#include "estimators/shadowmap_ao/shadowmap_ao.h"
 #include "estimators/tree_hegeman/tree_hegeman.h"
 #include "estimators/vertex_baked/vertex_baked.h"
 #include "estimators/vulkan/vk_context.h"
@@ -31,6 +32,7 @@ const std::vector<EstimatorInfo>& estimator_registry() {
       raymarch_ssao_estimator(),
       gtao_estimator(),
       gtao_cpu_estimator(),
+      shadowmap_ao_estimator(),
   };
   // clang-format on
   return registry;

@@ -4,6 +4,7 @@
 #include "harness/bench_estimators.h"
 #include "harness/bench_gtao.h"
 #include "harness/bench_hbao.h"
+#include "harness/bench_shadowmap.h"
 
 namespace aoeval {
 
@@ -69,6 +70,22 @@ void add_bench_command(CLI::App& app) {
                    "output folder (bench_gtao.json, bench_gtao.md, results.*)");
   gtao->add_option("--db", gt.database, "SQLite results store");
   gtao->callback([] { bench_gtao(gt); });
+  static ShadowmapBenchOptions sm;
+  auto* shadowmap = cmd->add_subcommand(
+      "shadowmap", "shadowmap-ao: time per pass against the number of lights and the map size");
+  shadowmap->add_option("--scene", sm.scene, "corpus name or scene file (default bunny)");
+  shadowmap->add_option("--res", sm.res, "camera resolution WIDTHxHEIGHT (default 320x240)");
+  shadowmap->add_option("--lights", sm.lights, "light counts (repeatable)")
+      ->check(CLI::Range(1, 4096));
+  shadowmap->add_option("--map-res", sm.resolutions, "shadow-map resolutions (repeatable)")
+      ->check(CLI::Range(16, 4096));
+  shadowmap->add_option("--set", sm.sets, "further KEY=VALUE for shadowmap-ao (repeatable)");
+  shadowmap->add_option("--warmup", sm.warmup, "untimed runs first")->check(CLI::Range(0, 100));
+  shadowmap->add_option("--repetitions", sm.repetitions, "timed runs")
+      ->check(CLI::Range(1, 1000));
+  shadowmap->add_option("--out", sm.out_dir, "output folder (bench_shadowmap.md/csv, results.*)");
+  shadowmap->add_option("--db", sm.database, "SQLite results store");
+  shadowmap->callback([] { bench_shadowmap(sm); });
 }
 
 }  // namespace aoeval
