@@ -3,6 +3,8 @@
 #include "commands.h"
 #include "harness/bench_estimators.h"
 #include "harness/bench_hbao.h"
+#include "harness/plugins/bench_plugins.h"
+#include "harness/plugins/plugin_options.h"
 
 namespace aoeval {
 
@@ -36,6 +38,7 @@ void add_bench_command(CLI::App& app) {
       ->check(CLI::Range(1, 10000));
   estimators->add_option("--out", est.out_dir, "output folder (bench.csv, bench.md, results.*)");
   estimators->add_option("--db", est.database, "SQLite results store");
+  add_plugins_option(estimators);
   estimators->callback([] { bench_estimators(est); });
 
   static HbaoBenchOptions hb;
@@ -53,6 +56,7 @@ void add_bench_command(CLI::App& app) {
                    "output folder (bench_hbao.json, bench_hbao.md, results.*)");
   hbao->add_option("--db", hb.database, "SQLite results store");
   hbao->callback([] { bench_hbao(hb); });
+  add_plugins_bench(cmd);
 }
 
 }  // namespace aoeval

@@ -1,6 +1,7 @@
 // `aoeval sweep SPEC.json [--out DIR] [--resume] [--shard I/N] [--db FILE]` (CONTRACT §5).
 #include "commands.h"
 #include "errors.h"
+#include "harness/plugins/plugin_options.h"
 #include "harness/sweep_runner.h"
 
 namespace aoeval {
@@ -13,6 +14,7 @@ void add_sweep_command(CLI::App& app) {
   cmd->add_flag("--resume", o.resume, "continue an interrupted sweep in the same --out");
   cmd->add_option("--shard", o.shard, "run shard I of N (0-based), e.g. 0/4");
   cmd->add_option("--db", o.database, "SQLite results store");
+  add_plugins_option(cmd);
   cmd->callback([] {
     const int status = run_sweep(o);
     if (status != 0) throw ExitStatus{status};
