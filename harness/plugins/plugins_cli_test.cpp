@@ -3,6 +3,7 @@
 // the file, a failing plug-in gives a "skipped: <reason>" row and the sweep goes on (and resumes).
 #include <gtest/gtest.h>
 
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "harness/cli_test_util.h"
@@ -143,7 +144,7 @@ TEST(PluginsCli, AFailingPluginIsASkippedRowAndTheSweepGoesOn) {
       "v = json.load(open(sys.argv[4]))['level']; "
       "out = o.ImageOutput.create(sys.argv[6]); spec = o.ImageSpec(s.width, s.height, 1, 'float'); "
       "spec.channelnames = ('AO',); out.open(sys.argv[6], spec); "
-      "out.write_image(np.full((s.height, s.width), v, dtype=np.float32)); out.close()\" \"$@\"\n");
+      "out.write_image(np.full((s.height, s.width, 1), v, dtype=np.float32)); out.close()\" \"$@\"\n");
   write(d / "spec.json", R"({"name": "plugins", "scenes": ["cornell-box"], "res": [24, 18],
     "reference": {"spp": 4, "sampler": "sobol"}, "timing": {"warmup": 0, "repetitions": 2},
     "runs": [{"estimator": "broken"}, {"estimator": "good", "grid": {"level": [0.25, 0.75]}},
@@ -160,6 +161,7 @@ TEST(PluginsCli, AFailingPluginIsASkippedRowAndTheSweepGoesOn) {
   auto rows = nlohmann::json::parse(slurp(d / "sweep" / "results.json"))["rows"];
   ASSERT_EQ(rows.size(), 4u);
   int good = 0;
+  std::map<double, double> bias_of_level;
   for (const auto& row : rows) {
     if (row["estimator"] == "broken") {
       EXPECT_EQ(row["status"],
@@ -173,12 +175,16 @@ TEST(PluginsCli, AFailingPluginIsASkippedRowAndTheSweepGoesOn) {
       // AO = level everywhere: the bias against the reference follows the level.
       EXPECT_TRUE(row["rmse"].is_number());
       EXPECT_TRUE(row["process_ms"].is_number());
+      bias_of_level[row["level"].get<double>()] = row["bias"].get<double>();
     } else {
       EXPECT_EQ(row["status"], "ok");
       EXPECT_EQ(row["timing_source"], "wall");
     }
   }
   EXPECT_EQ(good, 2);
+  // AO = level on every pixel, against the same reference: the biases differ by the levels' 0.5.
+  ASSERT_EQ(bias_of_level.size(), 2u);
+  EXPECT_NEAR(bias_of_level[0.75] - bias_of_level[0.25], 0.5, 1e-6);
   EXPECT_TRUE(fs::is_empty(d / "tmp")) << "the plug-ins' private folders are removed";
   r = run(args + " --resume", env);
   ASSERT_EQ(r.code, 0) << r.err;

@@ -25,7 +25,7 @@ with open(args.params) as f:
 frame_ms = []
 for _ in range(max(1, args.frames)):
     t0 = time.perf_counter()
-    ao = np.full((height, width), value, dtype=np.float32)
+    ao = np.full((height, width, 1), value, dtype=np.float32)  # OIIO 2.4 misreads 2-D arrays
     frame_ms.append(1000.0 * (time.perf_counter() - t0))
 
 spec = oiio.ImageSpec(width, height, 1, "float")

@@ -102,7 +102,8 @@ def main():
     spec = oiio.ImageSpec(ao.shape[1], ao.shape[0], 1, "float")
     spec.channelnames = ("AO",)
     out = oiio.ImageOutput.create(args.out)
-    if out is None or not out.open(args.out, spec) or not out.write_image(ao):
+    # (height, width, 1): OpenImageIO 2.4's Python binding misreads a 2-D array.
+    if out is None or not out.open(args.out, spec) or not out.write_image(ao[:, :, None]):
         sys.exit("cannot write %s: %s" % (args.out, oiio.geterror()))
     out.close()
     # Optional: our own per-frame times, so the row times the algorithm, not Python's start-up.
