@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "errors.h"
+#include "estimators/plugins/plugin_process.h"
 #include "estimators/vulkan/vk_commands.h"
 #include "estimators/vulkan/vk_context.h"
 #include "estimators/vulkan/vk_pipelines.h"
@@ -51,7 +52,7 @@ layout(set = 0, binding = 1, rgba32f) uniform readonly image2D aoeval_normal;   
 layout(set = 0, binding = 2, rgba32f) uniform readonly image2D aoeval_position; // xyz: eye-space position; w: objectId (-1 background)
 layout(set = 0, binding = 3, r32f) uniform readonly image2D aoeval_prev;        // the previous pass's aoeval_out (pass 0: zeros)
 layout(set = 0, binding = 4, r32f) uniform writeonly image2D aoeval_out;        // this pass's output; the last pass's is the AO, in [0, 1]
-layout(set = 0, binding = 5, rgba32f) uniform image2D aoeval_bent;              // xyz: eye-space bent normal (outputs "bent"; aoeval turns it to world space); zero at the start of a frame
+layout(set = 0, binding = 5, rgba32f) uniform image2D aoeval_bent;              // xyz: eye-space bent normal (outputs "bent": cleared to zero at the start of each frame, read back and turned to world space)
 layout(set = 0, binding = 6, rgba32f) uniform readonly image2D aoeval_noise;    // 64 x 64 tile of uniform random numbers in [0, 1), from aoeval.pass.z
 struct AoevalParams {
 )";
@@ -313,7 +314,8 @@ class GlslEstimator : public Estimator {
       const VkClearColorValue zero{};
       VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
       for (const vk::Image2D* image : {&d.ping[0], &d.ping[1], &d.bent})
-        vkCmdClearColorImage(cmd, image->handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
+        if (image != &d.bent || manifest_.bent)
+          vkCmdClearColorImage(cmd, image->handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
       vk::pass_barrier(cmd);
       for (size_t i = 0; i < shaders_.size(); ++i) {
         const uint32_t* local = shaders_[i].code.local_size;
@@ -336,15 +338,15 @@ class GlslEstimator : public Estimator {
       }
       // The same checks and range rule as a process plug-in's output (plugin_process.h).
       const float v = r.ao[k];
-      char where[64];
-      std::snprintf(where, sizeof(where), " at covered pixel (%zu, %zu)",
-                    k % static_cast<size_t>(g.width), k / static_cast<size_t>(g.width));
-      if (!std::isfinite(v))
-        throw EstimatorUnavailable("plug-in " + manifest_.name + ": AO is not finite" +
-                                   std::string(where));
-      if (v < -1e-3f || v > 1.0f + 1e-3f)
-        throw EstimatorUnavailable("plug-in " + manifest_.name + ": AO = " + format_param_value(v) +
-                                   std::string(where) + " is outside [0, 1]");
+      if (!std::isfinite(v) || v < -kAoRangeSlack || v > 1.0f + kAoRangeSlack) {
+        char where[64];
+        std::snprintf(where, sizeof(where), " at covered pixel (%zu, %zu)",
+                      k % static_cast<size_t>(g.width), k / static_cast<size_t>(g.width));
+        throw EstimatorUnavailable("plug-in " + manifest_.name + ": AO " +
+                                   (std::isfinite(v) ? "= " + format_param_value(v) +
+                                                           std::string(where) + " is outside [0, 1]"
+                                                     : "is not finite" + std::string(where)));
+      }
       r.ao[k] = std::clamp(v, 0.0f, 1.0f);
     }
     if (manifest_.bent) {

@@ -147,6 +147,33 @@ TEST(GlslPlugin, TheAbiInputsHoldTheGBuffer) {
   EXPECT_GT(covered, g.pixel_count() / 2);
 }
 
+// outputs "bent": the shader writes eye-space vectors into aoeval_bent, the estimate holds them in
+// world space (bent.X/Y/Z). Writing the eye-space normal must give back the G-buffer's normal.
+TEST(GlslPlugin, BentNormalsComeBackInWorldSpace) {
+  REQUIRE_VULKAN();
+  const fs::path dir = test_temp_dir("glsl") / "bent";
+  make_plugin(
+      dir,
+      R"({"name": "bent", "summary": "s", "kind": "glsl", "shaders": ["b.comp"],
+                  "outputs": ["AO", "bent"], "definition": {"weighting": "cosine"}})",
+      {{"b.comp",
+        "#version 450\nlayout(local_size_x = 8, local_size_y = 8) in;\nvoid main() {\n"
+        "  const ivec2 p = ivec2(gl_GlobalInvocationID.xy);\n  if (!aoeval_inside(p)) return;\n"
+        "  imageStore(aoeval_bent, p, vec4(imageLoad(aoeval_normal, p).xyz, 0.0));\n"
+        "  imageStore(aoeval_out, p, vec4(1.0));\n}\n"}});
+  const TestView v = crease(24, 18);
+  const EstimateResult r = run_plugin(dir.string(), v);
+  size_t covered = 0;
+  for (size_t k = 0; k < v.gbuffer.pixel_count(); ++k) {
+    if (!v.gbuffer.covered(k)) continue;
+    ++covered;
+    const glm::vec3 b(r.extra_channels.at("bent.X")[k], r.extra_channels.at("bent.Y")[k],
+                      r.extra_channels.at("bent.Z")[k]);
+    EXPECT_LT(glm::length(b - v.gbuffer.normal[k]), 1e-5f) << k;
+  }
+  EXPECT_GT(covered, 0u);
+}
+
 TEST(GlslPlugin, PassesRunInOrderAndReadThePreviousOutput) {
   REQUIRE_VULKAN();
   const fs::path dir = test_temp_dir("glsl") / "two";

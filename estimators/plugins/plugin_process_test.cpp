@@ -158,7 +158,7 @@ TEST(ProcessPlugin, ACommandThatCannotRun) {
                 {"exited with status 127", "cannot run './no-such-program'"});
 }
 
-bool process_with_argument_exists(const std::string& marker) {
+bool process_with_argument_exists_now(const std::string& marker) {
   for (const auto& entry : fs::directory_iterator("/proc")) {
     std::ifstream in(entry.path() / "cmdline");
     std::string cmdline((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -170,9 +170,19 @@ bool process_with_argument_exists(const std::string& marker) {
   return false;
 }
 
+// SIGKILL is delivered asynchronously: a killed process may still be listed for a moment after
+// kill() returns. One that survived would still be there after a second (it sleeps for an hour).
+bool process_with_argument_exists(const std::string& marker) {
+  for (int i = 0; i < 100; ++i) {
+    if (!process_with_argument_exists_now(marker)) return false;
+    usleep(10000);
+  }
+  return true;
+}
+
 TEST(ProcessPlugin, ATimeOutKillsTheWholeProcessGroupInTime) {
   // A background child that would outlive its parent, then a parent that never finishes.
-  const std::string marker = "1234." + std::to_string(getpid());
+  const std::string marker = "3600.1" + std::to_string(getpid() % 1000);
   const std::string dir = shell_plugin(
       "slow", "sleep " + marker + " &\necho 'still thinking' >&2\nsleep 30\n", /*timeout_s=*/1.0);
   const auto t0 = std::chrono::steady_clock::now();
@@ -184,7 +194,7 @@ TEST(ProcessPlugin, ATimeOutKillsTheWholeProcessGroupInTime) {
 }
 
 TEST(ProcessPlugin, ABackgroundChildDiesWithANormalExitToo) {
-  const std::string marker = "4321." + std::to_string(getpid());
+  const std::string marker = "3600.2" + std::to_string(getpid() % 1000);
   const std::string dir = shell_plugin("leaky", "sleep " + marker + " &\ncp ao_one.exr \"$6\"\n");
   write_ao(dir, "ao_one.exr", 32, 24, {"AO"}, [](int, int) { return 1.0f; });
   run_plugin(dir, floor_view());

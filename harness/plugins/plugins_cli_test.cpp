@@ -144,7 +144,8 @@ TEST(PluginsCli, AFailingPluginIsASkippedRowAndTheSweepGoesOn) {
       "v = json.load(open(sys.argv[4]))['level']; "
       "out = o.ImageOutput.create(sys.argv[6]); spec = o.ImageSpec(s.width, s.height, 1, 'float'); "
       "spec.channelnames = ('AO',); out.open(sys.argv[6], spec); "
-      "out.write_image(np.full((s.height, s.width, 1), v, dtype=np.float32)); out.close()\" \"$@\"\n");
+      "out.write_image(np.full((s.height, s.width, 1), v, dtype=np.float32)); out.close()\" "
+      "\"$@\"\n");
   write(d / "spec.json", R"({"name": "plugins", "scenes": ["cornell-box"], "res": [24, 18],
     "reference": {"spp": 4, "sampler": "sobol"}, "timing": {"warmup": 0, "repetitions": 2},
     "runs": [{"estimator": "broken"}, {"estimator": "good", "grid": {"level": [0.25, 0.75]}},
