@@ -30,6 +30,8 @@ const char* backend_name(Backend b) {
       return "embree";
     case Backend::vulkan:
       return "vulkan";
+    case Backend::process:
+      return "process";
   }
   return "cpu";
 }

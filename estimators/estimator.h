@@ -60,7 +60,7 @@ nlohmann::json parse_set_arguments(const std::vector<std::string>& assignments);
 // The stable name fragment of a parameter value: 0.2, 8, true, cosine.
 std::string format_param_value(const nlohmann::json& value);
 
-enum class Backend { cpu, embree, vulkan };
+enum class Backend { cpu, embree, vulkan, process };  // process: a plug-in program (CONTRACT §7)
 const char* backend_name(Backend b);
 
 // Thrown from Estimator::prepare()/run() when the estimator's backend is missing on this machine
@@ -88,6 +88,10 @@ struct EstimateResult {
   // Per-pass times in ms (e.g. "horizon_ms") for backends that time themselves (GPU timestamps);
   // when "total_ms" is present the harness uses it as the estimator's time instead of wall time.
   std::map<std::string, double> pass_ms;
+  // Where the frame time comes from, the results' timing_source: "" = the harness's wall clock
+  // around run(), or GPU timestamps when pass_ms has "total_ms"; plug-ins name theirs
+  // ("plugin-frames", "process-wall").
+  std::string timing_source;
 };
 
 class Estimator {
@@ -114,6 +118,8 @@ struct EstimatorInfo {
   std::string definition_doc;  // how the AO definition follows from the parameters
   std::function<AoDefinition(const ParamSet&)> definition;
   std::function<std::unique_ptr<Estimator>(const ParamSet&)> create;
+  std::string kind = "built-in";  // or a plug-in's kind: "process", "glsl" (CONTRACT §7)
+  std::string folder;             // a plug-in's folder; "" for built-ins
 
   const ParamSpec* find_param(const std::string& name) const;
 };

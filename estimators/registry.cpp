@@ -6,6 +6,7 @@
 #include "estimators/hbao_split/hbao_split.h"
 #include "estimators/hbao_split/hbao_vulkan.h"
 #include "estimators/obscurances/obscurances.h"
+#include "estimators/plugins/plugin_registry.h"
 #include "estimators/raymarch_ssao/raymarch_ssao.h"
 #include "estimators/raytraced/raytraced.h"
 #include "estimators/reeves_blau/reeves_blau.h"
@@ -16,11 +17,19 @@
 
 namespace aoeval {
 
-const std::vector<EstimatorInfo>& estimator_registry() {
+namespace {
+
+struct Registry {
+  std::vector<EstimatorInfo> entries;
+  size_t builtins = 0;
+  bool default_plugins_read = false;
+};
+
+Registry& registry_storage() {
   // One line per estimator. The calls reference each folder's symbols directly, so the linker
   // keeps them all.
   // clang-format off
-  static const std::vector<EstimatorInfo> registry = {
+  static Registry registry{{
       constant_estimator(),
       raytraced_estimator(),
       obscurances_estimator(),
@@ -33,9 +42,42 @@ const std::vector<EstimatorInfo>& estimator_registry() {
       gtao_estimator(),
       gtao_cpu_estimator(),
       shadowmap_ao_estimator(),
-  };
+  }};
   // clang-format on
+  if (registry.builtins == 0) registry.builtins = registry.entries.size();
   return registry;
+}
+
+void add_plugin_folder(Registry& r, const std::string& folder) {
+  PluginManifest m = read_plugin_manifest(folder);
+  for (size_t i = 0; i < r.entries.size(); ++i) {
+    const EstimatorInfo& e = r.entries[i];
+    if (e.name != m.name) continue;
+    if (e.folder == m.folder) return;  // the same plug-in met twice
+    throw InputError(m.file + ": name: \"" + m.name + "\" is already " +
+                     (i < r.builtins ? "a built-in estimator" : "the plug-in of " + e.folder));
+  }
+  r.entries.push_back(plugin_estimator(m));
+}
+
+}  // namespace
+
+const std::vector<EstimatorInfo>& estimator_registry() {
+  Registry& r = registry_storage();
+  if (!r.default_plugins_read) {
+    r.default_plugins_read = true;
+    // The shipped examples, then $AOEVAL_PLUGINS (CONTRACT §7).
+    std::vector<std::string> dirs = {shipped_plugins_dir()};
+    for (const auto& d : env_plugin_dirs()) dirs.push_back(d);
+    for (const auto& d : dirs)
+      for (const auto& folder : plugin_folders_in(d)) add_plugin_folder(r, folder);
+  }
+  return r.entries;
+}
+
+void add_plugin_dir(const std::string& dir) {
+  estimator_registry();
+  for (const auto& folder : plugin_folders_in(dir)) add_plugin_folder(registry_storage(), folder);
 }
 
 const EstimatorInfo& find_estimator(const std::string& name) {

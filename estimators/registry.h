@@ -10,7 +10,12 @@
 
 namespace aoeval {
 
+// Built-ins, then plug-ins (CONTRACT §7): the shipped examples and $AOEVAL_PLUGINS are read on the
+// first call, --plugins folders by add_plugin_dir(). A bad manifest is an InputError.
 const std::vector<EstimatorInfo>& estimator_registry();
+// Adds the plug-ins of `dir` (a plug-in folder or a folder of them; see plugin_registry.h). Call
+// it before taking references into the registry (commands do, while parsing --plugins).
+void add_plugin_dir(const std::string& dir);
 // InputError listing the known estimators when `name` is unknown.
 const EstimatorInfo& find_estimator(const std::string& name);
 // The device an estimator of backend `b` runs on, for the results' `device` column: the Vulkan

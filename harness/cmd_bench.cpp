@@ -5,6 +5,8 @@
 #include "harness/bench_gtao.h"
 #include "harness/bench_hbao.h"
 #include "harness/bench_shadowmap.h"
+#include "harness/plugins/bench_plugins.h"
+#include "harness/plugins/plugin_options.h"
 
 namespace aoeval {
 
@@ -38,6 +40,7 @@ void add_bench_command(CLI::App& app) {
       ->check(CLI::Range(1, 10000));
   estimators->add_option("--out", est.out_dir, "output folder (bench.csv, bench.md, results.*)");
   estimators->add_option("--db", est.database, "SQLite results store");
+  add_plugins_option(estimators);
   estimators->callback([] { bench_estimators(est); });
 
   static HbaoBenchOptions hb;
@@ -86,6 +89,7 @@ void add_bench_command(CLI::App& app) {
   shadowmap->add_option("--out", sm.out_dir, "output folder (bench_shadowmap.md/csv, results.*)");
   shadowmap->add_option("--db", sm.database, "SQLite results store");
   shadowmap->callback([] { bench_shadowmap(sm); });
+  add_plugins_bench(cmd);
 }
 
 }  // namespace aoeval

@@ -6,6 +6,7 @@
 #include "errors.h"
 #include "estimators/registry.h"
 #include "harness/evaluation.h"
+#include "harness/plugins/plugin_options.h"
 
 namespace aoeval {
 
@@ -23,6 +24,7 @@ void add_estimate_command(CLI::App& app) {
   cmd->add_option("--res", o.res, "resolution WIDTHxHEIGHT (default: the view's)");
   cmd->add_option("--set", o.sets, "KEY=VALUE for a parameter (aoeval estimators show E)");
   cmd->add_option("-o,--output", o.output, "output OpenEXR file")->required();
+  add_plugins_option(cmd);
   cmd->callback([] {
     const EstimatorInfo& e = find_estimator(o.estimator);
     const ParamSet params = resolve_params(e.name, e.params, parse_set_arguments(o.sets), "--set");

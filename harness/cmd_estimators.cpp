@@ -1,8 +1,12 @@
 // `aoeval estimators [list|show NAME]`: every estimator's declaration, as the registry holds it.
 #include <cstdio>
 
+#include "errors.h"
+
 #include "commands.h"
+#include "estimators/plugins/plugin_glsl.h"
 #include "estimators/registry.h"
+#include "harness/plugins/plugin_options.h"
 
 namespace aoeval {
 
@@ -39,6 +43,8 @@ nlohmann::json declaration(const EstimatorInfo& e) {
           {"summary", e.summary},
           {"paper", e.paper},
           {"backend", backend_name(e.backend)},
+          {"kind", e.kind},
+          {"folder", e.folder},
           {"inputs", inputs},
           {"definition", e.definition_doc},
           {"definition_at_defaults", e.definition(defaults).to_json()},
@@ -47,8 +53,9 @@ nlohmann::json declaration(const EstimatorInfo& e) {
 
 void show(const EstimatorInfo& e) {
   const nlohmann::json d = declaration(e);
-  std::printf("%s: %s\n  paper       %s\n  backend     %s\n  inputs      ", e.name.c_str(),
-              e.summary.c_str(), e.paper.c_str(), backend_name(e.backend));
+  std::printf("%s: %s\n  paper       %s\n  backend     %s\n  kind        %s%s\n  inputs      ",
+              e.name.c_str(), e.summary.c_str(), e.paper.c_str(), backend_name(e.backend),
+              e.kind.c_str(), e.folder.empty() ? "" : (" (" + e.folder + ")").c_str());
   for (size_t i = 0; i < e.inputs.size(); ++i)
     std::printf("%s%s", i ? ", " : "", input_name(e.inputs[i]));
   std::printf("\n  definition  %s (at defaults: %s)\n", e.definition_doc.c_str(),
@@ -79,7 +86,21 @@ void add_estimators_command(CLI::App& app) {
   auto* show_cmd = cmd->add_subcommand("show", "one estimator's full declaration");
   show_cmd->add_option("NAME", name, "estimator name")->required();
   show_cmd->add_flag("--json", json, "print JSON");
-  cmd->callback([show_cmd] {
+  auto* abi = cmd->add_subcommand(
+      "abi", "the GLSL plug-in ABI: bindings, uniform block (with NAME: that plug-in's preamble)");
+  abi->add_option("NAME", name, "a GLSL plug-in");
+  for (CLI::App* c : {cmd, list, show_cmd, abi}) add_plugins_option(c);
+  cmd->callback([show_cmd, abi] {
+    if (abi->parsed()) {
+      if (name.empty()) {
+        std::printf("%s", glsl_abi_text().c_str());
+        return;
+      }
+      const EstimatorInfo& e = find_estimator(name);
+      if (e.kind != "glsl") throw InputError("estimators abi: " + name + " is not a GLSL plug-in");
+      std::printf("#version 450\n%s", glsl_abi_preamble(e.params).c_str());
+      return;
+    }
     if (show_cmd->parsed()) {
       const EstimatorInfo& e = find_estimator(name);
       if (json)
@@ -95,8 +116,8 @@ void add_estimators_command(CLI::App& app) {
       } else {
         std::string params;
         for (const auto& p : e.params) params += (params.empty() ? "" : " ") + p.name;
-        std::printf("%-16s %-7s %-52s params: %s\n", e.name.c_str(), backend_name(e.backend),
-                    e.summary.c_str(), params.c_str());
+        std::printf("%-16s %-8s %-7s %-52s params: %s\n", e.name.c_str(), e.kind.c_str(),
+                    backend_name(e.backend), e.summary.c_str(), params.c_str());
       }
     }
     if (json) std::printf("%s\n", all.dump(2).c_str());

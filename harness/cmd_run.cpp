@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "commands.h"
+#include "harness/plugins/plugin_options.h"
 #include "harness/suite_runner.h"
 
 namespace aoeval {
@@ -17,6 +18,7 @@ void add_run_command(CLI::App& app) {
                   "sweep specifications (CONTRACT §5)");
   cmd->add_option("--out", o.out_dir, "output folder (default: out/SUITE)");
   cmd->add_option("--db", o.database, "SQLite results store");
+  add_plugins_option(cmd);
   cmd->add_option(
       "--set", o.sets,
       "ESTIMATOR:KEY=VALUE: replaces KEY's value in every run of ESTIMATOR (repeatable)");

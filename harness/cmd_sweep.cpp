@@ -1,6 +1,7 @@
 // `aoeval sweep SPEC.json [--out DIR] [--resume] [--shard I/N] [--db FILE]` (CONTRACT §5).
 #include "commands.h"
 #include "errors.h"
+#include "harness/plugins/plugin_options.h"
 #include "harness/sweep_runner.h"
 
 namespace aoeval {
@@ -16,6 +17,7 @@ void add_sweep_command(CLI::App& app) {
   cmd->add_option("--max-points", o.max_points,
                   "refuse sweeps with more points than this (a guard against typos in ranges)")
       ->check(CLI::Range(size_t{1}, size_t{1} << 40));
+  add_plugins_option(cmd);
   cmd->callback([] {
     const int status = run_sweep(o);
     if (status != 0) throw ExitStatus{status};

@@ -225,6 +225,9 @@ ResultRow EvaluationSession::evaluate(const EvaluationRequest& req,
   row.time_ms_samples = times;
   for (const auto& [pass, values] : passes)
     if (pass != "total_ms") row.pass_ms[pass] = median(values);
+  row.timing_source = !result.timing_source.empty()           ? result.timing_source
+                      : result.pass_ms.count("total_ms") != 0 ? "gpu-timestamps"
+                                                              : "wall";
   row.timestamp = utc_now();
 
   const auto bent = bent_of_channels(channel(result, "bent.X"), channel(result, "bent.Y"),

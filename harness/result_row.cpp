@@ -8,7 +8,7 @@
 //                          time_ms_min, time_ms_max, repetitions, time_ms_samples (JSON
 //                          array string), precompute_ms, reference (JSON
 //                          string), machine, device, git_commit, aoeval_version, timestamp,
-//                          estimate_file
+//                          estimate_file, timing_source
 //   one column per pass, named by its pass_ms key as given (e.g. "horizon_ms")
 // A metric absent from row.metrics is absent from the flat object (blank/NULL in the files); a
 // metric present as null (psnr of identical images = +infinity) stays null. unflatten() takes the
@@ -87,9 +87,10 @@ std::vector<std::string> identifying_columns() {
 std::vector<std::string> measured_columns() {
   std::vector<std::string> columns = metric_names();
   for (const auto& k : metric_names()) columns.push_back("true_" + k);
-  for (const char* c : {"time_ms_median", "time_ms_min", "time_ms_max", "repetitions",
-                        "time_ms_samples", "precompute_ms", "reference", "machine", "device",
-                        "git_commit", "aoeval_version", "timestamp", "estimate_file"}) {
+  for (const char* c :
+       {"time_ms_median", "time_ms_min", "time_ms_max", "repetitions", "time_ms_samples",
+        "precompute_ms", "reference", "machine", "device", "git_commit", "aoeval_version",
+        "timestamp", "estimate_file", "timing_source"}) {
     columns.emplace_back(c);
   }
   return columns;
@@ -141,6 +142,7 @@ nlohmann::json flatten(const ResultRow& row) {
   flat["aoeval_version"] = row.aoeval_version;
   flat["timestamp"] = row.timestamp;
   flat["estimate_file"] = row.estimate_file;
+  flat["timing_source"] = row.timing_source;
 
   for (const auto& [pass, ms] : row.pass_ms) {
     if (fixed_columns().count(pass) || flat.contains(pass)) {
@@ -195,6 +197,7 @@ ResultRow unflatten(const nlohmann::json& flat) {
   row.aoeval_version = string_of(flat, "aoeval_version");
   row.timestamp = string_of(flat, "timestamp");
   row.estimate_file = string_of(flat, "estimate_file");
+  row.timing_source = string_of(flat, "timing_source");
 
   std::set<std::string> parameter_columns;
   if (row.params.is_object()) {

@@ -36,6 +36,10 @@ struct ResultRow {
   std::string timestamp;      // ISO 8601 UTC, when the row was measured
   std::string estimate_file;  // relative path of the estimate EXR, "" if not kept
   std::string status = "ok";  // "ok", or "skipped: <reason>" (e.g. no Vulkan device)
+  // What the time columns measure: "wall" (the harness's clock around one frame),
+  // "gpu-timestamps", "plugin-frames" (a process plug-in's own frame_ms), "process-wall" (a
+  // process plug-in's whole process: start-up and file I/O included). CONTRACT §7.
+  std::string timing_source;
 };
 
 // The row as one flat JSON object whose keys are exactly the CSV/SQLite column names: fixed

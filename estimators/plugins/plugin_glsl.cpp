@@ -1,0 +1,492 @@
+// GLSL plug-ins: run-time compilation (glslang), the ABI, and the passes on the Vulkan layer.
+#include "estimators/plugins/plugin_glsl.h"
+
+#include <glslang/Public/ResourceLimits.h>
+#include <glslang/Public/ShaderLang.h>
+#include <glslang/SPIRV/GlslangToSpv.h>
+#include <glslang/build_info.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+
+#include "errors.h"
+#include "estimators/plugins/plugin_process.h"
+#include "estimators/vulkan/vk_commands.h"
+#include "estimators/vulkan/vk_context.h"
+#include "estimators/vulkan/vk_pipelines.h"
+#include "estimators/vulkan/vk_resources.h"
+#include "exr_io.h"
+#include "random.h"
+#include "scene.h"
+
+namespace aoeval {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kNoiseSize = 64;       // the noise tile is kNoiseSize x kNoiseSize texels
+constexpr float kNearPlane = 0.01f;  // of the reversed-Z projection, scene units
+
+// The binding table of the ABI; the preamble below declares the same, in this order.
+const std::vector<VkDescriptorType> kBindings = {
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 0 aoeval_depth
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 1 aoeval_normal
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 2 aoeval_position
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 3 aoeval_prev
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 4 aoeval_out
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 5 aoeval_bent
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 6 aoeval_noise
+    VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,  // 7 the aoeval block
+};
+
+const char* kFixedPreamble =
+    R"(// ---- aoeval GLSL plug-in ABI, version 1 (aoeval estimators abi) ----
+// Every image is width x height unless noted; pixel (i, j) has its centre at (i + 0.5, j + 0.5), row
+// 0 at the top. Eye space: right-handed, x right, y up, the camera looking down -z.
+layout(set = 0, binding = 0, r32f) uniform readonly image2D aoeval_depth;       // linear depth Z = -z_eye > 0; 0 where not covered
+layout(set = 0, binding = 1, rgba32f) uniform readonly image2D aoeval_normal;   // xyz: unit eye-space shading normal, facing the viewer; w: coverage A (1 surface, 0 background)
+layout(set = 0, binding = 2, rgba32f) uniform readonly image2D aoeval_position; // xyz: eye-space position; w: objectId (-1 background)
+layout(set = 0, binding = 3, r32f) uniform readonly image2D aoeval_prev;        // the previous pass's aoeval_out (pass 0: zeros)
+layout(set = 0, binding = 4, r32f) uniform writeonly image2D aoeval_out;        // this pass's output; the last pass's is the AO, in [0, 1]
+layout(set = 0, binding = 5, rgba32f) uniform image2D aoeval_bent;              // xyz: eye-space bent normal (outputs "bent": cleared to zero at the start of each frame, read back and turned to world space)
+layout(set = 0, binding = 6, rgba32f) uniform readonly image2D aoeval_noise;    // 64 x 64 tile of uniform random numbers in [0, 1), from aoeval.pass.z
+struct AoevalParams {
+)";
+
+const char* kFixedBlock = R"(};
+layout(std140, set = 0, binding = 7) uniform AoevalFrame {
+  mat4 proj;         // eye -> clip, Vulkan conventions: y down, reversed-Z depth near / -z_eye, near 0.01, far infinite
+  mat4 inv_proj;     // clip -> eye
+  mat4 view;         // world -> eye
+  mat4 inv_view;     // eye -> world
+  vec4 eye_world;    // camera position, world space (w = 1)
+  vec4 size;         // width, height, 1 / width, 1 / height (pixels)
+  vec4 lens;         // focal length f in pixels (= height / (2 tan(fov_y / 2))), tan(fov_x / 2), tan(fov_y / 2), aspect
+  ivec4 pass;        // this pass's index, the number of passes, the noise seed (parameter "seed" when declared, else 0), the noise tile size (64)
+  AoevalParams params;  // the manifest's parameters, in manifest order
+} aoeval;
+// Continuous pixel coordinates of an eye-space point (pixel centres at i + 0.5).
+vec2 aoeval_project(vec3 p) {
+  return vec2(0.5 * aoeval.size.x + aoeval.lens.x * p.x / -p.z,
+              0.5 * aoeval.size.y - aoeval.lens.x * p.y / -p.z);
+}
+// The eye-space point at continuous pixel coordinates `px` and linear depth z (the inverse).
+vec3 aoeval_unproject(vec2 px, float z) {
+  return vec3((px.x - 0.5 * aoeval.size.x) * z / aoeval.lens.x,
+              (0.5 * aoeval.size.y - px.y) * z / aoeval.lens.x, -z);
+}
+bool aoeval_inside(ivec2 p) { return all(greaterThanEqual(p, ivec2(0))) && all(lessThan(p, ivec2(aoeval.size.xy))); }
+bool aoeval_covered(ivec2 p) { return aoeval_inside(p) && imageLoad(aoeval_normal, p).w > 0.5; }
+// ---- end of the aoeval ABI ----
+)";
+
+const char* glsl_type_of(ParamType t) {
+  switch (t) {
+    case ParamType::real:
+      return "float";
+    case ParamType::integer:
+      return "int";
+    case ParamType::boolean:
+      return "bool";
+    case ParamType::choice:
+      return "int";
+  }
+  return "float";
+}
+
+uint64_t fnv1a(const std::string& s, uint64_t h = 1469598103934665603ull) {
+  for (unsigned char c : s) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+std::string hex64(uint64_t v) {
+  char buf[17];
+  std::snprintf(buf, sizeof(buf), "%016llx", static_cast<unsigned long long>(v));
+  return buf;
+}
+
+// OpExecutionMode %main LocalSize x y z: the work-group size the dispatch needs.
+bool local_size_of(const std::vector<uint32_t>& words, uint32_t out[3]) {
+  for (size_t i = 5; i < words.size();) {
+    const uint32_t count = words[i] >> 16, opcode = words[i] & 0xffffu;
+    if (count == 0 || i + count > words.size()) return false;
+    if (opcode == 16 && count >= 6 && words[i + 2] == 17) {  // OpExecutionMode, LocalSize
+      for (int d = 0; d < 3; ++d) out[d] = words[i + 3 + static_cast<size_t>(d)];
+      return true;
+    }
+    i += count;
+  }
+  return false;
+}
+
+std::string read_text_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot read");
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// glslang's log: "ERROR: /path/ao.comp:12: 'x' : undeclared identifier" -> the first error line
+// without its prefix. Errors in the preamble are named by the string glslang gives it.
+std::string first_error(const std::string& log, const std::string& file) {
+  std::istringstream in(log);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("ERROR: ", 0) != 0) continue;
+    line = line.substr(7);
+    if (line.find(file) == std::string::npos)
+      return file + ": in aoeval's ABI preamble (check the parameter names): " + line;
+    return line;
+  }
+  return file + ": " + log;
+}
+
+std::mutex& glslang_mutex() {
+  static std::mutex m;
+  return m;
+}
+
+}  // namespace
+
+std::string glsl_abi_preamble(const std::vector<ParamSpec>& params) {
+  std::string text = kFixedPreamble;
+  if (params.empty()) text += "  int aoeval_no_parameters;  // (a plug-in without parameters)\n";
+  for (const auto& p : params) {
+    text += "  " + std::string(glsl_type_of(p.type)) + " " + p.name + ";  // " + p.meaning;
+    if (p.type == ParamType::choice) {
+      text += " (index: ";
+      for (size_t i = 0; i < p.choices.size(); ++i)
+        text += (i ? ", " : "") + std::to_string(i) + " = " + p.choices[i];
+      text += ")";
+    }
+    text += "\n";
+  }
+  return text + kFixedBlock;
+}
+
+std::string glsl_abi_text() {
+  return "GLSL plug-in ABI (CONTRACT §7). aoeval compiles each shader of \"shaders\" as a Vulkan\n"
+         "compute shader (GLSL 450, SPIR-V 1.3, Vulkan 1.1) with the preamble below inserted "
+         "after\n"
+         "its #version line, then dispatches it once per frame over ceil(width / local_size_x) x\n"
+         "ceil(height / local_size_y) work groups, in manifest order, with a barrier between\n"
+         "passes and a GPU timestamp span around each (results column <shader stem>_ms; the frame\n"
+         "time is the first to the last timestamp). The passes ping-pong two r32f images: pass k\n"
+         "reads pass k-1's output as aoeval_prev and writes aoeval_out; the last pass's "
+         "aoeval_out\n"
+         "is the estimate's AO (values in [0, 1]; pixels with A = 0 are ignored). Parameters are\n"
+         "the manifest's, in its order, as aoeval.params.<name>: real -> float, integer -> int,\n"
+         "boolean -> bool, choice -> int (the index into its choices). The G-buffer is the\n"
+         "shared Embree one (CONTRACT §4), uploaded once per view outside the timed frame.\n"
+         "`aoeval estimators abi NAME` prints a plug-in's preamble with its parameters.\n\n"
+         "#version 450\n" +
+         glsl_abi_preamble({});
+}
+
+CompiledShader compile_glsl_compute(const std::string& file, const std::string& source,
+                                    const std::vector<ParamSpec>& params) {
+  const std::string preamble = glsl_abi_preamble(params);
+  const std::string version = std::to_string(GLSLANG_VERSION_MAJOR) + "." +
+                              std::to_string(GLSLANG_VERSION_MINOR) + "." +
+                              std::to_string(GLSLANG_VERSION_PATCH);
+  // The cache key: everything the SPIR-V depends on; two independent 64-bit hashes.
+  const std::string keyed = "glslang " + version + " vulkan1.1 spv1.3\n" + preamble + "\n" + source;
+  const std::string key = hex64(fnv1a(keyed)) + hex64(fnv1a("aoeval-salt:" + keyed));
+  const fs::path cached = fs::path(data_cache_dir()) / "spirv" / (key + ".spv");
+  CompiledShader out;
+  std::error_code ec;
+  if (fs::is_regular_file(cached, ec)) {
+    std::ifstream in(cached, std::ios::binary);
+    const auto bytes = static_cast<size_t>(fs::file_size(cached, ec));
+    out.spirv.resize(bytes / 4);
+    in.read(reinterpret_cast<char*>(out.spirv.data()), static_cast<std::streamsize>(bytes & ~3u));
+    if (in && bytes % 4 == 0 && local_size_of(out.spirv, out.local_size)) {
+      out.from_cache = true;
+      return out;
+    }
+    out.spirv.clear();  // a damaged entry: compile again and replace it
+  }
+  {
+    std::lock_guard<std::mutex> lock(glslang_mutex());
+    static const bool initialised = glslang::InitializeProcess();
+    if (!initialised) throw std::runtime_error("glslang::InitializeProcess failed");
+    glslang::TShader shader(EShLangCompute);
+    const char* strings[] = {source.c_str()};
+    const int lengths[] = {static_cast<int>(source.size())};
+    const char* names[] = {file.c_str()};
+    shader.setStringsWithLengthsAndNames(strings, lengths, names, 1);
+    shader.setPreamble(preamble.c_str());
+    shader.setEnvInput(glslang::EShSourceGlsl, EShLangCompute, glslang::EShClientVulkan, 100);
+    shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_1);
+    shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_3);
+    const auto messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules);
+    if (!shader.parse(GetDefaultResources(), 450, false, messages))
+      throw InputError(first_error(shader.getInfoLog(), file));
+    glslang::TProgram program;
+    program.addShader(&shader);
+    if (!program.link(messages)) throw InputError(first_error(program.getInfoLog(), file));
+    glslang::SpvOptions options;
+    options.validate = true;
+    glslang::GlslangToSpv(*program.getIntermediate(EShLangCompute), out.spirv, &options);
+  }
+  if (!local_size_of(out.spirv, out.local_size))
+    throw InputError(file +
+                     ": the work-group size must be literal (layout(local_size_x = ...) in)");
+  fs::create_directories(cached.parent_path(), ec);
+  std::string bytes(reinterpret_cast<const char*>(out.spirv.data()), out.spirv.size() * 4);
+  try {
+    write_text(cached.string(), bytes);  // atomic: temp + rename, so readers see whole entries
+  } catch (const std::exception&) {
+    // An unwritable cache costs a recompilation next time, nothing else.
+  }
+  return out;
+}
+
+namespace {
+
+struct Mat4 {
+  float m[16] = {};  // column-major, as GLSL reads a mat4 in std140
+  float& at(int row, int col) { return m[col * 4 + row]; }
+};
+
+struct PassShader {
+  std::string name;
+  CompiledShader code;
+};
+
+class GlslEstimator : public Estimator {
+ public:
+  GlslEstimator(const PluginManifest& m, const ParamSet& params) : manifest_(m), params_(params) {
+    const std::vector<std::string> passes = plugin_pass_names(m);
+    for (size_t i = 0; i < m.shaders.size(); ++i) {
+      const std::string path = (fs::path(m.folder) / m.shaders[i]).string();
+      shaders_.push_back({passes[i], compile_glsl_compute(path, read_text_file(path), m.params)});
+    }
+  }
+
+  void prepare(const EstimateContext& context) override {
+    vk::Context& vk = vk::require_shared_context();
+    const GBuffer& g = context.gbuffer;
+    device_ = std::make_unique<Device>(vk, g, static_cast<uint32_t>(shaders_.size()));
+    Device& d = *device_;
+    // The noise tile: kNoiseSize^2 texels of four uniform numbers in [0, 1), from the seed.
+    SplitMix64 random(mix_seed(static_cast<uint64_t>(seed()), 0x4E4F4953));  // "NOIS"
+    std::vector<float> noise(4 * kNoiseSize * kNoiseSize);
+    for (float& v : noise) v = random.uniform_float();
+    d.noise.upload(noise);
+    for (size_t i = 0; i < shaders_.size(); ++i) {
+      // One block per pass: they differ only in aoeval.pass.x.
+      const std::vector<uint8_t> block = uniform_block(g, static_cast<int32_t>(i));
+      d.uniforms.emplace_back(vk, block.size(), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+      d.uniforms.back().upload(block.data(), block.size());
+    }
+    for (size_t i = 0; i < shaders_.size(); ++i) {
+      vk::SpirvCode code;
+      code.words = shaders_[i].code.spirv.data();
+      code.bytes = shaders_[i].code.spirv.size() * sizeof(uint32_t);
+      auto pipeline = std::make_unique<vk::ComputePipeline>(
+          vk, manifest_.name + " " + shaders_[i].name, code, kBindings);
+      // Ping-pong: pass k writes ping[k % 2] and reads the other.
+      const vk::Image2D& out = d.ping[i % 2];
+      const vk::Image2D& prev = d.ping[(i + 1) % 2];
+      d.sets.push_back(pipeline->make_set(
+          {d.depth, d.normal, d.position, prev, out, d.bent, d.noise, d.uniforms[i]}));
+      d.pipelines.push_back(std::move(pipeline));
+    }
+    prepared_for_ = &g;
+  }
+
+  EstimateResult run(const EstimateContext& context) override {
+    if (prepared_for_ != &context.gbuffer) prepare(context);
+    Device& d = *device_;
+    const GBuffer& g = context.gbuffer;
+    d.vk.submit([&](VkCommandBuffer cmd) {
+      d.timer.reset(cmd);
+      // A frame starts from zeros, whatever the last frame left.
+      const VkClearColorValue zero{};
+      VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+      for (const vk::Image2D* image : {&d.ping[0], &d.ping[1], &d.bent})
+        if (image != &d.bent || manifest_.bent)
+          vkCmdClearColorImage(cmd, image->handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
+      vk::pass_barrier(cmd);
+      for (size_t i = 0; i < shaders_.size(); ++i) {
+        const uint32_t* local = shaders_[i].code.local_size;
+        d.timer.begin(cmd, shaders_[i].name);
+        d.pipelines[i]->dispatch(cmd, d.sets[i], static_cast<const void*>(nullptr), size_t{0},
+                                 vk::group_count(static_cast<uint32_t>(g.width), local[0]),
+                                 vk::group_count(static_cast<uint32_t>(g.height), local[1]));
+        d.timer.end(cmd);
+        vk::pass_barrier(cmd);
+      }
+    });
+    EstimateResult r;
+    r.pass_ms = d.timer.read();
+    if (!r.pass_ms.empty()) r.timing_source = "gpu-timestamps";
+    r.ao = d.ping[(shaders_.size() - 1) % 2].download<float>();
+    for (size_t k = 0; k < r.ao.size(); ++k) {
+      if (!g.covered(k)) {
+        r.ao[k] = 0.0f;
+        continue;
+      }
+      // The same checks and range rule as a process plug-in's output (plugin_process.h).
+      const float v = r.ao[k];
+      if (!std::isfinite(v) || v < -kAoRangeSlack || v > 1.0f + kAoRangeSlack) {
+        char where[64];
+        std::snprintf(where, sizeof(where), " at covered pixel (%zu, %zu)",
+                      k % static_cast<size_t>(g.width), k / static_cast<size_t>(g.width));
+        throw EstimatorUnavailable("plug-in " + manifest_.name + ": AO " +
+                                   (std::isfinite(v) ? "= " + format_param_value(v) +
+                                                           std::string(where) + " is outside [0, 1]"
+                                                     : "is not finite" + std::string(where)));
+      }
+      r.ao[k] = std::clamp(v, 0.0f, 1.0f);
+    }
+    if (manifest_.bent) {
+      const std::vector<float> b = d.bent.download<float>();
+      const Camera& c = g.camera;
+      for (const char* axis : {"bent.X", "bent.Y", "bent.Z"})
+        r.extra_channels[axis].assign(g.pixel_count(), 0.0f);
+      for (size_t k = 0; k < g.pixel_count(); ++k) {
+        if (!g.covered(k)) continue;
+        // eye -> world: x along right, y along up, z against forward.
+        const glm::vec3 w = b[4 * k] * c.right + b[4 * k + 1] * c.up - b[4 * k + 2] * c.forward;
+        r.extra_channels["bent.X"][k] = w.x;
+        r.extra_channels["bent.Y"][k] = w.y;
+        r.extra_channels["bent.Z"][k] = w.z;
+      }
+    }
+    return r;
+  }
+
+ private:
+  struct Device {
+    vk::Context& vk;
+    vk::Image2D depth, normal, position, ping[2], bent, noise;
+    std::vector<vk::Buffer> uniforms;  // one per pass
+    vk::PassTimer timer;
+    std::vector<std::unique_ptr<vk::ComputePipeline>> pipelines;
+    std::vector<VkDescriptorSet> sets;
+
+    Device(vk::Context& context, const GBuffer& g, uint32_t passes)
+        : vk(context), timer(context, passes) {
+      const int w = g.width, h = g.height;
+      depth = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
+      normal = vk::Image2D(vk, w, h, VK_FORMAT_R32G32B32A32_SFLOAT);
+      position = vk::Image2D(vk, w, h, VK_FORMAT_R32G32B32A32_SFLOAT);
+      for (auto& p : ping) p = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
+      bent = vk::Image2D(vk, w, h, VK_FORMAT_R32G32B32A32_SFLOAT);
+      noise = vk::Image2D(vk, kNoiseSize, kNoiseSize, VK_FORMAT_R32G32B32A32_SFLOAT);
+      const Camera& c = g.camera;
+      std::vector<float> z(g.pixel_count()), n(4 * g.pixel_count()), p(4 * g.pixel_count());
+      for (size_t k = 0; k < g.pixel_count(); ++k) {
+        const bool covered = g.covered(k);
+        z[k] = covered ? g.depth[k] : 0.0f;
+        const glm::vec3 d = g.position[k] - c.eye;
+        const glm::vec3 pe(glm::dot(d, c.right), glm::dot(d, c.up), -glm::dot(d, c.forward));
+        const glm::vec3 ne(glm::dot(g.normal[k], c.right), glm::dot(g.normal[k], c.up),
+                           -glm::dot(g.normal[k], c.forward));
+        for (int a = 0; a < 3; ++a) {
+          n[4 * k + a] = covered ? ne[a] : 0.0f;
+          p[4 * k + a] = covered ? pe[a] : 0.0f;
+        }
+        n[4 * k + 3] = covered ? 1.0f : 0.0f;
+        p[4 * k + 3] = covered ? g.object_id[k] : -1.0f;
+      }
+      depth.upload(z);
+      normal.upload(n);
+      position.upload(p);
+    }
+  };
+
+  // The std140 bytes of the aoeval block: 4 mat4, 3 vec4, 1 ivec4, then one 4-byte scalar per
+  // parameter in manifest order (a struct of scalars: 4-byte alignment, 16-byte size rounding).
+  // The noise seed: the parameter "seed" when the plug-in declares an integer one, else 0.
+  int32_t seed() const {
+    const nlohmann::json& values = params_.json();
+    return values.contains("seed") && values["seed"].is_number_integer()
+               ? static_cast<int32_t>(values["seed"].get<int64_t>())
+               : 0;
+  }
+
+  std::vector<uint8_t> uniform_block(const GBuffer& g, int32_t pass_index) const {
+    const Camera& c = g.camera;
+    const auto w = static_cast<float>(g.width), h = static_cast<float>(g.height);
+    const float f = h / (2.0f * c.tan_half_fov_y), aspect = w / h;
+    Mat4 proj, inv_proj, view, inv_view;
+    proj.at(0, 0) = 2.0f * f / w;
+    proj.at(1, 1) = -2.0f * f / h;
+    proj.at(2, 3) = kNearPlane;  // z_clip = near, w_clip = -z_eye: depth near / -z_eye
+    proj.at(3, 2) = -1.0f;
+    inv_proj.at(0, 0) = w / (2.0f * f);
+    inv_proj.at(1, 1) = -h / (2.0f * f);
+    inv_proj.at(2, 3) = -1.0f;
+    inv_proj.at(3, 2) = 1.0f / kNearPlane;
+    const glm::vec3 axes[3] = {c.right, c.up, -c.forward};
+    for (int r = 0; r < 3; ++r) {
+      for (int k = 0; k < 3; ++k) {
+        view.at(r, k) = axes[r][k];
+        inv_view.at(k, r) = axes[r][k];
+      }
+      view.at(r, 3) = -glm::dot(axes[r], c.eye);
+      inv_view.at(r, 3) = c.eye[r];
+    }
+    view.at(3, 3) = inv_view.at(3, 3) = 1.0f;
+    std::vector<uint8_t> bytes;
+    auto put = [&](const void* data, size_t n) {
+      const auto* b = static_cast<const uint8_t*>(data);
+      bytes.insert(bytes.end(), b, b + n);
+    };
+    for (const Mat4* m : {&proj, &inv_proj, &view, &inv_view}) put(m->m, sizeof(m->m));
+    const float eye[4] = {c.eye.x, c.eye.y, c.eye.z, 1.0f};
+    const float size[4] = {w, h, 1.0f / w, 1.0f / h};
+    const float lens[4] = {f, c.tan_half_fov_y * aspect, c.tan_half_fov_y, aspect};
+    const nlohmann::json& values = params_.json();
+    const int32_t pass[4] = {pass_index, static_cast<int32_t>(shaders_.size()), seed(), kNoiseSize};
+    put(eye, 16);
+    put(size, 16);
+    put(lens, 16);
+    put(pass, 16);
+    for (const auto& p : manifest_.params) {
+      const nlohmann::json& v = values.at(p.name);
+      uint32_t bits = 0;
+      if (p.type == ParamType::real) {
+        const auto x = static_cast<float>(v.get<double>());
+        std::memcpy(&bits, &x, 4);
+      } else if (p.type == ParamType::integer) {
+        const auto x = static_cast<int32_t>(v.get<int64_t>());
+        std::memcpy(&bits, &x, 4);
+      } else if (p.type == ParamType::boolean) {
+        bits = v.get<bool>() ? 1u : 0u;
+      } else {
+        for (size_t i = 0; i < p.choices.size(); ++i)
+          if (p.choices[i] == v.get<std::string>()) bits = static_cast<uint32_t>(i);
+      }
+      put(&bits, 4);
+    }
+    if (manifest_.params.empty()) bytes.resize(bytes.size() + 4, 0);
+    bytes.resize((bytes.size() + 15) / 16 * 16, 0);
+    return bytes;
+  }
+
+  PluginManifest manifest_;
+  ParamSet params_;
+  std::vector<PassShader> shaders_;
+  std::unique_ptr<Device> device_;
+  const GBuffer* prepared_for_ = nullptr;
+};
+
+}  // namespace
+
+std::unique_ptr<Estimator> make_glsl_estimator(const PluginManifest& m, const ParamSet& params) {
+  return std::make_unique<GlslEstimator>(m, params);
+}
+
+}  // namespace aoeval

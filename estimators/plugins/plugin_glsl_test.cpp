@@ -1,0 +1,329 @@
+// GLSL plug-ins: compile errors name the file and line; SPIR-V is cached by content; the ABI's
+// inputs are what the G-buffer holds; a GLSL re-implementation of a built-in's formula agrees with
+// it; the shipped alchemy and sao examples give AO = 1 on an open plane and darken a crease.
+// Tests that need the Vulkan device skip (with the reason) where there is none.
+#include "estimators/plugins/plugin_glsl.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+
+#include "corpus.h"
+#include "errors.h"
+#include "estimators/plugins/plugin_test_util.h"
+#include "estimators/registry.h"
+#include "estimators/vulkan/vk_context.h"
+
+namespace aoeval {
+namespace {
+
+namespace fs = std::filesystem;
+using plugin_test::make_plugin;
+using plugin_test::run_plugin;
+using testutil::test_temp_dir;
+
+#define REQUIRE_VULKAN()                                                        \
+  do {                                                                          \
+    std::string why;                                                            \
+    if (!vk::shared_context(&why)) GTEST_SKIP() << "no Vulkan device: " << why; \
+  } while (0)
+
+// A one-pass GLSL plug-in `name` with `params` (JSON array text) and the body of main().
+std::string glsl_plugin(const std::string& name, const std::string& params,
+                        const std::string& body) {
+  return make_plugin(test_temp_dir("glsl") / name,
+                     R"({"name": ")" + name + R"(", "summary": "test", "kind": "glsl",
+                         "shaders": ["main.comp"], "params": )" +
+                         params + R"(,
+                         "definition": {"weighting": "cosine"}})",
+                     {{"main.comp",
+                       "#version 450\nlayout(local_size_x = 8, local_size_y = 4) in;\n"
+                       "void main() {\n  const ivec2 p = ivec2(gl_GlobalInvocationID.xy);\n"
+                       "  if (!aoeval_inside(p)) return;\n" +
+                           body + "\n}\n"}});
+}
+
+void use_private_cache() {
+  setenv("AOEVAL_CACHE", (test_temp_dir("glsl") / "cache").c_str(), 1);
+}
+
+TEST(GlslPlugin, ACompileErrorNamesTheShaderFileAndLine) {
+  use_private_cache();
+  const std::string dir =
+      make_plugin(test_temp_dir("glsl") / "broken",
+                  R"({"name": "broken", "summary": "s", "kind": "glsl", "shaders": ["ao.comp"],
+          "definition": {"weighting": "cosine"}})",
+                  {{"ao.comp",
+                    "#version 450\nlayout(local_size_x = 8) in;\nvoid main() {\n  float x = 1.0;\n"
+                    "  x += undeclared_thing;\n}\n"}});
+  try {
+    plugin_estimator(read_plugin_manifest(dir)).create(ParamSet());
+    ADD_FAILURE() << "compiled";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(dir + "/ao.comp:5:"), std::string::npos) << what;
+    EXPECT_NE(what.find("undeclared_thing"), std::string::npos) << what;
+  }
+}
+
+TEST(GlslPlugin, SpirvIsCachedByContent) {
+  use_private_cache();
+  const std::string source =
+      "#version 450\nlayout(local_size_x = 4, local_size_y = 2) in;\nvoid main() {}\n";
+  const CompiledShader first = compile_glsl_compute("a.comp", source, {});
+  const CompiledShader second = compile_glsl_compute("b.comp", source, {});
+  EXPECT_FALSE(first.from_cache);
+  EXPECT_TRUE(second.from_cache);
+  EXPECT_EQ(first.spirv, second.spirv);
+  EXPECT_EQ(second.local_size[0], 4u);
+  EXPECT_EQ(second.local_size[1], 2u);
+  // Other parameters change the preamble, so the entry.
+  const ParamSpec p{"r", ParamType::real, 0.5, 0, 1, false, "", "m", {}};
+  EXPECT_FALSE(compile_glsl_compute("a.comp", source, {p}).from_cache);
+  EXPECT_FALSE(compile_glsl_compute("a.comp", source + "\n", {}).from_cache);
+}
+
+TEST(GlslPlugin, TheAbiTextDeclaresEveryBindingAndTheParametersInOrder) {
+  const std::string text = glsl_abi_text();
+  for (int b = 0; b <= 7; ++b)
+    EXPECT_NE(text.find("binding = " + std::to_string(b)), std::string::npos) << b;
+  const std::vector<ParamSpec> params = {
+      {"zeta", ParamType::real, 0.5, 0, 1, false, "", "m", {}},
+      {"alpha", ParamType::boolean, true, 0, 0, false, "", "m", {}},
+      {"mode", ParamType::choice, "b", 0, 0, false, "", "m", {"a", "b"}}};
+  const std::string preamble = glsl_abi_preamble(params);
+  EXPECT_LT(preamble.find("float zeta;"), preamble.find("bool alpha;"));
+  EXPECT_LT(preamble.find("bool alpha;"), preamble.find("int mode;"));
+  EXPECT_NE(preamble.find("0 = a, 1 = b"), std::string::npos);
+}
+
+// What each ABI input holds, pixel by pixel, against the G-buffer on the CPU.
+TEST(GlslPlugin, TheAbiInputsHoldTheGBuffer) {
+  REQUIRE_VULKAN();
+  use_private_cache();
+  const TestView v = crease(40, 30);
+  const GBuffer& g = v.gbuffer;
+  const std::string dir = glsl_plugin(
+      "probe", R"([{"name": "probe", "type": "choice", "default": "depth", "meaning": "m",
+                   "choices": ["depth", "normal", "position", "project", "matrix", "unproject"]}])",
+      R"(
+  const vec4 pos = imageLoad(aoeval_position, p);
+  const vec3 n = imageLoad(aoeval_normal, p).xyz;
+  const vec2 centre = vec2(p) + 0.5;
+  float v = 0.0;
+  switch (aoeval.params.probe) {
+    case 0: v = imageLoad(aoeval_depth, p).r / 10.0; break;
+    case 1: v = 0.5 + 0.5 * n.y; break;
+    case 2: v = -pos.z / 10.0; break;
+    case 3: v = length(aoeval_project(pos.xyz) - centre); break;
+    case 4: {
+      const vec4 clip = aoeval.proj * vec4(pos.xyz, 1.0);
+      const vec3 ndc = clip.xyz / clip.w;
+      const vec4 back = aoeval.inv_proj * clip;
+      v = length((ndc.xy * 0.5 + 0.5) * aoeval.size.xy - centre) + abs(ndc.z - 0.01 / -pos.z) +
+          length(back.xyz / back.w - pos.xyz);
+      break;
+    }
+    case 5: v = length(aoeval_unproject(centre, -pos.z) - pos.xyz); break;
+  }
+  imageStore(aoeval_out, p, vec4(aoeval_covered(p) ? clamp(v, 0.0, 1.0) : 0.0));)");
+  const Camera& c = g.camera;
+  auto probe = [&](const char* which) { return run_plugin(dir, v, {{"probe", which}}).ao; };
+  const auto depth = probe("depth"), normal = probe("normal"), position = probe("position");
+  const auto project = probe("project"), matrix = probe("matrix"), unproject = probe("unproject");
+  size_t covered = 0;
+  for (size_t k = 0; k < g.pixel_count(); ++k) {
+    if (!g.covered(k)) continue;
+    ++covered;
+    EXPECT_NEAR(depth[k], g.depth[k] / 10.0f, 1e-6f) << k;
+    EXPECT_NEAR(normal[k], 0.5f + 0.5f * glm::dot(g.normal[k], c.up), 1e-6f) << k;
+    // -z_eye is the linear depth; the eye-space point projects back to its pixel's centre.
+    EXPECT_NEAR(position[k], g.depth[k] / 10.0f, 1e-5f) << k;
+    EXPECT_LT(project[k], 2e-3f) << k;
+    EXPECT_LT(matrix[k], 2e-3f) << k;
+    EXPECT_LT(unproject[k], 1e-4f) << k;
+  }
+  EXPECT_GT(covered, g.pixel_count() / 2);
+}
+
+// outputs "bent": the shader writes eye-space vectors into aoeval_bent, the estimate holds them in
+// world space (bent.X/Y/Z). Writing the eye-space normal must give back the G-buffer's normal.
+TEST(GlslPlugin, BentNormalsComeBackInWorldSpace) {
+  REQUIRE_VULKAN();
+  const fs::path dir = test_temp_dir("glsl") / "bent";
+  make_plugin(
+      dir,
+      R"({"name": "bent", "summary": "s", "kind": "glsl", "shaders": ["b.comp"],
+                  "outputs": ["AO", "bent"], "definition": {"weighting": "cosine"}})",
+      {{"b.comp",
+        "#version 450\nlayout(local_size_x = 8, local_size_y = 8) in;\nvoid main() {\n"
+        "  const ivec2 p = ivec2(gl_GlobalInvocationID.xy);\n  if (!aoeval_inside(p)) return;\n"
+        "  imageStore(aoeval_bent, p, vec4(imageLoad(aoeval_normal, p).xyz, 0.0));\n"
+        "  imageStore(aoeval_out, p, vec4(1.0));\n}\n"}});
+  const TestView v = crease(24, 18);
+  const EstimateResult r = run_plugin(dir.string(), v);
+  size_t covered = 0;
+  for (size_t k = 0; k < v.gbuffer.pixel_count(); ++k) {
+    if (!v.gbuffer.covered(k)) continue;
+    ++covered;
+    const glm::vec3 b(r.extra_channels.at("bent.X")[k], r.extra_channels.at("bent.Y")[k],
+                      r.extra_channels.at("bent.Z")[k]);
+    EXPECT_LT(glm::length(b - v.gbuffer.normal[k]), 1e-5f) << k;
+  }
+  EXPECT_GT(covered, 0u);
+}
+
+TEST(GlslPlugin, PassesRunInOrderAndReadThePreviousOutput) {
+  REQUIRE_VULKAN();
+  const fs::path dir = test_temp_dir("glsl") / "two";
+  const std::string head = "#version 450\nlayout(local_size_x = 8, local_size_y = 8) in;\n";
+  make_plugin(
+      dir,
+      R"({"name": "two", "summary": "s", "kind": "glsl", "shaders": ["first.comp",
+                  "second.comp"], "definition": {"weighting": "cosine"}})",
+      {{"first.comp", head + "void main() { imageStore(aoeval_out, ivec2(gl_GlobalInvocationID.xy),"
+                             " vec4(0.1 * float(aoeval.pass.x + 1))); }\n"},
+       {"second.comp", head +
+                           "void main() { const ivec2 p = ivec2(gl_GlobalInvocationID.xy);"
+                           " imageStore(aoeval_out, p, vec4(2.0 * imageLoad(aoeval_prev, p).r"
+                           " + 0.1 * float(aoeval.pass.x) + 0.01 * float(aoeval.pass.y))); }\n"}});
+  const TestView v = grazing_floor(16, 12);
+  const EstimateResult r = run_plugin(dir.string(), v);
+  EXPECT_NEAR(r.ao[v.gbuffer.index(3, 11)], 2.0f * 0.1f + 0.1f + 0.02f, 1e-6f);
+  EXPECT_EQ(r.timing_source, "gpu-timestamps");
+  EXPECT_TRUE(r.pass_ms.count("first_ms") && r.pass_ms.count("second_ms") &&
+              r.pass_ms.count("total_ms"));
+}
+
+TEST(GlslPlugin, OutOfRangeOutputIsRejected) {
+  REQUIRE_VULKAN();
+  const std::string dir = glsl_plugin("two-ish", "[]", "  imageStore(aoeval_out, p, vec4(2.0));");
+  const TestView v = grazing_floor(16, 12);
+  try {
+    run_plugin(dir, v);
+    ADD_FAILURE() << "accepted 2";
+  } catch (const EstimatorUnavailable& e) {
+    EXPECT_NE(std::string(e.what()).find("AO = 2 at covered pixel"), std::string::npos) << e.what();
+  }
+}
+
+// The trust test (CONTRACT §7): a GLSL plug-in re-implementing the built-in reeves-blau (Reeves
+// and Blau 1985 as Hegeman et al. 2006 describe it: V = exp(-k max(0, R - |P - c|)) on the tree's
+// pixels, 1 on every other covered pixel) agrees with the CPU estimator on every covered pixel of
+// tree-ground. Why this one: it is a closed form per pixel that needs the world position (so the
+// eye-space positions and the inverse view matrix of the ABI), the object id, and six parameters
+// whose order in the uniform block matters (a swap changes the answer); the random sampling of
+// the screen-space estimators would test a random-number port instead. Tolerance: the world
+// position goes through eye space and back in float, |P| ~ 10 scene units, so it differs by
+// ~1e-5; k = 2 turns that into < 4e-5 of AO, inside 1e-4.
+TEST(GlslPlugin, AgreesWithTheBuiltInReevesBlauOnEveryCoveredPixel) {
+  REQUIRE_VULKAN();
+  use_private_cache();
+  Scene scene = load_scene("tree-ground");
+  const View view = scene.views.front();
+  const TestView v = render_view(std::move(scene), view, 96, 72);
+  const EstimatorInfo& cpu = find_estimator("reeves-blau");
+  const ParamSet cpu_params = resolve_params(cpu.name, cpu.params, {{"attenuation", 2.0}}, "test");
+  const EstimateContext context{v.scene, *v.embree, v.gbuffer};
+  auto estimator = cpu.create(cpu_params);
+  estimator->prepare(context);
+  const std::vector<float> expected = estimator->run(context).ao;
+  const nlohmann::json proxy = estimator->derived()["proxies"][0];
+  ASSERT_EQ(proxy["type"], "sphere");
+  int object = -1;
+  for (size_t i = 0; i < v.scene.objects.size(); ++i)
+    if (v.scene.objects[i].name == proxy["object"]) object = static_cast<int>(i);
+  const nlohmann::json shape = proxy["shapes"][0];
+
+  const std::string dir = glsl_plugin("reeves-blau-glsl", R"([
+      {"name": "tree_object", "type": "integer", "default": 0, "min": 0, "max": 1000, "meaning": "m"},
+      {"name": "cx", "type": "real", "default": 0, "min": -1e6, "max": 1e6, "meaning": "m"},
+      {"name": "cy", "type": "real", "default": 0, "min": -1e6, "max": 1e6, "meaning": "m"},
+      {"name": "cz", "type": "real", "default": 0, "min": -1e6, "max": 1e6, "meaning": "m"},
+      {"name": "radius", "type": "real", "default": 1, "min": 0, "max": 1e6, "meaning": "m"},
+      {"name": "k", "type": "real", "default": 1, "min": 0, "max": 1e6, "meaning": "m"}])",
+                                      R"(
+  const vec4 pos = imageLoad(aoeval_position, p);
+  float ao = 0.0;
+  if (aoeval_covered(p)) {
+    ao = 1.0;
+    if (int(pos.w) == aoeval.params.tree_object) {
+      const vec3 world = (aoeval.inv_view * vec4(pos.xyz, 1.0)).xyz;
+      const vec3 c = vec3(aoeval.params.cx, aoeval.params.cy, aoeval.params.cz);
+      ao = exp(-aoeval.params.k * max(0.0, aoeval.params.radius - length(world - c)));
+    }
+  }
+  imageStore(aoeval_out, p, vec4(ao));)");
+  const std::vector<float> got = run_plugin(dir, v,
+                                            {{"tree_object", object},
+                                             {"cx", shape["center"][0]},
+                                             {"cy", shape["center"][1]},
+                                             {"cz", shape["center"][2]},
+                                             {"radius", shape["radii"][0]},
+                                             {"k", 2.0}})
+                                     .ao;
+  size_t tree_pixels = 0, covered = 0;
+  double worst = 0.0;
+  for (size_t k = 0; k < expected.size(); ++k) {
+    if (!v.gbuffer.covered(k)) continue;
+    ++covered;
+    tree_pixels += expected[k] < 1.0f;
+    worst = std::max(worst, static_cast<double>(std::abs(got[k] - expected[k])));
+  }
+  EXPECT_LT(worst, 1e-4);
+  EXPECT_GT(tree_pixels, covered / 10) << "the view must show the tree";
+  EXPECT_LT(tree_pixels, covered) << "and ground";
+}
+
+// Alchemy and SAO on an open plane: every v_i lies in the plane, v_i . n = 0, so each estimator's
+// sum is 0 and A = 1 exactly (up to float rounding of v . n).
+TEST(GlslPlugin, ShippedAlchemyAndSaoSeeAnOpenPlaneAsOpen) {
+  REQUIRE_VULKAN();
+  const TestView v = grazing_floor(64, 48);
+  for (const char* name : {"alchemy", "sao"}) {
+    const EstimatorInfo& info = find_estimator(name);
+    auto e = info.create(resolve_params(name, info.params, {}, "test"));
+    const EstimateContext context{v.scene, *v.embree, v.gbuffer};
+    e->prepare(context);
+    const std::vector<float> ao = e->run(context).ao;
+    for (size_t k = 0; k < ao.size(); ++k) {
+      if (v.gbuffer.covered(k)) {
+        ASSERT_NEAR(ao[k], 1.0f, 1e-4f) << name << " pixel " << k;
+      }
+    }
+  }
+}
+
+// In the crease (a floor meeting a wall) both darken the pixels next to the corner line and leave
+// the pixels far from it open; every value is in [0, 1].
+TEST(GlslPlugin, ShippedAlchemyAndSaoDarkenACrease) {
+  REQUIRE_VULKAN();
+  const TestView v = crease(80, 60);
+  const GBuffer& g = v.gbuffer;
+  for (const char* name : {"alchemy", "sao"}) {
+    const EstimatorInfo& info = find_estimator(name);
+    auto e = info.create(resolve_params(name, info.params, {{"radius", 0.5}}, "test"));
+    const EstimateContext context{v.scene, *v.embree, v.gbuffer};
+    e->prepare(context);
+    const std::vector<float> ao = e->run(context).ao;
+    double near_sum = 0, far_sum = 0;
+    int near_n = 0, far_n = 0;
+    for (size_t k = 0; k < ao.size(); ++k) {
+      if (!g.covered(k)) continue;
+      ASSERT_GE(ao[k], 0.0f);
+      ASSERT_LE(ao[k], 1.0f);
+      // Distance to the corner line y = 0, z = -2.
+      const float d = std::hypot(g.position[k].y, g.position[k].z + 2.0f);
+      if (d < 0.1f) near_sum += ao[k], ++near_n;
+      if (d > 1.0f) far_sum += ao[k], ++far_n;
+    }
+    ASSERT_GT(near_n, 0);
+    ASSERT_GT(far_n, 0);
+    EXPECT_LT(near_sum / near_n, 0.9) << name;
+    EXPECT_GT(far_sum / far_n, 0.97) << name;
+  }
+}
+
+}  // namespace
+}  // namespace aoeval

@@ -1,0 +1,328 @@
+// estimator.json -> PluginManifest, field by field, every error naming the file and the field.
+#include "estimators/plugins/plugin_manifest.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "errors.h"
+
+namespace aoeval {
+
+namespace fs = std::filesystem;
+
+const char* plugin_kind_name(PluginKind k) {
+  return k == PluginKind::glsl ? "glsl" : "process";
+}
+
+namespace {
+
+using nlohmann::json;
+
+class Reader {
+ public:
+  explicit Reader(std::string file) : file_(std::move(file)) {}
+  [[noreturn]] void fail(const std::string& field, const std::string& why) const {
+    throw InputError(file_ + ": " + field + ": " + why);
+  }
+  const json& require(const json& object, const std::string& key, const std::string& field) const {
+    const auto it = object.find(key);
+    if (it == object.end()) fail(field, "missing");
+    return *it;
+  }
+  std::string string_of(const json& v, const std::string& field, bool allow_empty = false) const {
+    if (!v.is_string()) fail(field, "expected a string, got " + v.dump());
+    std::string s = v.get<std::string>();
+    if (!allow_empty && s.empty()) fail(field, "must not be empty");
+    return s;
+  }
+  double number_of(const json& v, const std::string& field) const {
+    if (!v.is_number()) fail(field, "expected a number, got " + v.dump());
+    const double d = v.get<double>();
+    if (!std::isfinite(d)) fail(field, "expected a finite number");
+    return d;
+  }
+  std::vector<std::string> strings_of(const json& v, const std::string& field) const {
+    if (!v.is_array() || v.empty()) fail(field, "expected a non-empty array of strings");
+    std::vector<std::string> out;
+    for (size_t i = 0; i < v.size(); ++i)
+      out.push_back(string_of(v[i], field + "[" + std::to_string(i) + "]"));
+    return out;
+  }
+  void only_known(const json& object, const std::set<std::string>& known,
+                  const std::string& field) const {
+    for (const auto& [key, value] : object.items()) {
+      if (known.count(key)) continue;
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      fail(field.empty() ? key : field + "." + key, "unknown field (fields: " + list + ")");
+    }
+  }
+  const std::string& file() const { return file_; }
+
+ private:
+  std::string file_;
+};
+
+bool is_identifier(const std::string& s) {
+  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+  for (char c : s)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+  return true;
+}
+
+// Estimator names appear in run names ("name/key:value/scene:..."), file names and URLs.
+bool is_estimator_name(const std::string& s) {
+  if (s.empty() || !std::isalnum(static_cast<unsigned char>(s[0]))) return false;
+  for (char c : s)
+    if (!(std::islower(static_cast<unsigned char>(c)) ||
+          std::isdigit(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.'))
+      return false;
+  return true;
+}
+
+ParamSpec read_param(const Reader& r, const json& p, const std::string& field) {
+  if (!p.is_object()) r.fail(field, "expected an object");
+  r.only_known(p, {"name", "type", "default", "min", "max", "scale", "unit", "meaning", "choices"},
+               field);
+  ParamSpec s;
+  s.name = r.string_of(r.require(p, "name", field + ".name"), field + ".name");
+  if (!is_identifier(s.name))
+    r.fail(field + ".name", "\"" + s.name + "\" is not an identifier ([A-Za-z_][A-Za-z0-9_]*)");
+  const std::string type = r.string_of(r.require(p, "type", field + ".type"), field + ".type");
+  if (type == "real") {
+    s.type = ParamType::real;
+  } else if (type == "integer") {
+    s.type = ParamType::integer;
+  } else if (type == "boolean" || type == "bool") {
+    s.type = ParamType::boolean;
+  } else if (type == "choice") {
+    s.type = ParamType::choice;
+  } else {
+    r.fail(field + ".type", "\"" + type + "\" is not one of real, integer, boolean, choice");
+  }
+  s.meaning = r.string_of(r.require(p, "meaning", field + ".meaning"), field + ".meaning");
+  if (p.contains("unit")) s.unit = r.string_of(p["unit"], field + ".unit", true);
+  const json& d = r.require(p, "default", field + ".default");
+  const bool numeric = s.type == ParamType::real || s.type == ParamType::integer;
+  if (!numeric) {
+    for (const char* k : {"min", "max", "scale"})
+      if (p.contains(k))
+        r.fail(field + "." + k, std::string("only for real and integer parameters"));
+  }
+  if (s.type != ParamType::choice && p.contains("choices"))
+    r.fail(field + ".choices", "only for choice parameters");
+  switch (s.type) {
+    case ParamType::boolean:
+      if (!d.is_boolean()) r.fail(field + ".default", "expected true or false, got " + d.dump());
+      s.default_value = d;
+      break;
+    case ParamType::choice: {
+      s.choices = r.strings_of(r.require(p, "choices", field + ".choices"), field + ".choices");
+      std::set<std::string> unique(s.choices.begin(), s.choices.end());
+      if (unique.size() != s.choices.size()) r.fail(field + ".choices", "duplicate choice");
+      const std::string v = r.string_of(d, field + ".default");
+      if (!unique.count(v)) r.fail(field + ".default", "\"" + v + "\" is not one of the choices");
+      s.default_value = v;
+      break;
+    }
+    case ParamType::real:
+    case ParamType::integer: {
+      s.min = r.number_of(r.require(p, "min", field + ".min"), field + ".min");
+      s.max = r.number_of(r.require(p, "max", field + ".max"), field + ".max");
+      if (!(s.min <= s.max))
+        r.fail(field + ".max",
+               format_param_value(s.max) + " is below min " + format_param_value(s.min));
+      const double v = r.number_of(d, field + ".default");
+      if (v < s.min || v > s.max)
+        r.fail(field + ".default", format_param_value(d) + " is outside [" +
+                                       format_param_value(s.min) + ", " +
+                                       format_param_value(s.max) + "]");
+      if (s.type == ParamType::integer) {
+        if (v != std::floor(v)) r.fail(field + ".default", "expected an integer, got " + d.dump());
+        if (s.min != std::floor(s.min) || s.max != std::floor(s.max))
+          r.fail(field + ".min", "an integer parameter's range must have integer ends");
+        s.default_value = static_cast<int64_t>(v);
+      } else {
+        s.default_value = v;
+      }
+      if (p.contains("scale")) {
+        const std::string scale = r.string_of(p["scale"], field + ".scale");
+        if (scale == "log") {
+          if (!(s.min > 0.0))
+            r.fail(field + ".scale", "log scale needs a positive range (min > 0)");
+          s.log_scale = true;
+        } else if (scale != "lin" && scale != "linear") {
+          r.fail(field + ".scale", "\"" + scale + "\" is not lin or log");
+        }
+      }
+      break;
+    }
+  }
+  return s;
+}
+
+void read_definition(const Reader& r, const json& d, PluginManifest& m) {
+  const std::string field = "definition";
+  if (!d.is_object()) r.fail(field, "expected an object");
+  r.only_known(d, {"weighting", "dmax", "falloff"}, field);
+  const std::string w =
+      r.string_of(r.require(d, "weighting", field + ".weighting"), field + ".weighting");
+  if (w == "cosine")
+    m.weighting = Weighting::cosine;
+  else if (w == "uniform")
+    m.weighting = Weighting::uniform;
+  else
+    r.fail(field + ".weighting", "\"" + w + "\" is not cosine or uniform");
+  const std::string f =
+      d.contains("falloff") ? r.string_of(d["falloff"], field + ".falloff") : std::string("none");
+  if (f == "none")
+    m.falloff = Falloff::none;
+  else if (f == "linear")
+    m.falloff = Falloff::linear;
+  else if (f == "sqrt")
+    m.falloff = Falloff::sqrt;
+  else if (f == "exp")
+    m.falloff = Falloff::exp;
+  else
+    r.fail(field + ".falloff", "\"" + f + "\" is not none, linear, sqrt or exp");
+  const json dmax = d.contains("dmax") ? d["dmax"] : json(nullptr);
+  if (dmax.is_null()) {
+    m.dmax = std::numeric_limits<double>::infinity();
+  } else if (dmax.is_string()) {
+    m.dmax_param = dmax.get<std::string>();
+    const ParamSpec* p = nullptr;
+    for (const auto& s : m.params)
+      if (s.name == m.dmax_param) p = &s;
+    if (!p) r.fail(field + ".dmax", "\"" + m.dmax_param + "\" names no parameter");
+    if ((p->type != ParamType::real && p->type != ParamType::integer) || !(p->min > 0.0))
+      r.fail(field + ".dmax", "parameter \"" + m.dmax_param +
+                                  "\" must be real or integer with a positive range (min > 0)");
+  } else {
+    m.dmax = r.number_of(dmax, field + ".dmax");
+    if (!(m.dmax > 0.0)) r.fail(field + ".dmax", "must be positive (null = unbounded)");
+  }
+  if (m.falloff != Falloff::none && m.dmax_param.empty() && !std::isfinite(m.dmax))
+    r.fail(field + ".falloff", "falloff " + f + " needs a finite dmax");
+}
+
+}  // namespace
+
+PluginManifest read_plugin_manifest(const std::string& folder_text) {
+  std::error_code ec;
+  const fs::path folder = fs::absolute(folder_text, ec).lexically_normal();
+  PluginManifest m;
+  m.folder = folder.string();
+  if (!m.folder.empty() && m.folder.back() == '/') m.folder.pop_back();
+  m.file = (folder / "estimator.json").string();
+  const Reader r(m.file);
+  std::ifstream in(m.file);
+  if (!in) throw InputError(m.file + ": cannot read (a plug-in folder holds estimator.json)");
+  std::stringstream text;
+  text << in.rdbuf();
+  json j;
+  try {
+    j = json::parse(text.str(), nullptr, true, /*ignore_comments=*/true);
+  } catch (const json::parse_error& e) {
+    throw InputError(m.file + ": not JSON: " + e.what());
+  }
+  if (!j.is_object()) r.fail("(top level)", "expected an object");
+  r.only_known(j,
+               {"name", "summary", "paper", "kind", "command", "shaders", "params", "definition",
+                "outputs", "timeout_s", "frames"},
+               "");
+  m.name = r.string_of(r.require(j, "name", "name"), "name");
+  if (!is_estimator_name(m.name))
+    r.fail("name", "\"" + m.name + "\" must be lower-case letters, digits, '-', '_' or '.'");
+  m.summary = r.string_of(r.require(j, "summary", "summary"), "summary");
+  m.paper = j.contains("paper") ? r.string_of(j["paper"], "paper", true) : "";
+  const std::string kind = r.string_of(r.require(j, "kind", "kind"), "kind");
+  if (kind == "process") {
+    m.kind = PluginKind::process;
+    m.command = r.strings_of(r.require(j, "command", "command"), "command");
+    if (j.contains("shaders")) r.fail("shaders", "only for kind glsl");
+  } else if (kind == "glsl") {
+    m.kind = PluginKind::glsl;
+    m.shaders = r.strings_of(r.require(j, "shaders", "shaders"), "shaders");
+    if (j.contains("command")) r.fail("command", "only for kind process");
+    if (j.contains("frames")) r.fail("frames", "only for kind process");
+    std::set<std::string> passes;
+    for (size_t i = 0; i < m.shaders.size(); ++i) {
+      const std::string field = "shaders[" + std::to_string(i) + "]";
+      const fs::path shader = folder / m.shaders[i];
+      if (!fs::is_regular_file(shader, ec)) r.fail(field, shader.string() + " does not exist");
+      const std::string pass = fs::path(m.shaders[i]).stem().string();
+      // The pass's results column is "<pass>_ms"; "total_ms" is the whole frame's.
+      if (!is_identifier(pass) || pass == "total" || pass == "precompute" || pass == "time")
+        r.fail(field, "pass name \"" + pass +
+                          "\" (the file's stem) must be an identifier other than total, "
+                          "precompute and time");
+      if (!passes.insert(pass).second) r.fail(field, "two shaders named \"" + pass + "\"");
+    }
+  } else {
+    r.fail("kind", "\"" + kind + "\" is not process or glsl");
+  }
+  if (j.contains("params")) {
+    const json& ps = j["params"];
+    if (!ps.is_array()) r.fail("params", "expected an array");
+    std::set<std::string> names;
+    for (size_t i = 0; i < ps.size(); ++i) {
+      const std::string field = "params[" + std::to_string(i) + "]";
+      ParamSpec s = read_param(r, ps[i], field);
+      if (!names.insert(s.name).second)
+        r.fail(field + ".name", "duplicate name \"" + s.name + "\"");
+      m.params.push_back(std::move(s));
+    }
+  }
+  read_definition(r, r.require(j, "definition", "definition"), m);
+  if (j.contains("outputs")) {
+    const std::vector<std::string> outputs = r.strings_of(j["outputs"], "outputs");
+    bool ao = false;
+    for (size_t i = 0; i < outputs.size(); ++i) {
+      if (outputs[i] == "AO")
+        ao = true;
+      else if (outputs[i] == "bent")
+        m.bent = true;
+      else
+        r.fail("outputs[" + std::to_string(i) + "]", "\"" + outputs[i] + "\" is not AO or bent");
+    }
+    if (!ao) r.fail("outputs", "must hold \"AO\"");
+  }
+  if (j.contains("timeout_s")) {
+    m.timeout_s = r.number_of(j["timeout_s"], "timeout_s");
+    if (!(m.timeout_s > 0.0) || m.timeout_s > 86400.0) r.fail("timeout_s", "must be in (0, 86400]");
+  }
+  if (j.contains("frames")) {
+    const double f = r.number_of(j["frames"], "frames");
+    if (f != std::floor(f) || f < 1 || f > 10000)
+      r.fail("frames", "must be an integer in [1, 10000]");
+    m.frames = static_cast<int>(f);
+  }
+  return m;
+}
+
+AoDefinition plugin_definition(const PluginManifest& m, const ParamSet& params) {
+  AoDefinition d;
+  d.weighting = m.weighting;
+  d.falloff = m.falloff;
+  d.dmax = m.dmax_param.empty() ? m.dmax : params.json().at(m.dmax_param).get<double>();
+  return d;
+}
+
+std::string plugin_definition_doc(const PluginManifest& m) {
+  std::string dmax = !m.dmax_param.empty()   ? m.dmax_param
+                     : std::isfinite(m.dmax) ? format_param_value(m.dmax)
+                                             : "unbounded";
+  return std::string(weighting_name(m.weighting)) + " weighting, dmax = " + dmax + ", falloff " +
+         falloff_name(m.falloff) + " (declared by the plug-in's estimator.json)";
+}
+
+std::vector<std::string> plugin_pass_names(const PluginManifest& m) {
+  std::vector<std::string> names;
+  for (const auto& s : m.shaders) names.push_back(fs::path(s).stem().string());
+  return names;
+}
+
+}  // namespace aoeval

@@ -1,0 +1,54 @@
+// Plug-in estimators (CONTRACT §7): a folder holding `estimator.json`, read and validated here into
+// the same declaration a built-in estimator makes (ParamSpec table, AO definition), so that --set,
+// sweeps, suites, results rows, reports and the dashboard treat it exactly like a built-in.
+//
+// Validation is as strict as a built-in's table (the registry test holds built-ins to the same
+// rules): unknown fields, a type other than real/integer/boolean/choice, a default outside its
+// range or not among its choices, an empty meaning, duplicate names, a log scale on a range that
+// is not positive, a definition whose dmax names no positive numeric parameter, a falloff without
+// dmax, a missing command or shader: each is an InputError "<file>: <field>: <why>" (exit 2).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "ao_definition.h"
+#include "estimators/estimator.h"
+
+namespace aoeval {
+
+enum class PluginKind { process, glsl };
+const char* plugin_kind_name(PluginKind k);
+
+struct PluginManifest {
+  std::string folder;  // absolute path of the plug-in folder
+  std::string file;    // folder + "/estimator.json", the name every error starts with
+  std::string name, summary, paper;
+  PluginKind kind = PluginKind::process;
+  std::vector<std::string> command;  // process: argv, run in `folder`, no shell
+  std::vector<std::string> shaders;  // glsl: compute shaders (paths relative to `folder`), in order
+  std::vector<ParamSpec> params;
+  // definition: weighting and falloff as declared; dmax a number (infinity = null) or, when
+  // dmax_param is not empty, the value of that parameter.
+  Weighting weighting = Weighting::cosine;
+  Falloff falloff = Falloff::none;
+  double dmax = 0.0;
+  std::string dmax_param;
+  bool bent = false;         // outputs holds "bent": bent.X/Y/Z are read back and kept
+  double timeout_s = 120.0;  // process: the whole process group is killed after this long
+  int frames = 1;            // process: the N of --frames N (frames the program times itself)
+};
+
+// Reads and validates `folder`/estimator.json; InputError "<file>: <field>: <why>" otherwise.
+PluginManifest read_plugin_manifest(const std::string& folder);
+
+// The AO definition the plug-in declares, at these parameter values.
+AoDefinition plugin_definition(const PluginManifest& m, const ParamSet& params);
+// One line for `aoeval estimators show`: "cosine weighting, dmax = radius, falloff none".
+std::string plugin_definition_doc(const PluginManifest& m);
+
+// The shader pass names of a glsl plug-in: each shader's file stem ("ao.comp" -> "ao"), the prefix
+// of its "<pass>_ms" results column.
+std::vector<std::string> plugin_pass_names(const PluginManifest& m);
+
+}  // namespace aoeval

@@ -1,0 +1,168 @@
+// estimator.json validation: every rule a built-in's table follows, each error naming the file and
+// the field; the shipped examples pass; a name clash with a built-in is an error.
+#include "estimators/plugins/plugin_manifest.h"
+
+#include <gtest/gtest.h>
+
+#include "errors.h"
+#include "estimators/plugins/plugin_test_util.h"
+#include "estimators/registry.h"
+
+namespace aoeval {
+namespace {
+
+using plugin_test::make_plugin;
+using testutil::test_temp_dir;
+
+const char* kValid = R"({
+  "name": "my-ssao", "summary": "one line", "paper": "someone, 2024",
+  "kind": "process", "command": ["/bin/sh", "run.sh"],
+  // comments are allowed
+  "params": [
+    {"name": "radius", "type": "real", "default": 0.5, "min": 0.01, "max": 5, "scale": "log",
+     "unit": "scene units", "meaning": "world-space radius"},
+    {"name": "taps", "type": "integer", "default": 8, "min": 1, "max": 64, "meaning": "taps"},
+    {"name": "blur", "type": "boolean", "default": true, "meaning": "blur"},
+    {"name": "mode", "type": "choice", "choices": ["a", "b"], "default": "b", "meaning": "mode"}
+  ],
+  "definition": {"weighting": "uniform", "dmax": "radius", "falloff": "linear"},
+  "outputs": ["AO", "bent"], "timeout_s": 3, "frames": 4
+})";
+
+// The manifest of kValid with one edit: `from` replaced by `to`.
+std::string edited(const std::string& from, const std::string& to) {
+  std::string s = kValid;
+  const size_t at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return s.replace(at, from.size(), to);
+}
+
+std::string error_of(const std::string& manifest) {
+  const std::string dir = make_plugin(test_temp_dir("manifest") / "p", manifest);
+  try {
+    read_plugin_manifest(dir);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(PluginManifest, ReadsEveryField) {
+  const PluginManifest m =
+      read_plugin_manifest(make_plugin(test_temp_dir("manifest") / "p", kValid));
+  EXPECT_EQ(m.name, "my-ssao");
+  EXPECT_EQ(m.kind, PluginKind::process);
+  ASSERT_EQ(m.params.size(), 4u);
+  EXPECT_EQ(m.params[0].name, "radius");
+  EXPECT_TRUE(m.params[0].log_scale);
+  EXPECT_EQ(m.params[1].default_value, 8);
+  EXPECT_EQ(m.params[2].type, ParamType::boolean);
+  EXPECT_EQ(m.params[3].choices, (std::vector<std::string>{"a", "b"}));
+  EXPECT_TRUE(m.bent);
+  EXPECT_EQ(m.timeout_s, 3.0);
+  EXPECT_EQ(m.frames, 4);
+  // dmax follows the parameter it names.
+  const ParamSet p = resolve_params(m.name, m.params, {{"radius", 0.25}}, "test");
+  const AoDefinition d = plugin_definition(m, p);
+  EXPECT_EQ(d.weighting, Weighting::uniform);
+  EXPECT_EQ(d.dmax, 0.25);
+  EXPECT_EQ(d.falloff, Falloff::linear);
+}
+
+TEST(PluginManifest, EachErrorNamesTheFileAndTheField) {
+  const std::string file = (test_temp_dir("manifest") / "p" / "estimator.json").string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {edited("\"default\": 0.5", "\"default\": 7"), "params[0].default: 7 is outside [0.01, 5]"},
+      {edited("\"min\": 0.01", "\"min\": 0"), "params[0].scale: log scale needs a positive range"},
+      {edited("\"name\": \"taps\"", "\"name\": \"radius\""), "params[1].name: duplicate name"},
+      {edited("\"meaning\": \"blur\"", "\"meaning\": \"\""),
+       "params[2].meaning: must not be empty"},
+      {edited("\"default\": \"b\"", "\"default\": \"c\""),
+       "params[3].default: \"c\" is not one of"},
+      {edited("\"type\": \"boolean\"", "\"type\": \"flag\""),
+       "params[2].type: \"flag\" is not one"},
+      {edited("\"default\": 8", "\"default\": 8.5"), "params[1].default: expected an integer"},
+      {edited("\"unit\": \"scene units\"", "\"units\": \"m\""), "params[0].units: unknown field"},
+      {edited("\"dmax\": \"radius\"", "\"dmax\": \"taps2\""),
+       "definition.dmax: \"taps2\" names no"},
+      {edited("\"dmax\": \"radius\"", "\"dmax\": null"),
+       "definition.falloff: falloff linear needs"},
+      {edited("\"weighting\": \"uniform\"", "\"weighting\": \"flat\""), "definition.weighting"},
+      {edited("\"outputs\": [\"AO\", \"bent\"]", "\"outputs\": [\"bent\"]"), "outputs: must hold"},
+      {edited("\"timeout_s\": 3", "\"timeout_s\": 0"), "timeout_s: must be in (0, 86400]"},
+      {edited("\"kind\": \"process\"", "\"kind\": \"dll\""),
+       "kind: \"dll\" is not process or glsl"},
+      {edited("\"command\": [\"/bin/sh\", \"run.sh\"]", "\"command\": []"), "command: expected a"},
+      {edited("\"name\": \"my-ssao\"", "\"name\": \"My SSAO\""), "name: \"My SSAO\" must be"},
+      {edited("\"summary\": \"one line\", ", ""), "summary: missing"},
+      {edited("\"frames\": 4", "\"colour\": 4"), "colour: unknown field"},
+      {"{\"name\": ", "not JSON"},
+  };
+  for (const auto& [manifest, expected] : cases) {
+    const std::string e = error_of(manifest);
+    EXPECT_EQ(e.rfind(file + ": ", 0), 0u) << e;
+    EXPECT_NE(e.find(expected), std::string::npos) << "expected \"" << expected << "\" in: " << e;
+  }
+}
+
+TEST(PluginManifest, GlslShadersMustExistAndHaveDistinctPassNames) {
+  const std::string glsl = R"({"name": "g", "summary": "s", "kind": "glsl",
+      "shaders": ["a.comp", "sub/a.comp"], "definition": {"weighting": "cosine"}})";
+  const auto dir = test_temp_dir("manifest") / "g";
+  EXPECT_NE(error_of(glsl).find("shaders[0]: "), std::string::npos) << error_of(glsl);
+  make_plugin(dir, glsl, {{"a.comp", "x"}, {"sub/a.comp", "x"}});
+  try {
+    read_plugin_manifest(dir.string());
+    ADD_FAILURE() << "two passes named a";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("shaders[1]: two shaders named \"a\""), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(PluginManifest, ShippedExamplesAreValidAndRegistered) {
+  std::vector<std::string> names;
+  for (const auto& folder : plugin_folders_in(shipped_plugins_dir()))
+    names.push_back(read_plugin_manifest(folder).name);
+  EXPECT_EQ(names, (std::vector<std::string>{"alchemy", "constant-copy", "crytek-ssao", "sao"}));
+  EXPECT_EQ(find_estimator("alchemy").kind, "glsl");
+  EXPECT_EQ(find_estimator("alchemy").backend, Backend::vulkan);
+  EXPECT_EQ(find_estimator("crytek-ssao").kind, "process");
+  EXPECT_EQ(find_estimator("crytek-ssao").backend, Backend::process);
+  EXPECT_EQ(find_estimator("constant").kind, "built-in");
+}
+
+TEST(PluginManifest, ANameClashWithABuiltInIsAnError) {
+  const auto dir = test_temp_dir("manifest") / "clash";
+  make_plugin(dir, edited("\"name\": \"my-ssao\"", "\"name\": \"constant\""));
+  try {
+    add_plugin_dir(dir.string());
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find("estimator.json: name: \"constant\" is already a built-in"),
+        std::string::npos)
+        << e.what();
+  }
+  // The same folder twice is read once; another folder with the same name is an error.
+  const auto a = test_temp_dir("manifest") / "a", b = test_temp_dir("manifest") / "b";
+  make_plugin(a, edited("\"name\": \"my-ssao\"", "\"name\": \"twice\""));
+  make_plugin(b, edited("\"name\": \"my-ssao\"", "\"name\": \"twice\""));
+  add_plugin_dir(a.string());
+  add_plugin_dir(a.string());
+  EXPECT_EQ(find_estimator("twice").folder, a.string());
+  EXPECT_THROW(add_plugin_dir(b.string()), InputError);
+}
+
+TEST(PluginManifest, AFolderOfPluginsOrNoneAtAll) {
+  const auto root = test_temp_dir("manifest");
+  make_plugin(root / "many" / "x", edited("\"name\": \"my-ssao\"", "\"name\": \"x\""));
+  make_plugin(root / "many" / "y", edited("\"name\": \"my-ssao\"", "\"name\": \"y\""));
+  EXPECT_EQ(plugin_folders_in((root / "many").string()).size(), 2u);
+  std::filesystem::create_directories(root / "empty");
+  EXPECT_THROW(plugin_folders_in((root / "empty").string()), InputError);
+  EXPECT_THROW(plugin_folders_in((root / "missing").string()), InputError);
+}
+
+}  // namespace
+}  // namespace aoeval

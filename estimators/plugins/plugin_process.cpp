@@ -1,0 +1,330 @@
+// Process plug-ins: the protocol of plugin_process.h.
+#include "estimators/plugins/plugin_process.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "exr_io.h"
+#include "gbuffer.h"
+#include "version.h"
+
+namespace aoeval {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+double ms_between(std::chrono::steady_clock::time_point a,
+                  std::chrono::steady_clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+// In the child between fork and exec only async-signal-safe calls: write, dup2, chdir, execvp,
+// _exit (strerrordesc_np returns a static string, no locale, no allocation).
+void child_fail(const char* what, const char* arg) {
+  const char* why = strerrordesc_np(errno);
+  for (const char* s : {"aoeval: ", what, " '", arg, "': ", why ? why : "error", "\n"})
+    if (write(2, s, std::strlen(s)) < 0) break;
+  _exit(127);
+}
+
+// Waits for `pid` to end (without reaping it) at most `timeout_ms`; true when it ended. pidfd
+// (Linux 5.3) gives an exact wake-up; without it, polling every millisecond.
+bool wait_for_exit(pid_t pid, double timeout_ms) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const int pidfd = static_cast<int>(syscall(SYS_pidfd_open, pid, 0));
+  bool ended = false;
+  while (!ended) {
+    const double left = timeout_ms - ms_between(t0, std::chrono::steady_clock::now());
+    if (left <= 0.0) break;
+    if (pidfd >= 0) {
+      pollfd p{pidfd, POLLIN, 0};
+      const int r = poll(&p, 1, static_cast<int>(std::ceil(std::min(left, 1e9))));
+      if (r > 0) ended = true;
+      if (r < 0 && errno != EINTR) break;
+    } else {
+      siginfo_t info{};
+      if (waitid(P_PID, static_cast<id_t>(pid), &info, WEXITED | WNOHANG | WNOWAIT) == 0 &&
+          info.si_pid == pid)
+        ended = true;
+      else
+        usleep(1000);
+    }
+  }
+  if (pidfd >= 0) close(pidfd);
+  return ended;
+}
+
+float median_of(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return static_cast<float>(n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]));
+}
+
+bool is_pass_name(const std::string& s) {
+  if (s.empty() || s == "total" || s == "precompute" || s == "process" || s == "time") return false;
+  if (!(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+  for (char c : s)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+  return true;
+}
+
+// AO.exr.timing.json -> pass_ms; "" or the reason it is rejected.
+std::string read_timing(const std::string& path, EstimateResult& r) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text.str());
+  } catch (const nlohmann::json::exception& e) {
+    return "AO.exr.timing.json is not JSON (" + std::string(e.what()) + ")";
+  }
+  auto times = [](const nlohmann::json& a, std::vector<double>& out) {
+    if (!a.is_array() || a.empty()) return false;
+    for (const auto& v : a) {
+      if (!v.is_number() || !std::isfinite(v.get<double>()) || v.get<double>() < 0.0) return false;
+      out.push_back(v.get<double>());
+    }
+    return true;
+  };
+  std::vector<double> frames;
+  if (!j.is_object() || !j.contains("frame_ms") || !times(j["frame_ms"], frames))
+    return "AO.exr.timing.json: frame_ms must be a non-empty array of non-negative numbers";
+  r.pass_ms["total_ms"] = median_of(frames);
+  if (j.contains("passes_ms")) {
+    if (!j["passes_ms"].is_object()) return "AO.exr.timing.json: passes_ms must be an object";
+    for (const auto& [name, values] : j["passes_ms"].items()) {
+      std::vector<double> v;
+      if (!is_pass_name(name))
+        return "AO.exr.timing.json: pass name \"" + name +
+               "\" must be an identifier other than total, precompute, process and time";
+      if (!times(values, v))
+        return "AO.exr.timing.json: passes_ms." + name + " must be a non-empty array of numbers";
+      r.pass_ms[name + "_ms"] = median_of(v);
+    }
+  }
+  r.timing_source = "plugin-frames";
+  return "";
+}
+
+std::string pixel_text(const GBuffer& g, size_t k) {
+  // snprintf, not "(" + std::to_string(...): GCC 12 warns falsely (-Wrestrict) on the latter.
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "(%zu, %zu)", k % static_cast<size_t>(g.width),
+                k / static_cast<size_t>(g.width));
+  return buf;
+}
+
+}  // namespace
+
+ProcessOutcome run_process(const std::vector<std::string>& argv, const std::string& cwd,
+                           double timeout_s, const std::string& stdout_path,
+                           const std::string& stderr_path) {
+  ProcessOutcome o;
+  std::vector<char*> args;
+  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  const int out_fd = open(stdout_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0600);
+  const int err_fd = open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0600);
+  const int null_fd = open("/dev/null", O_RDONLY | O_CLOEXEC);
+  if (out_fd < 0 || err_fd < 0 || null_fd < 0) {
+    o.error = std::string("cannot open its output files: ") + std::strerror(errno);
+    for (int fd : {out_fd, err_fd, null_fd})
+      if (fd >= 0) close(fd);
+    return o;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    setpgid(0, 0);
+    // dup2 leaves the new descriptors without FD_CLOEXEC; every other one of ours closes on exec.
+    if (dup2(null_fd, 0) < 0 || dup2(out_fd, 1) < 0 || dup2(err_fd, 2) < 0) _exit(127);
+    sigset_t none;
+    sigemptyset(&none);
+    sigprocmask(SIG_SETMASK, &none, nullptr);  // the program starts with no signal blocked
+    if (chdir(cwd.c_str()) != 0) child_fail("cannot enter", cwd.c_str());
+    execvp(args[0], args.data());
+    child_fail("cannot run", args[0]);
+  }
+  close(out_fd);
+  close(err_fd);
+  close(null_fd);
+  if (pid < 0) {
+    o.error = std::string("cannot start a process: ") + std::strerror(errno);
+    return o;
+  }
+  setpgid(pid, pid);  // also here: whichever of parent and child runs first makes the group
+  o.started = true;
+  o.timed_out = !wait_for_exit(pid, timeout_s * 1000.0);
+  // The leader is not reaped yet, so its id (the group's) cannot have been reused: kill the whole
+  // group, on time-out and after a normal end alike (background children die with it).
+  kill(-pid, SIGKILL);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  o.wall_ms = ms_between(t0, std::chrono::steady_clock::now());
+  if (!o.timed_out) {
+    if (WIFEXITED(status)) o.exit_code = WEXITSTATUS(status);
+    if (WIFSIGNALED(status)) o.signal = WTERMSIG(status);
+  }
+  return o;
+}
+
+std::string last_line_of(const std::string& path) {
+  std::ifstream in(path);
+  std::string line, last;
+  while (std::getline(in, line)) {
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    if (!line.empty()) last = line;
+  }
+  if (last.size() > 300) last = last.substr(0, 297) + "...";
+  return last;
+}
+
+std::string read_process_output(const std::string& ao_path, const GBuffer& g, bool bent,
+                                EstimateResult& result) {
+  std::error_code ec;
+  if (!fs::exists(ao_path, ec)) return "wrote no AO.exr";
+  auto in = OIIO::ImageInput::open(ao_path);
+  if (!in) return "AO.exr is not an image OpenImageIO reads (" + OIIO::geterror() + ")";
+  const OIIO::ImageSpec spec = in->spec();
+  if (spec.width != g.width || spec.height != g.height)
+    return "AO.exr is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+           ", the G-buffer " + std::to_string(g.width) + "x" + std::to_string(g.height);
+  std::vector<float> px(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()))
+    return "AO.exr cannot be read (" + in->geterror() + ")";
+  auto channel = [&](const std::string& name) {
+    for (int c = 0; c < spec.nchannels; ++c)
+      if (spec.channelnames[static_cast<size_t>(c)] == name) return c;
+    return -1;
+  };
+  const int ao = channel("AO");
+  if (ao < 0) return "AO.exr has no channel AO";
+  const size_t nc = static_cast<size_t>(spec.nchannels), n = g.pixel_count();
+  result.ao.assign(n, 0.0f);
+  for (size_t k = 0; k < n; ++k) {
+    if (!g.covered(k)) continue;
+    const float v = px[k * nc + static_cast<size_t>(ao)];
+    if (!std::isfinite(v))
+      return std::string("AO is ") + (std::isnan(v) ? "NaN" : "infinite") + " at covered pixel " +
+             pixel_text(g, k);
+    if (v < -kAoRangeSlack || v > 1.0f + kAoRangeSlack)
+      return "AO = " + format_param_value(v) + " at covered pixel " + pixel_text(g, k) +
+             " is outside [0, 1]";
+    result.ao[k] = std::clamp(v, 0.0f, 1.0f);
+  }
+  if (bent) {
+    for (const char* axis : {"X", "Y", "Z"}) {
+      const std::string name = std::string("bent.") + axis;
+      const int c = channel(name);
+      if (c < 0) return "AO.exr has no channel " + name + " (estimator.json's outputs hold bent)";
+      std::vector<float>& out = result.extra_channels[name];
+      out.assign(n, 0.0f);
+      for (size_t k = 0; k < n; ++k) {
+        if (!g.covered(k)) continue;
+        out[k] = px[k * nc + static_cast<size_t>(c)];
+        if (!std::isfinite(out[k]))
+          return name + " is not finite at covered pixel " + pixel_text(g, k);
+      }
+    }
+  }
+  const std::string timing = ao_path + ".timing.json";
+  if (fs::exists(timing, ec)) return read_timing(timing, result);
+  return "";
+}
+
+namespace {
+
+class ProcessEstimator : public Estimator {
+ public:
+  ProcessEstimator(PluginManifest m, ParamSet params)
+      : manifest_(std::move(m)), params_(std::move(params)) {}
+  ~ProcessEstimator() override {
+    std::error_code ignored;
+    if (!dir_.empty()) fs::remove_all(dir_, ignored);
+  }
+
+  void prepare(const EstimateContext& context) override {
+    if (dir_.empty()) {
+      std::string pattern = (fs::temp_directory_path() / "aoeval-plugin-XXXXXX").string();
+      if (!mkdtemp(pattern.data()))
+        throw std::runtime_error("plug-in " + manifest_.name + ": cannot make a folder " + pattern +
+                                 ": " + std::strerror(errno));
+      dir_ = pattern;
+    }
+    const GBuffer& g = context.gbuffer;
+    write_exr(dir_ + "/G.exr", gbuffer_to_image(g),
+              {{"aoeval:scene", context.scene.name},
+               {"aoeval:camera", camera_to_json(g.camera)},
+               {"aoeval:version", kAoevalVersion}});
+    write_text(dir_ + "/P.json", params_.json().dump(2) + "\n");
+    prepared_for_ = &g;
+  }
+
+  EstimateResult run(const EstimateContext& context) override {
+    if (prepared_for_ != &context.gbuffer) prepare(context);
+    const std::string ao = dir_ + "/AO.exr", out = dir_ + "/stdout.txt", err = dir_ + "/stderr.txt";
+    std::error_code ec;
+    for (const std::string& f : {ao, ao + ".timing.json", out, err}) fs::remove(f, ec);
+    std::vector<std::string> argv = manifest_.command;
+    for (const std::string& a :
+         {std::string("--gbuffer"), dir_ + "/G.exr", std::string("--params"), dir_ + "/P.json",
+          std::string("--out"), ao, std::string("--frames"), std::to_string(manifest_.frames)})
+      argv.push_back(a);
+    const ProcessOutcome o = run_process(argv, manifest_.folder, manifest_.timeout_s, out, err);
+    std::string reason;
+    if (!o.started)
+      reason = o.error;
+    else if (o.timed_out)
+      reason = "timed out after " + format_param_value(manifest_.timeout_s) +
+               " s (process group killed)";
+    else if (o.signal)
+      reason = "killed by signal " + std::to_string(o.signal) + " (" + sigabbrev_np(o.signal) + ")";
+    else if (o.exit_code != 0)
+      reason = "exited with status " + std::to_string(o.exit_code);
+    EstimateResult r;
+    if (reason.empty()) reason = read_process_output(ao, context.gbuffer, manifest_.bent, r);
+    for (const std::string& f : {ao, ao + ".timing.json"}) fs::remove(f, ec);
+    if (!reason.empty()) {
+      const std::string last = last_line_of(err);
+      throw EstimatorUnavailable("plug-in " + manifest_.name + " " + reason +
+                                 (last.empty() ? " (stderr empty)" : ": " + last));
+    }
+    if (r.timing_source.empty()) {
+      r.pass_ms["total_ms"] = o.wall_ms;
+      r.timing_source = "process-wall";
+    }
+    r.pass_ms["process_ms"] = o.wall_ms;
+    return r;
+  }
+
+ private:
+  PluginManifest manifest_;
+  ParamSet params_;
+  std::string dir_;
+  const GBuffer* prepared_for_ = nullptr;
+};
+
+}  // namespace
+
+std::unique_ptr<Estimator> make_process_estimator(const PluginManifest& m, const ParamSet& params) {
+  return std::make_unique<ProcessEstimator>(m, params);
+}
+
+}  // namespace aoeval

@@ -1,0 +1,67 @@
+#include "estimators/plugins/plugin_registry.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+
+#include "errors.h"
+#include "estimators/plugins/plugin_glsl.h"
+#include "estimators/plugins/plugin_process.h"
+
+namespace aoeval {
+
+namespace fs = std::filesystem;
+
+std::string shipped_plugins_dir() {
+  return std::string(AOEVAL_SOURCE_DIR) + "/plugins/examples";
+}
+
+std::vector<std::string> env_plugin_dirs() {
+  std::vector<std::string> dirs;
+  const char* env = std::getenv("AOEVAL_PLUGINS");
+  if (!env) return dirs;
+  std::string text = env;
+  size_t start = 0;
+  while (start <= text.size()) {
+    const size_t end = std::min(text.find(':', start), text.size());
+    if (end > start) dirs.push_back(text.substr(start, end - start));
+    start = end + 1;
+  }
+  return dirs;
+}
+
+std::vector<std::string> plugin_folders_in(const std::string& dir) {
+  std::error_code ec;
+  if (fs::is_regular_file(fs::path(dir) / "estimator.json", ec)) return {dir};
+  if (!fs::is_directory(dir, ec)) throw InputError("plug-in folder " + dir + ": not a folder");
+  std::vector<std::string> found;
+  for (const auto& entry : fs::directory_iterator(dir, ec))
+    if (entry.is_directory() && fs::is_regular_file(entry.path() / "estimator.json", ec))
+      found.push_back(entry.path().string());
+  if (ec) throw InputError("plug-in folder " + dir + ": cannot list: " + ec.message());
+  if (found.empty())
+    throw InputError("plug-in folder " + dir + ": holds no estimator.json, nor do its sub-folders");
+  std::sort(found.begin(), found.end());
+  return found;
+}
+
+EstimatorInfo plugin_estimator(const PluginManifest& m) {
+  EstimatorInfo info;
+  info.name = m.name;
+  info.summary = m.summary;
+  info.paper = m.paper;
+  info.kind = plugin_kind_name(m.kind);
+  info.folder = m.folder;
+  info.backend = m.kind == PluginKind::glsl ? Backend::vulkan : Backend::process;
+  info.inputs = {EstimatorInput::gbuffer};
+  info.params = m.params;
+  info.definition_doc = plugin_definition_doc(m);
+  info.definition = [m](const ParamSet& p) { return plugin_definition(m, p); };
+  if (m.kind == PluginKind::glsl)
+    info.create = [m](const ParamSet& p) { return make_glsl_estimator(m, p); };
+  else
+    info.create = [m](const ParamSet& p) { return make_process_estimator(m, p); };
+  return info;
+}
+
+}  // namespace aoeval

@@ -1,0 +1,28 @@
+// Where plug-in estimators come from (CONTRACT §7) and how one becomes a registry entry.
+//
+// Folders, in this order: the shipped examples (<source tree>/plugins/examples), then each folder
+// of $AOEVAL_PLUGINS (separated by ':'), then each --plugins DIR. A folder given is either a
+// plug-in (it holds estimator.json) or a folder of plug-ins (its sub-folders that hold one, in
+// name order). A plug-in whose name is a built-in's, or another plug-in's from a different folder,
+// is an InputError naming both files; the same folder met twice is read once.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "estimators/estimator.h"
+#include "estimators/plugins/plugin_manifest.h"
+
+namespace aoeval {
+
+// <source tree>/plugins/examples.
+std::string shipped_plugins_dir();
+// The folders of $AOEVAL_PLUGINS ("" entries skipped).
+std::vector<std::string> env_plugin_dirs();
+// The plug-in folders `dir` stands for (see above); InputError naming `dir` when it is neither.
+std::vector<std::string> plugin_folders_in(const std::string& dir);
+
+// The registry entry of a validated manifest: backend process or vulkan, kind "process"/"glsl".
+EstimatorInfo plugin_estimator(const PluginManifest& m);
+
+}  // namespace aoeval

@@ -1,0 +1,206 @@
+// Plug-ins on the command line (CONTRACT §2, §7): listed with their kind, --set checked like a
+// built-in's, --plugins and $AOEVAL_PLUGINS read, a name clash and a compile error exit 2 naming
+// the file, a failing plug-in gives a "skipped: <reason>" row and the sweep goes on (and resumes).
+#include <gtest/gtest.h>
+
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "harness/cli_test_util.h"
+#include "test_temp_dir.h"
+
+namespace aoeval {
+namespace {
+
+namespace fs = std::filesystem;
+using cli_test::Result;
+using cli_test::slurp;
+
+fs::path temp_dir() {
+  return testutil::test_temp_dir("plugins_cli");
+}
+
+Result run(const std::string& args, const std::string& env = "") {
+  const fs::path d = temp_dir();
+  return cli_test::run_aoeval("AOEVAL_CACHE=" + (d / "cache").string() + " " + env, args, d);
+}
+
+size_t lines(const std::string& s) {
+  size_t n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+void write(const fs::path& p, const std::string& text) {
+  fs::create_directories(p.parent_path());
+  std::ofstream(p) << text;
+}
+
+// A shell-script process plug-in named `name` in `dir`.
+void shell_plugin(const fs::path& dir, const std::string& name, const std::string& script) {
+  write(dir / "estimator.json", R"({"name": ")" + name + R"(", "summary": "test plug-in",
+      "kind": "process", "command": ["/bin/sh", "run.sh"], "timeout_s": 20,
+      "params": [{"name": "level", "type": "real", "default": 0.5, "min": 0, "max": 1,
+                  "meaning": "the AO it writes"}],
+      "definition": {"weighting": "cosine"}})");
+  write(dir / "run.sh", script);
+}
+
+TEST(PluginsCli, ListShowsTheShippedExamplesWithTheirKind) {
+  const Result r = run("estimators list");
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* line : {"alchemy          glsl     vulkan", "sao              glsl     vulkan",
+                           "crytek-ssao      process  process", "constant-copy    process  process",
+                           "constant         built-in cpu"})
+    EXPECT_NE(r.out.find(line), std::string::npos) << line << "\n" << r.out;
+  const Result show = run("estimators show sao --json");
+  ASSERT_EQ(show.code, 0) << show.err;
+  const auto j = nlohmann::json::parse(show.out);
+  EXPECT_EQ(j["kind"], "glsl");
+  EXPECT_EQ(j["params"][0]["name"], "radius");
+  EXPECT_EQ(j["definition_at_defaults"]["dmax"], 0.3);
+}
+
+TEST(PluginsCli, SetOnAPluginChecksKeysAndRanges) {
+  const fs::path out = temp_dir() / "e.exr";
+  Result r = run("estimate --estimator alchemy --scene cornell-box --res 16x16 --set radiuz=1 -o " +
+                 out.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("radiuz"), std::string::npos) << r.err;
+  r = run("estimate --estimator alchemy --scene cornell-box --res 16x16 --set samples=0 -o " +
+          out.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("samples=0"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(PluginsCli, PluginsOptionAndEnvironmentAndNameClash) {
+  const fs::path d = temp_dir();
+  shell_plugin(d / "mine" / "mine", "mine", "exit 0\n");
+  shell_plugin(d / "env" / "from-env", "from-env", "exit 0\n");
+  Result r = run("estimators list --plugins " + (d / "mine").string(),
+                 "AOEVAL_PLUGINS=/nonexistent-but-skipped-no:" + (d / "env").string() + " ");
+  // A missing folder in AOEVAL_PLUGINS is bad input too.
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.err.find("/nonexistent-but-skipped-no"), std::string::npos) << r.err;
+  r = run("estimators list --plugins " + (d / "mine").string(),
+          "AOEVAL_PLUGINS=" + (d / "env").string() + " ");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("mine "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("from-env "), std::string::npos) << r.out;
+
+  shell_plugin(d / "clash", "raytraced", "exit 0\n");
+  r = run("estimators list --plugins " + (d / "clash").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find((d / "clash" / "estimator.json").string() + ": name: \"raytraced\""),
+            std::string::npos)
+      << r.err;
+  write(d / "badparam" / "estimator.json", R"({"name": "bad", "summary": "s", "kind": "process",
+      "command": ["x"], "definition": {"weighting": "cosine"},
+      "params": [{"name": "r", "type": "real", "default": 2, "min": 0, "max": 1, "meaning": "m"}]})");
+  r = run("estimators show bad --plugins " + (d / "badparam").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("estimator.json: params[0].default: 2 is outside [0, 1]"), std::string::npos)
+      << r.err;
+}
+
+TEST(PluginsCli, AGlslCompileErrorExitsTwoNamingFileAndLine) {
+  const fs::path d = temp_dir() / "glsl-broken";
+  write(d / "estimator.json", R"({"name": "glsl-broken", "summary": "s", "kind": "glsl",
+      "shaders": ["ao.comp"], "definition": {"weighting": "cosine"}})");
+  write(d / "ao.comp", "#version 450\nlayout(local_size_x = 8) in;\nvoid main() {\n  nope();\n}\n");
+  const fs::path out = temp_dir() / "g.exr";
+  const Result r =
+      run("estimate --plugins " + d.string() +
+          " --estimator glsl-broken --scene cornell-box --res 16x16 -o " + out.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find((d / "ao.comp").string() + ":4:"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(PluginsCli, AbiPrintsTheBindingsAndAPluginsPreamble) {
+  Result r = run("estimators abi");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("binding = 7) uniform AoevalFrame"), std::string::npos) << r.out;
+  r = run("estimators abi alchemy");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("  float radius;"), std::string::npos) << r.out;
+  EXPECT_EQ(run("estimators abi crytek-ssao").code, 2);
+}
+
+// A failing plug-in is a skipped row quoting its stderr; the good plug-in and the built-in in the
+// same sweep are scored; --resume keeps the rows; estimate exits 1 with the same reason.
+TEST(PluginsCli, AFailingPluginIsASkippedRowAndTheSweepGoesOn) {
+  const fs::path d = temp_dir();
+  fs::remove_all(d / "plugs");
+  shell_plugin(d / "plugs" / "broken", "broken", "echo 'segment 3: out of memory' >&2\nexit 4\n");
+  shell_plugin(
+      d / "plugs" / "good", "good",
+      "exec /usr/bin/python3 -c \"import OpenImageIO as o, numpy as np, json, sys; "
+      "g = o.ImageInput.open(sys.argv[2]); s = g.spec(); "
+      "v = json.load(open(sys.argv[4]))['level']; "
+      "out = o.ImageOutput.create(sys.argv[6]); spec = o.ImageSpec(s.width, s.height, 1, 'float'); "
+      "spec.channelnames = ('AO',); out.open(sys.argv[6], spec); "
+      "out.write_image(np.full((s.height, s.width, 1), v, dtype=np.float32)); out.close()\" "
+      "\"$@\"\n");
+  write(d / "spec.json", R"({"name": "plugins", "scenes": ["cornell-box"], "res": [24, 18],
+    "reference": {"spp": 4, "sampler": "sobol"}, "timing": {"warmup": 0, "repetitions": 2},
+    "runs": [{"estimator": "broken"}, {"estimator": "good", "grid": {"level": [0.25, 0.75]}},
+             {"estimator": "constant"}]})");
+  fs::remove_all(d / "sweep");
+  fs::remove_all(d / "tmp");
+  fs::create_directories(d / "tmp");
+  const std::string args = "sweep " + (d / "spec.json").string() + " --out " +
+                           (d / "sweep").string() + " --db " + (d / "r.sqlite").string() +
+                           " --plugins " + (d / "plugs").string();
+  const std::string env = "TMPDIR=" + (d / "tmp").string() + " ";
+  Result r = run(args, env);
+  ASSERT_EQ(r.code, 0) << r.err;
+  auto rows = nlohmann::json::parse(slurp(d / "sweep" / "results.json"))["rows"];
+  ASSERT_EQ(rows.size(), 4u);
+  int good = 0;
+  std::map<double, double> bias_of_level;
+  for (const auto& row : rows) {
+    if (row["estimator"] == "broken") {
+      EXPECT_EQ(row["status"],
+                "skipped: plug-in broken exited with status 4: segment 3: out of memory");
+      EXPECT_EQ(row["backend"], "process");
+    } else if (row["estimator"] == "good") {
+      ++good;
+      EXPECT_EQ(row["status"], "ok");
+      EXPECT_EQ(row["backend"], "process");
+      EXPECT_EQ(row["timing_source"], "process-wall");
+      // AO = level everywhere: the bias against the reference follows the level.
+      EXPECT_TRUE(row["rmse"].is_number());
+      EXPECT_TRUE(row["process_ms"].is_number());
+      bias_of_level[row["level"].get<double>()] = row["bias"].get<double>();
+    } else {
+      EXPECT_EQ(row["status"], "ok");
+      EXPECT_EQ(row["timing_source"], "wall");
+    }
+  }
+  EXPECT_EQ(good, 2);
+  // AO = level on every pixel, against the same reference: the biases differ by the levels' 0.5.
+  ASSERT_EQ(bias_of_level.size(), 2u);
+  EXPECT_NEAR(bias_of_level[0.75] - bias_of_level[0.25], 0.5, 1e-6);
+  EXPECT_TRUE(fs::is_empty(d / "tmp")) << "the plug-ins' private folders are removed";
+  r = run(args + " --resume", env);
+  ASSERT_EQ(r.code, 0) << r.err;
+  rows = nlohmann::json::parse(slurp(d / "sweep" / "results.json"))["rows"];
+  EXPECT_EQ(rows.size(), 4u);
+
+  const fs::path out = d / "b.exr";
+  r = run("estimate --plugins " + (d / "plugs").string() +
+          " --estimator broken --scene cornell-box --res 16x16 -o " + out.string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("skipped: plug-in broken exited with status 4: segment 3: out of memory"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+}  // namespace
+}  // namespace aoeval
