@@ -208,6 +208,45 @@ TEST(FaultInjection, TwoProcessesIntoOneOutFolderTheSecondIsRefused) {
   EXPECT_NE(second.err.find(out.string()), std::string::npos) << second.err;
 }
 
+// The smaller promises of the same order: a shard without points still writes its (empty)
+// results files, an unwritable --db fails before any output folder exists, and --resume repairs a
+// CSV that lags one row behind results.json (a kill between the two atomic rewrites).
+TEST(FaultInjection, EmptyShardsUnwritableDatabasesAndLaggingCsv) {
+  const fs::path d = temp_dir();
+  const std::string spec = write_spec(d), cache = (d / "cache").string();
+  const std::string env = "AOEVAL_CACHE=" + cache + " ";
+  // 160 points, shard 170/200: none of them.
+  const Result empty = aoeval::cli_test::run_aoeval(
+      env,
+      "sweep " + spec + " --shard 170/200 --out " + (d / "empty").string() + " --db " +
+          (d / "r.sqlite").string(),
+      d);
+  ASSERT_EQ(empty.code, 0) << empty.err;
+  EXPECT_TRUE(fs::exists(d / "empty" / "results.csv"));
+  EXPECT_EQ(json_row_count(d / "empty"), 0u);
+  EXPECT_TRUE(fs::exists(d / "empty" / "results.json"));
+
+  const Result no_db = aoeval::cli_test::run_aoeval(
+      env, "sweep " + spec + " --out " + (d / "nodb").string() + " --db /proc/no/r.sqlite", d);
+  EXPECT_NE(no_db.code, 0);
+  EXPECT_FALSE(fs::exists(d / "nodb")) << "the output folder was made before the database failed";
+
+  const fs::path out = d / "lag";
+  const std::string sweep =
+      "sweep " + spec + " --shard 0/40 --out " + out.string() + " --db " + (d / "r.sqlite").string();
+  ASSERT_EQ(aoeval::cli_test::run_aoeval(env, sweep, d).code, 0);
+  const std::string csv = slurp(out / "results.csv");
+  const size_t rows = csv_run_names(out / "results.csv").size();
+  ASSERT_EQ(rows, 4u);
+  // Drop the last line, as a kill between the JSON and the CSV rewrite would leave it.
+  const size_t cut = csv.rfind('\n', csv.size() - 2);
+  std::ofstream(out / "results.csv", std::ios::trunc) << csv.substr(0, cut + 1);
+  ASSERT_EQ(csv_run_names(out / "results.csv").size(), rows - 1);
+  const Result resumed = aoeval::cli_test::run_aoeval(env, sweep + " --resume", d);
+  ASSERT_EQ(resumed.code, 0) << resumed.err;
+  EXPECT_EQ(slurp(out / "results.csv"), csv) << "--resume did not rewrite the lagging CSV";
+}
+
 // Runs `aoeval reference` into `output` with the given cache; returns stderr.
 std::string reference(const fs::path& d, const std::string& cache, const fs::path& output) {
   const Result r = aoeval::cli_test::run_aoeval(
