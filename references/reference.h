@@ -16,7 +16,7 @@
 #include "ao_definition.h"
 #include "embree_scene.h"
 #include "gbuffer.h"
-#include "references/samplers.h"
+#include "sampling/samplers.h"
 
 namespace aoeval {
 

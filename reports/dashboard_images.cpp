@@ -9,10 +9,10 @@
 
 #include "errors.h"
 #include "exr_io.h"
-#include "harness/error_maps.h"
-#include "harness/sweep_runner.h"
+#include "drawing/error_maps.h"
+#include "harness/sweep/sweep_runner.h"
 #include "reports/dashboard.h"
-#include "reports/plot.h"
+#include "drawing/plot.h"
 
 namespace aoeval {
 

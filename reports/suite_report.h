@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "harness/result_row.h"
-#include "harness/results_store.h"
+#include "harness/results/result_row.h"
+#include "harness/results/results_store.h"
 
 namespace aoeval {
 

@@ -10,8 +10,8 @@
 #include <thread>
 
 #include "estimators/estimator.h"
-#include "harness/sweep_runner.h"
-#include "reports/plot.h"
+#include "harness/sweep/sweep_runner.h"
+#include "drawing/plot.h"
 
 namespace aoeval {
 

@@ -32,7 +32,7 @@
 #include <glm/vec3.hpp>
 
 #include "estimators/estimator.h"
-#include "references/samplers.h"
+#include "sampling/samplers.h"
 
 namespace aoeval {
 

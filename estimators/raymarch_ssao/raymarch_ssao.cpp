@@ -8,7 +8,7 @@
 #include "errors.h"
 #include "estimators/hbao_split/hbao_split.h"
 #include "random.h"
-#include "references/samplers.h"
+#include "sampling/samplers.h"
 
 // hbao-split's kernel: this file uses its pixel set-up (P' of eq. 13, the normal, a tangent frame)
 // and its linear search along a ray (hbao_march).

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "errors.h"
-#include "estimators/hbao_split/ssao_test_scenes.h"
+#include "estimators/testing/ssao_test_scenes.h"
 #include "estimators/registry.h"
 
 namespace aoeval {

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "embree_scene.h"
-#include "references/samplers.h"
+#include "sampling/samplers.h"
 #include "scene.h"
 
 namespace aoeval {

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "estimators/registry.h"
-#include "harness/error_maps.h"
+#include "drawing/error_maps.h"
 
 namespace aoeval::figures {
 

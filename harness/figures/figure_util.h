@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "harness/figures/figure.h"
-#include "harness/metrics.h"
-#include "reports/plot.h"
+#include "harness/scoring/metrics.h"
+#include "drawing/plot.h"
 
 namespace aoeval::figures {
 

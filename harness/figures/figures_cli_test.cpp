@@ -10,7 +10,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "harness/cli_test_util.h"
+#include "harness/cli/cli_test_util.h"
 #include "scenes/test_temp_dir.h"
 
 namespace {

@@ -8,7 +8,7 @@
 
 #include "corpus.h"
 #include "estimators/registry.h"
-#include "harness/error_maps.h"
+#include "drawing/error_maps.h"
 #include "harness/figures/figure_util.h"
 #include "scenes/exr_io.h"
 

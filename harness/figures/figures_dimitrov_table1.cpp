@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "harness/figures/figure_util.h"
-#include "reports/plot.h"
+#include "drawing/plot.h"
 
 namespace aoeval::figures {
 

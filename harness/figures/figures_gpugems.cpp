@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "harness/error_maps.h"
+#include "drawing/error_maps.h"
 #include "harness/figures/figure_util.h"
 #include "scenes/exr_io.h"
 

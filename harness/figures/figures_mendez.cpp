@@ -5,9 +5,9 @@
 #include <cmath>
 
 #include "estimators/registry.h"
-#include "harness/error_maps.h"
+#include "drawing/error_maps.h"
 #include "harness/figures/figure_util.h"
-#include "reports/plot.h"
+#include "drawing/plot.h"
 #include "scenes/exr_io.h"
 
 namespace aoeval::figures {
