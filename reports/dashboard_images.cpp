@@ -10,7 +10,7 @@
 #include "errors.h"
 #include "exr_io.h"
 #include "drawing/error_maps.h"
-#include "harness/sweep/sweep_runner.h"
+#include "harness/results/result_row.h"
 #include "reports/dashboard.h"
 #include "drawing/plot.h"
 

@@ -9,9 +9,9 @@
 #include <stdexcept>
 #include <thread>
 
-#include "estimators/estimator.h"
-#include "harness/sweep/sweep_runner.h"
 #include "drawing/plot.h"
+#include "harness/results/result_row.h"
+#include "json_reader.h"
 
 namespace aoeval {
 

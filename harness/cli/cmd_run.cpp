@@ -2,10 +2,14 @@
 //  [--set ESTIMATOR:KEY=VALUE]...`: the main job (CONTRACT §2). References and every estimator over
 // the suite's scenes, metrics, error maps, timing tables and the HTML report, whose path is the
 // last line on stdout.
+#include <chrono>
 #include <cstdio>
+#include <filesystem>
 
 #include "harness/cli/commands.h"
 #include "harness/sweep/suite_runner.h"
+#include "reports/gbuffer_gallery.h"
+#include "reports/suite_report.h"
 
 namespace aoeval {
 
@@ -20,7 +24,23 @@ void add_run_command(CLI::App& app) {
   cmd->add_option(
       "--set", o.sets,
       "ESTIMATOR:KEY=VALUE: replaces KEY's value in every run of ESTIMATOR (repeatable)");
-  cmd->callback([] { std::printf("%s\n", run_suite(o).c_str()); });
+  cmd->callback([] {
+    // The runner runs and stores; the pages are written here, so the runner never links reports/.
+    const auto t0 = std::chrono::steady_clock::now();
+    SuiteRun run = run_suite(o);
+    if (!run.gallery.empty()) {
+      write_gbuffer_gallery((std::filesystem::path(run.out_dir) / "gbuffers").string(),
+                            run.report.suite, run.gallery);
+      run.report.gbuffer_gallery = "gbuffers/index.html";
+    }
+    run.report.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const std::string page = write_suite_report(run.out_dir, run.report);
+    const double wall_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::fprintf(stderr, "run %s: %zu rows (%zu skipped) in %.0f s\n", run.report.suite.c_str(),
+                 run.report.entries.size(), run.skipped, wall_s);
+    std::printf("%s\n", page.c_str());
+  });
 }
 
 }  // namespace aoeval

@@ -18,6 +18,7 @@
 #include "harness/results/result_row.h"
 
 #include <algorithm>
+#include <cctype>
 #include <set>
 #include <stdexcept>
 
@@ -206,5 +207,22 @@ ResultRow unflatten(const nlohmann::json& flat) {
   }
   return row;
 }
+
+std::string file_stem_for(const std::string& run_name) {
+  std::string out;
+  for (char c : run_name) {
+    if (c == '/') {
+      out += "__";
+    } else if (c == ':') {
+      out += '-';
+    } else if (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_') {
+      out += c;
+    } else {
+      out += '_';
+    }
+  }
+  return out;
+}
+
 
 }  // namespace aoeval

@@ -48,4 +48,7 @@ ResultRow unflatten(const nlohmann::json& flat);
 std::vector<std::string> identifying_columns();  // run_id, run_name, estimator, scene, view, ...
 std::vector<std::string> measured_columns();     // metrics, true_ metrics, timings, context
 
+// A file name for a run name: "raytraced/rays:16/scene:bunny" -> "raytraced__rays-16__scene-bunny".
+std::string file_stem_for(const std::string& run_name);
+
 }  // namespace aoeval

@@ -14,11 +14,10 @@
 #include "harness/evaluation/evaluation.h"
 #include "harness/evaluation/progress.h"
 #include "harness/results/results_store.h"
+#include "harness/results/suite_record.h"
 #include "harness/sweep/suite.h"
 #include "harness/sweep/sweep_runner.h"
 #include "references/reference_cache.h"
-#include "reports/gbuffer_gallery.h"
-#include "reports/suite_report.h"
 
 namespace aoeval {
 
@@ -94,8 +93,8 @@ class RunImages {
     const std::string key = scene + "|" + view + "|" + resolution(w, h);
     if (seen_views_.insert(key).second) views_.push_back({scene, view, w, h});
   }
-  std::string gallery(EvaluationSession& session, const std::string& suite,
-                      const std::map<std::string, double>& load_ms) {
+  std::vector<GalleryEntry> gallery(EvaluationSession& session,
+                                    const std::map<std::string, double>& load_ms) {
     std::vector<GalleryEntry> entries;
     const fs::path dir = fs::path(out_) / "gbuffers";
     for (const auto& v : views_) {
@@ -117,8 +116,7 @@ class RunImages {
                 gbuffer_attributes(data.scene, view, camera));
       entries.push_back(e);
     }
-    write_gbuffer_gallery(dir.string(), suite, entries);
-    return "gbuffers/index.html";
+    return entries;
   }
 
  private:
@@ -175,7 +173,7 @@ SuiteReportEntry run_point(const SuitePoint& sp, EvaluationSession& session, Run
 
 }  // namespace
 
-std::string run_suite(const SuiteRunOptions& o) {
+SuiteRun run_suite(const SuiteRunOptions& o) {
   const auto t_start = std::chrono::steady_clock::now();
   Suite suite = load_suite(o.suite);
   std::vector<SuiteOverride> overrides;
@@ -214,7 +212,9 @@ std::string run_suite(const SuiteRunOptions& o) {
   };
 
   RunImages images(out, run_dir);
-  SuiteReport report;
+  SuiteRun result;
+  result.out_dir = out;
+  SuiteReport& report = result.report;
   report.suite = suite.name;
   report.suite_file = suite.path;
   report.overrides = o.sets;
@@ -241,14 +241,11 @@ std::string run_suite(const SuiteRunOptions& o) {
              results_json(folder.rows(), context));
 
   // The G-buffer gallery needs a session holding the scenes: every suite point used one.
-  if (!sessions.empty())
-    report.gbuffer_gallery = images.gallery(*sessions.begin()->second, suite.name, load_ms);
+  if (!sessions.empty()) result.gallery = images.gallery(*sessions.begin()->second, load_ms);
   report.context = context;
   report.wall_s = seconds_since(t_start);
-  const std::string page = write_suite_report(out, report);
-  std::fprintf(stderr, "run %s: %zu rows (%zu skipped) in %.0f s\n", suite.name.c_str(),
-               points.size(), skipped, seconds_since(t_start));
-  return page;
+  result.skipped = skipped;
+  return result;
 }
 
 }  // namespace aoeval

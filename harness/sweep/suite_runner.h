@@ -1,4 +1,5 @@
-// Runs a suite (harness/suite.h) and writes its report (reports/suite_report.h). Output folder:
+// Runs a suite (harness/sweep/suite.h); cli/cmd_run.cpp then writes its report (reports/). Output
+// folder:
 //   index.html                  the report of this (the newest) run
 //   results.csv, results.json   this run's rows (also appended to the SQLite history)
 //   runs/<run_id>/estimates/    every row's estimate EXR (row.estimate_file, relative to the
@@ -12,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "harness/results/suite_record.h"
+
 namespace aoeval {
 
 struct SuiteRunOptions {
@@ -21,7 +24,15 @@ struct SuiteRunOptions {
   std::vector<std::string> sets;  // "ESTIMATOR:KEY=VALUE"
 };
 
-// Returns the path of the report (<out>/index.html).
-std::string run_suite(const SuiteRunOptions& options);
+// What a run leaves for its report (cli/cmd_run.cpp writes the page with reports/).
+struct SuiteRun {
+  std::string out_dir;
+  SuiteReport report;                // rows and the images kept beside them
+  std::vector<GalleryEntry> gallery;  // the G-buffer EXRs written under <out>/gbuffers/
+  size_t skipped = 0;                 // rows whose status is not "ok"
+};
+
+// Runs every point, stores the rows (results.csv/json, SQLite) and keeps the images; writes no page.
+SuiteRun run_suite(const SuiteRunOptions& options);
 
 }  // namespace aoeval

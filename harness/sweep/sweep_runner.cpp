@@ -26,22 +26,6 @@ extern "C" void on_sigint(int) {
 
 }  // namespace
 
-std::string file_stem_for(const std::string& run_name) {
-  std::string out;
-  for (char c : run_name) {
-    if (c == '/') {
-      out += "__";
-    } else if (c == ':') {
-      out += '-';
-    } else if (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_') {
-      out += c;
-    } else {
-      out += '_';
-    }
-  }
-  return out;
-}
-
 int run_sweep(const SweepOptions& o) {
   const SweepSpec spec = load_sweep_spec(o.spec_path);
   std::vector<SweepPoint> points = expand_sweep(spec);

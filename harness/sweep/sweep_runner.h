@@ -20,7 +20,5 @@ struct SweepOptions {
 // Returns the exit status: 0 done, 130 interrupted.
 int run_sweep(const SweepOptions& options);
 
-// A file name for a run name: "raytraced/rays:16/scene:bunny" -> "raytraced__rays-16__scene-bunny".
-std::string file_stem_for(const std::string& run_name);
 
 }  // namespace aoeval
