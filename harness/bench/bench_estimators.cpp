@@ -14,6 +14,7 @@
 #include "harness/evaluation/progress.h"
 #include "harness/results/results_store.h"
 #include "version.h"
+#include "harness/results/summary.h"
 
 namespace aoeval {
 
@@ -26,12 +27,6 @@ struct BenchLine {
   int width, height, repetitions;
   double median_ms, min_ms, max_ms, mpixel_per_s, precompute_ms;
 };
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 std::string table(const std::vector<BenchLine>& lines, bool markdown) {
   std::ostringstream os;

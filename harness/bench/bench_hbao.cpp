@@ -21,19 +21,13 @@
 #include "harness/evaluation/evaluation.h"
 #include "harness/results/results_store.h"
 #include "version.h"
+#include "harness/results/summary.h"
 
 namespace aoeval {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 // Medians per key over repetitions of pass-time maps.
 std::map<std::string, double> medians(const std::vector<std::map<std::string, double>>& runs) {

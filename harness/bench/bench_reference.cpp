@@ -12,16 +12,11 @@
 #include "harness/cli/commands.h"
 #include "corpus.h"
 #include "references/reference.h"
+#include "harness/results/summary.h"
 
 namespace aoeval {
 
 namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 // The practical limit: rtcOccluded1 over pre-generated rays, all cores, nothing else in the loop.
 double bare_occlusion_rays_per_second(RTCScene scene, const std::vector<RTCRay>& rays,

@@ -10,6 +10,7 @@
 #include "harness/scoring/metrics.h"
 #include "references/reference_cache.h"
 #include "version.h"
+#include "harness/results/summary.h"
 
 namespace aoeval {
 
@@ -120,12 +121,6 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 nlohmann::json score(const GBuffer& g, const ReferenceImage& ref, const std::vector<float>& est,
                      const std::string& prefix) {
   std::vector<uint8_t> mask(g.pixel_count());
@@ -133,13 +128,6 @@ nlohmann::json score(const GBuffer& g, const ReferenceImage& ref, const std::vec
   const Metrics m = compare_images({g.width, g.height, ref.ao.data()},
                                    {g.width, g.height, est.data()}, mask, ref.stderr_ao);
   return to_json(m, prefix);
-}
-
-std::string utc_now() {
-  const auto t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  char buf[32];
-  std::strftime(buf, sizeof(buf), "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-  return buf;
 }
 
 }  // namespace

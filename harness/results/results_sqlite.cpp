@@ -11,21 +11,13 @@
 #include <stdexcept>
 
 #include "harness/results/results_store.h"
+#include "harness/results/summary.h"
 
 namespace aoeval {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string utc_now() {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return text;
-}
 
 std::string quote_identifier(const std::string& name) {
   std::string q = "\"";

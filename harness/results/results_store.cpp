@@ -24,6 +24,7 @@
 #endif
 #if __has_include("version.h")
 #include "version.h"
+#include "harness/results/summary.h"
 #endif
 
 namespace aoeval {
@@ -33,15 +34,6 @@ namespace fs = std::filesystem;
 // ---------------------------------------------------------------- run context
 
 namespace {
-
-std::string utc_now(const char* format) {
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char text[64];
-  std::strftime(text, sizeof text, format, &tm);
-  return text;
-}
 
 std::string cpu_model() {
   std::ifstream in("/proc/cpuinfo");
