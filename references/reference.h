@@ -22,10 +22,12 @@ namespace aoeval {
 
 enum class NormalMode { shading, geometric };
 
+// The reference's settings and, declared once here, its defaults: `aoeval reference`, sweep specs'
+// "reference" block (harness ReferenceSpec), figures and benches all start from these.
 struct ReferenceSettings {
   int spp = 256;  // rays per pixel (the minimum, when target_stderr is set)
   AoDefinition definition;
-  SamplerKind sampler = SamplerKind::random;
+  SamplerKind sampler = SamplerKind::sobol;  // Owen-scrambled Sobol: the least error per ray
   uint64_t seed = 1;
   NormalMode normal = NormalMode::shading;  // which normal orients the hemisphere
   double target_stderr = 0.0;               // > 0: keep sampling until stderr <= this ...

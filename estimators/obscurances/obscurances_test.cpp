@@ -61,6 +61,7 @@ class SmallScene : public ::testing::Test {
   }
   ReferenceSettings reference_settings(Falloff rho, double dmax, int spp, uint64_t seed) const {
     ReferenceSettings r;
+    r.sampler = SamplerKind::random;
     r.spp = spp;
     r.seed = seed;
     r.definition.dmax = dmax;

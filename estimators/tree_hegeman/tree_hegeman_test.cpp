@@ -382,6 +382,7 @@ TEST(TreeEstimators, PoissonArgumentHoldsAtTheCentreOfSphereUniform) {
     expected += std::exp(-lambda) / seeds;
     EmbreeScene es(scene);
     ReferenceSettings rs;
+    rs.sampler = SamplerKind::random;
     rs.spp = 512;
     rs.definition.weighting = Weighting::uniform;
     rs.seed = static_cast<uint64_t>(seed);

@@ -257,6 +257,7 @@ TEST(VertexBaked, ErrorFallsAsTessellationRises) {
   EmbreeScene es(s);
   const GBuffer g = gbuffer_of(es, {1.0f, 1.4f, 2.0f}, {0, 0.2f, 0}, {0, 1, 0}, 96, 72);
   ReferenceSettings rs;
+  rs.sampler = SamplerKind::random;
   rs.spp = 1024;
   rs.definition.weighting = Weighting::uniform;
   rs.normal = NormalMode::geometric;

@@ -63,6 +63,7 @@ void bench_reference(const ReferenceBenchOptions& o) {
   const GBuffer g = render_gbuffer(es, camera);
   ReferenceSettings s;
   s.spp = o.spp;
+  s.sampler = SamplerKind::random;  // the bare loop replays the random sampler's rays
   const glm::vec3 e = scene.bounds().extent();
   const float extent = std::max({e.x, e.y, e.z});
 

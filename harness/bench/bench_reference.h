@@ -4,11 +4,13 @@
 
 #include <string>
 
+#include "references/reference.h"
+
 namespace aoeval {
 
 struct ReferenceBenchOptions {
   std::string scene, view, res;
-  int spp = 256;
+  int spp = ReferenceSettings{}.spp;
   int repetitions = 5;
   std::string accuracy_res = "96x72";  // resolution of the sampler-accuracy part
   int truth_spp = 16384;

@@ -96,7 +96,7 @@ void run_figures(const FiguresOptions& o) {
     throw InputError("name one or more figures or pass --all; known: " + known_names());
   fs::create_directories(o.out_dir);
   ReferenceSpec reference;
-  reference.spp = o.quick ? 64 : 256;
+  if (o.quick) reference.spp = 64;
   EvaluationSession session(reference, TimingSpec{0, 1});
   FigureContext ctx;
   ctx.out_dir = o.out_dir;

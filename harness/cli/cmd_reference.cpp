@@ -20,12 +20,14 @@ namespace {
 
 struct Options {
   std::string scene, view, res, output;
-  int spp = 256;
-  std::string weighting = "cosine", dmax = "inf", falloff = "none", sampler = "random";
+  // Defaults: ReferenceSettings' (references/reference.h), declared there once.
+  int spp = ReferenceSettings{}.spp;
+  std::string weighting = "cosine", dmax = "inf", falloff = "none";
+  std::string sampler = sampler_name(ReferenceSettings{}.sampler);
   std::string normal = "shading";
-  uint64_t seed = 1;
-  double target_stderr = 0.0;
-  int max_spp = 16384;
+  uint64_t seed = ReferenceSettings{}.seed;
+  double target_stderr = ReferenceSettings{}.target_stderr;
+  int max_spp = ReferenceSettings{}.max_spp;
   bool no_cache = false;
 };
 

@@ -16,10 +16,11 @@
 
 namespace aoeval {
 
+// The reference of a sweep or suite; its defaults are ReferenceSettings' (references/reference.h).
 struct ReferenceSpec {
-  int spp = 256;
-  SamplerKind sampler = SamplerKind::sobol;
-  uint64_t seed = 1;
+  int spp = ReferenceSettings{}.spp;
+  SamplerKind sampler = ReferenceSettings{}.sampler;
+  uint64_t seed = ReferenceSettings{}.seed;
   nlohmann::json to_json() const;
 };
 

@@ -84,15 +84,19 @@ SweepSpec parse_sweep_spec(const nlohmann::json& doc, const std::string& file) {
     spec.height = r[1].get<int>();
   }
   if (auto ref = root.optional_object("reference")) {
-    spec.reference.spp = static_cast<int>(ref->integer("spp", 256, 1, 1 << 24));
-    spec.reference.sampler =
-        parse_sampler(ref->choice("sampler", "sobol", {"random", "stratified", "sobol"}));
-    spec.reference.seed = static_cast<uint64_t>(ref->integer("seed", 1, 0, INT64_MAX));
+    const ReferenceSpec defaults;
+    spec.reference.spp = static_cast<int>(ref->integer("spp", defaults.spp, 1, 1 << 24));
+    spec.reference.sampler = parse_sampler(ref->choice("sampler", sampler_name(defaults.sampler),
+                                                       {"random", "stratified", "sobol"}));
+    spec.reference.seed = static_cast<uint64_t>(
+        ref->integer("seed", static_cast<int64_t>(defaults.seed), 0, INT64_MAX));
     ref->finish();
   }
   if (auto t = root.optional_object("timing")) {
-    spec.timing.warmup = static_cast<int>(t->integer("warmup", 1, 0, 1000));
-    spec.timing.repetitions = static_cast<int>(t->integer("repetitions", 5, 1, 10000));
+    const TimingSpec defaults;
+    spec.timing.warmup = static_cast<int>(t->integer("warmup", defaults.warmup, 0, 1000));
+    spec.timing.repetitions =
+        static_cast<int>(t->integer("repetitions", defaults.repetitions, 1, 10000));
     t->finish();
   }
   for (auto& run : root.array_of_objects("runs", 1)) {
