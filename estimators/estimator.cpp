@@ -164,4 +164,8 @@ nlohmann::json parse_set_arguments(const std::vector<std::string>& assignments) 
   return out;
 }
 
+ParamSet default_params(const EstimatorInfo& info) {
+  return resolve_params(info.name, info.params, nlohmann::json::object(), info.name + " defaults");
+}
+
 }  // namespace aoeval

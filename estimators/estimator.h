@@ -118,4 +118,8 @@ struct EstimatorInfo {
   const ParamSpec* find_param(const std::string& name) const;
 };
 
+// Every declared parameter at its declared default: what the estimator runs with when nothing is
+// set. Settings structs hold no defaults of their own; tests and benches start from this.
+ParamSet default_params(const EstimatorInfo& info);
+
 }  // namespace aoeval

@@ -37,11 +37,13 @@
 namespace aoeval {
 
 struct ObscuranceSettings {
-  int rays = 16;                                   // Nobs, §4.1 (Fig. 6 uses 16)
-  double dmax = 1.0;                               // scene units, eq. 2 (Fig. 4: 1.0 m)
-  Falloff rho = Falloff::sqrt;                     // §3; none = the constant function
-  SamplerKind sampling = SamplerKind::stratified;  // stratified = systematic, §4.2
-  uint64_t seed = 7;
+  // No defaults here: the parameter table declares them once; obscurance_settings_of fills this from a ParamSet
+  // (default_params(...) for "every parameter at its default").
+  int rays;              // Nobs, §4.1 (Fig. 6 uses 16)
+  double dmax;           // scene units, eq. 2 (Fig. 4: 1.0 m)
+  Falloff rho;           // §3; none = the constant function
+  SamplerKind sampling;  // stratified = systematic, §4.2
+  uint64_t seed;
 };
 
 struct ObscuranceImage {
@@ -61,5 +63,6 @@ ObscuranceImage compute_obscurances(const EmbreeScene& scene, const GBuffer& gbu
 Falloff parse_rho(const std::string& name);
 
 EstimatorInfo obscurances_estimator();
+ObscuranceSettings obscurance_settings_of(const ParamSet& params);
 
 }  // namespace aoeval
