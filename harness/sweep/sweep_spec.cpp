@@ -23,7 +23,8 @@ std::vector<nlohmann::json> expand_grid_values(const ParamSpec& param, const nlo
   nlohmann::json copy = entry;
   JsonReader r(copy, "", where);
   const auto& range = r.raw("range");
-  const std::string scale = r.choice("scale", "lin", {"lin", "log"});
+  // Without "scale" a range is spaced as the parameter declares (ParamSpec::log_scale).
+  const std::string scale = r.choice("scale", param.log_scale ? "log" : "lin", {"lin", "log"});
   r.finish();
   if (param.type != ParamType::real && param.type != ParamType::integer)
     throw InputError(where + ": a range needs a numeric parameter");
