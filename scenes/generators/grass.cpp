@@ -21,6 +21,7 @@
 
 // First: no FMA contraction in this file (same bits on every platform).
 #include "fp_contract_off.h"  // IWYU pragma: keep
+
 #include <array>
 #include <cmath>
 #include <glm/geometric.hpp>

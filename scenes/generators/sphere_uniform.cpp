@@ -16,6 +16,7 @@
 
 // First: no FMA contraction in this file (same bits on every platform).
 #include "fp_contract_off.h"  // IWYU pragma: keep
+
 #include <cmath>
 #include <glm/geometric.hpp>
 

@@ -36,6 +36,7 @@
 
 // First: no FMA contraction in this file (same bits on every platform).
 #include "fp_contract_off.h"  // IWYU pragma: keep
+
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
