@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "errors.h"
+#include "ao_exr.h"
 
 namespace aoeval {
 
@@ -327,30 +328,16 @@ void parse_reference_options(ReferenceSettings& s, const std::string& weighting,
 namespace aoeval {
 
 ReferenceImage read_reference_image(const std::string& path) {
-  OIIO::ImageBuf image = read_image(path);
+  AoExr f = read_ao_exr(path, /*need_stderr=*/true);
   ReferenceImage r;
-  r.width = image.spec().width;
-  r.height = image.spec().height;
-  const int ao = channel_index(image, "AO", path), se = channel_index(image, "AO_stderr", path),
-            a = channel_index(image, "A", path);
-  const int bx = image.spec().channelindex("bent.X"), by = image.spec().channelindex("bent.Y"),
-            bz = image.spec().channelindex("bent.Z"), sp = image.spec().channelindex("spp");
-  const size_t n = static_cast<size_t>(r.width) * r.height;
-  r.ao.resize(n);
-  r.stderr_ao.resize(n);
-  r.coverage.resize(n);
-  r.bent.assign(n, glm::vec3(0.0f));
-  r.spp.assign(n, 0.0f);
-  const auto* px = static_cast<const float*>(image.localpixels());
-  const int nc = image.spec().nchannels;
-  for (size_t k = 0; k < n; ++k) {
-    const float* s = px + k * nc;
-    r.ao[k] = s[ao];
-    r.stderr_ao[k] = s[se];
-    r.coverage[k] = s[a];
-    if (bx >= 0 && by >= 0 && bz >= 0) r.bent[k] = {s[bx], s[by], s[bz]};
-    if (sp >= 0) r.spp[k] = s[sp];
-  }
+  r.width = f.width;
+  r.height = f.height;
+  const size_t n = f.ao.size();
+  r.ao = std::move(f.ao);
+  r.stderr_ao = std::move(f.stderr_ao);
+  r.coverage = std::move(f.coverage);
+  r.bent = f.bent.empty() ? std::vector<glm::vec3>(n, glm::vec3(0.0f)) : std::move(f.bent);
+  r.spp = f.spp.empty() ? std::vector<float>(n, 0.0f) : std::move(f.spp);
   return r;
 }
 

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "harness/cli/commands.h"
+#include "ao_exr.h"
 #include "errors.h"
 #include "exr_io.h"
 #include "drawing/error_maps.h"
@@ -14,37 +15,9 @@ namespace aoeval {
 
 namespace {
 
-struct AoFile {
-  std::string path;
-  int width = 0, height = 0;
-  std::vector<float> ao, coverage, stderr_ao;
-  std::string scene, view, definition;
-};
+using AoFile = AoExr;
 
-AoFile read_ao_file(const std::string& path) {
-  const OIIO::ImageBuf image = read_image(path);
-  AoFile f;
-  f.path = path;
-  f.width = image.spec().width;
-  f.height = image.spec().height;
-  const int ao = channel_index(image, "AO", path), a = channel_index(image, "A", path);
-  const int se = image.spec().channelindex("AO_stderr");
-  const size_t n = static_cast<size_t>(f.width) * f.height;
-  const auto* px = static_cast<const float*>(image.localpixels());
-  const int nc = image.spec().nchannels;
-  f.ao.resize(n);
-  f.coverage.resize(n);
-  if (se >= 0) f.stderr_ao.resize(n);
-  for (size_t k = 0; k < n; ++k) {
-    f.ao[k] = px[k * nc + ao];
-    f.coverage[k] = px[k * nc + a];
-    if (se >= 0) f.stderr_ao[k] = px[k * nc + se];
-  }
-  f.scene = string_attribute(image, "aoeval:scene");
-  f.view = string_attribute(image, "aoeval:view");
-  f.definition = string_attribute(image, "aoeval:definition");
-  return f;
-}
+AoFile read_ao_file(const std::string& path) { return read_ao_exr(path); }
 
 void check_same_view(const AoFile& a, const AoFile& b) {
   if (a.width != b.width || a.height != b.height)
