@@ -16,6 +16,7 @@
 #include "ao_definition.h"
 #include "embree_scene.h"
 #include "gbuffer.h"
+#include "sampling/ray_offset.h"
 #include "sampling/samplers.h"
 
 namespace aoeval {
@@ -55,9 +56,7 @@ struct ReferenceImage {
 ReferenceImage compute_reference(const EmbreeScene& scene, const GBuffer& gbuffer,
                                  const ReferenceSettings& settings);
 
-// The offset of a ray origin along Ng: large enough to clear the G-buffer position's rounding error
-// (barycentric interpolation: a few ulps of the coordinates' magnitude), small against any feature.
-float origin_offset(const glm::vec3& position, float scene_extent);
+// origin_offset (sampling/ray_offset.h): where the reference's rays start.
 
 // The reference as an EXR image (channels AO, AO_stderr, bent.X/Y/Z, A, and spp when adaptive).
 OIIO::ImageBuf reference_to_image(const ReferenceImage& r, bool with_spp);

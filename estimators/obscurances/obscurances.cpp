@@ -10,7 +10,7 @@
 #include <glm/geometric.hpp>
 
 #include "errors.h"
-#include "references/reference.h"
+#include "sampling/ray_offset.h"
 
 namespace aoeval {
 

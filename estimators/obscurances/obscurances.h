@@ -20,7 +20,7 @@
 // Estimator: Nobs = `rays` directions per pixel drawn with pdf cos(theta)/pi around the shading
 // normal, so W = mean of the ray values (the cos/pi cancels). Sampling: i.i.d. (`random`) or the
 // systematic sampling of §4.2 (one random offset shared by an n1 x n2 grid, n1 n2 = Nobs, mapped
-// through the concentric cosine map: references/samplers.h, SamplerKind::stratified). A direction
+// through the concentric cosine map: sampling/samplers.h, SamplerKind::stratified). A direction
 // below the geometric surface counts as a hit at distance 0 (grey value rho(0) = 0, colour 0), as
 // the reference does. With the random sampler and the same seed the grey output equals the Embree
 // reference (references/reference.h) with spp = rays bit for bit: same directions, origins, values.

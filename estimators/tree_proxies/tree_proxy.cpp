@@ -1,4 +1,4 @@
-#include "estimators/tree_hegeman/tree_proxy.h"
+#include "estimators/tree_proxies/tree_proxy.h"
 
 #include <algorithm>
 #include <cmath>
