@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 
 namespace aoeval {
 namespace {
@@ -38,7 +40,54 @@ TEST(Plot, DrawsALinePlotWithParetoPointsAsAPng) {
   const auto stats = OIIO::ImageBufAlgo::computePixelStats(image);
   EXPECT_LT(stats.min[0], 0.2f);
   EXPECT_GT(stats.max[0], 0.9f);
-  EXPECT_TRUE(std::filesystem::exists(out + ".plot.json"));
+  // The drawn data is the data given: plot.json (what plot.py reads) holds the series as set.
+  std::ifstream in(out + ".plot.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["title"], spec.title);
+  EXPECT_EQ(j["log_x"], true);
+  ASSERT_EQ(j["series"].size(), 1u);
+  EXPECT_EQ(j["series"][0]["x"].get<std::vector<double>>(), s.x);
+  EXPECT_EQ(j["series"][0]["y"].get<std::vector<double>>(), s.y);
+  EXPECT_EQ(j["series"][0]["highlight"].get<std::vector<bool>>(), s.highlight);
+}
+
+// A series' colour reaches the pixels and its data moves them: a red series puts pure-red pixels
+// on the canvas (nothing else in a plot is red), and other y values give a different image.
+TEST(Plot, TheSeriesIsDrawnInItsColourAtItsData) {
+  auto red_pixels = [](const std::string& path) {
+    OIIO::ImageBuf image(path);
+    EXPECT_TRUE(image.read(0, 0, true, OIIO::TypeDesc::FLOAT)) << image.geterror();
+    const int w = image.spec().width, h = image.spec().height, nc = image.spec().nchannels;
+    std::vector<float> px(static_cast<size_t>(w) * h * nc);
+    image.get_pixels(OIIO::ROI::All(), OIIO::TypeFloat, px.data());
+    std::vector<size_t> red;
+    for (size_t k = 0; k < static_cast<size_t>(w) * h; ++k)
+      if (px[k * nc] > 0.7f && px[k * nc + 1] < 0.3f && px[k * nc + 2] < 0.3f) red.push_back(k);
+    return red;
+  };
+  PlotSpec spec;
+  PlotSeries s;
+  s.colour = "#ff0000";
+  s.x = {0, 1, 2, 3};
+  s.y = {0, 1, 0, 1};
+  spec.series.push_back(s);
+  const std::string a = temp_dir() + "/red_a.png", b = temp_dir() + "/red_b.png";
+  render_plot(spec, a);
+  spec.series[0].y = {1, 0, 1, 0};
+  render_plot(spec, b);
+  const std::vector<size_t> ra = red_pixels(a), rb = red_pixels(b);
+  EXPECT_GT(ra.size(), 200u);  // a 4-point line across a 770 x 495 canvas
+  EXPECT_GT(rb.size(), 200u);
+  EXPECT_NE(ra, rb);
+  PlotSpec none;
+  PlotSeries grey;
+  grey.colour = "#808080";
+  grey.x = s.x;
+  grey.y = s.y;
+  none.series.push_back(grey);
+  const std::string c = temp_dir() + "/grey.png";
+  render_plot(none, c);
+  EXPECT_TRUE(red_pixels(c).empty());
 }
 
 TEST(Plot, MismatchedSeriesAreRejectedBeforeDrawing) {

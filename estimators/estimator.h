@@ -8,6 +8,8 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
+#include <set>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
@@ -47,8 +49,20 @@ class ParamSet {
   std::string choice(const std::string& name) const;
   const nlohmann::json& json() const { return values_; }
 
+  // The names read so far through real/integer/boolean/choice, by this set and every copy of it (a
+  // shared log): which declared parameters an estimator actually used. The default-agreement test
+  // (harness/evaluation/defaults_agreement_test.cpp) proves with it that each one is read from the
+  // table rather than fixed in code.
+  std::set<std::string> read_names() const;
+
  private:
+  void note_read(const std::string& name) const;
   nlohmann::json values_ = nlohmann::json::object();
+  struct ReadLog {
+    std::mutex mutex;
+    std::set<std::string> names;
+  };
+  std::shared_ptr<ReadLog> reads_ = std::make_shared<ReadLog>();
 };
 
 // Builds the ParamSet from overrides. `overrides` holds JSON values (numbers, bools, strings; a
@@ -104,6 +118,20 @@ class Estimator {
   virtual nlohmann::json derived() const { return nlohmann::json::object(); }
 };
 
+// What the conformance test (harness/evaluation/conformance_test.cpp) may expect of an estimator
+// on analytic scenes. Every field has a default that follows from the backend, so a new estimator
+// is checked without declaring anything; declare a field only to say why it differs.
+struct ConformanceSpec {
+  // Largest |AO - 1| on an open plane. < 0: by backend: 1e-6 for embree (ray casting into the
+  // scene: every ray above a lone plane escapes), 0.05 for the others (screen-space and model
+  // approximations, which may darken an open plane a little through their bias terms).
+  double open_plane_tolerance = -1.0;
+  // Whether it sees every occluder around a point, so that inside a closed box its AO is at most
+  // its definition's ray value at the box's diagonal. -1: by backend (embree yes, others no: a
+  // depth buffer does not hold the walls behind the camera); 0 no; 1 yes.
+  int sees_enclosure = -1;
+};
+
 struct EstimatorInfo {
   std::string name;     // "raytraced", "hbao-split", ...
   std::string summary;  // one line
@@ -114,8 +142,12 @@ struct EstimatorInfo {
   std::string definition_doc;  // how the AO definition follows from the parameters
   std::function<AoDefinition(const ParamSet&)> definition;
   std::function<std::unique_ptr<Estimator>(const ParamSet&)> create;
+  ConformanceSpec conformance;  // defaults by backend; see ConformanceSpec
 
   const ParamSpec* find_param(const std::string& name) const;
+  // ConformanceSpec with the backend's defaults filled in.
+  double open_plane_tolerance() const;
+  bool sees_enclosure() const;
 };
 
 // Every declared parameter at its declared default: what the estimator runs with when nothing is
