@@ -19,6 +19,7 @@
 #include "analytic_scenes.h"
 #include "embree_scene.h"
 #include "estimators/registry.h"
+#include "estimators/testing/registry_test_names.h"
 #include "gbuffer.h"
 #include "harness/evaluation/evaluation.h"
 
@@ -180,19 +181,7 @@ TEST_P(Conformance, SameSeedSameBits) {
   }
 }
 
-std::vector<std::string> registered() {
-  std::vector<std::string> names;
-  for (const auto& e : estimator_registry()) names.push_back(e.name);
-  return names;
-}
-
-INSTANTIATE_TEST_SUITE_P(Registry, Conformance, ::testing::ValuesIn(registered()),
-                         [](const ::testing::TestParamInfo<std::string>& p) {
-                           std::string s = p.param;
-                           for (char& c : s)
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           return s;
-                         });
+AOEVAL_INSTANTIATE_OVER_REGISTRY(Conformance);
 
 }  // namespace
 }  // namespace aoeval

@@ -11,6 +11,7 @@
 #include "analytic_scenes.h"
 #include "embree_scene.h"
 #include "estimators/registry.h"
+#include "estimators/testing/registry_test_names.h"
 #include "gbuffer.h"
 #include "harness/cli/cli_test_util.h"
 #include "scenes/test_temp_dir.h"
@@ -97,19 +98,7 @@ TEST_P(DefaultsAgree, EstimateExrParamsAreTheTable) {
   EXPECT_EQ(written, table_defaults(e)) << e.name;
 }
 
-std::vector<std::string> registered() {
-  std::vector<std::string> names;
-  for (const auto& e : estimator_registry()) names.push_back(e.name);
-  return names;
-}
-
-INSTANTIATE_TEST_SUITE_P(Registry, DefaultsAgree, ::testing::ValuesIn(registered()),
-                         [](const ::testing::TestParamInfo<std::string>& p) {
-                           std::string s = p.param;
-                           for (char& c : s)
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           return s;
-                         });
+AOEVAL_INSTANTIATE_OVER_REGISTRY(DefaultsAgree);
 
 }  // namespace
 }  // namespace aoeval
