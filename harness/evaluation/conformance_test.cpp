@@ -34,39 +34,40 @@ struct Analytic {
   GBuffer gbuffer;
 };
 
-Analytic make(Scene scene, glm::vec3 eye, glm::vec3 target) {
-  Analytic a;
-  a.scene = std::move(scene);
-  View& v = a.scene.views.front();
+// Built in place and never moved: the Embree scene refers to the scene.
+std::unique_ptr<const Analytic> make(Scene scene, glm::vec3 eye, glm::vec3 target) {
+  auto a = std::make_unique<Analytic>();
+  a->scene = std::move(scene);
+  View& v = a->scene.views.front();
   v.name = "main";
   v.eye = eye;
   v.target = target;
   v.fov_y_deg = 60.0f;
-  a.embree = std::make_unique<EmbreeScene>(a.scene);
-  a.gbuffer = render_gbuffer(*a.embree, make_camera(v, kW, kH));
+  a->embree = std::make_unique<EmbreeScene>(a->scene);
+  a->gbuffer = render_gbuffer(*a->embree, make_camera(v, kW, kH));
   return a;
 }
 
 // A 4 x 4 plane seen from above at an angle: the far part of the image is sky (uncovered).
 const Analytic& open_plane() {
-  static const Analytic a =
+  static const auto a =
       make(scene_of({generated("floor", "plane", {{"size", {4, 4}}})}), {0, 1.2f, 2.2f}, {0, 0, 0});
-  return a;
+  return *a;
 }
 
 // The inside of a closed 0.2 box (it stands on y = 0), from near its centre: every pixel covered, every ray hits a wall
 // within the box's diagonal.
 constexpr double kBoxSize = 0.2;
 const Analytic& closed_box() {
-  static const Analytic a = make(
+  static const auto a = make(
       scene_of({generated("box", "box", {{"size", {kBoxSize, kBoxSize, kBoxSize}}, {"inward", true}})}),
       {0, 0.1f, 0.05f}, {0, 0.1f, -1});
-  return a;
+  return *a;
 }
 
 // A leaf ball (tree role) above a ground plane: the scene the tree estimators derive proxies from.
 const Analytic& tree_scene() {
-  static const Analytic a = [] {
+  static const auto a = [] {
     SceneObject ground = generated("ground", "plane", {{"size", {6, 6}}});
     ground.role = Role::ground;
     SceneObject crown =
@@ -75,7 +76,7 @@ const Analytic& tree_scene() {
     crown.role = Role::tree;
     return make(scene_of({std::move(ground), std::move(crown)}), {0, 1.0f, 3.2f}, {0, 0.7f, 0});
   }();
-  return a;
+  return *a;
 }
 
 struct Run {
@@ -94,7 +95,7 @@ std::optional<Run> run(const EstimatorInfo& e, const Analytic& a) {
     r.result = est->run(context);
     r.image = estimate_to_image(a.gbuffer, r.result);
     return r;
-  } catch (const EstimatorUnavailable& u) {
+  } catch (const EstimatorUnavailable&) {
     return std::nullopt;
   }
 }
