@@ -18,7 +18,7 @@
 #include "ao_definition.h"
 #include "embree_scene.h"
 #include "gbuffer.h"
-#include "json_reader.h"
+#include "param_text.h"
 #include "scene.h"
 
 namespace aoeval {
@@ -72,7 +72,7 @@ ParamSet resolve_params(const std::string& estimator, const std::vector<ParamSpe
                         const nlohmann::json& overrides, const std::string& where);
 // "KEY=VALUE" strings from --set into an overrides object (values kept as text).
 nlohmann::json parse_set_arguments(const std::vector<std::string>& assignments);
-// format_param_value (json_reader.h): the stable name fragment of a parameter value.
+// format_param_value (param_text.h): the stable name fragment of a parameter value.
 
 enum class Backend { cpu, embree, vulkan };
 const char* backend_name(Backend b);

@@ -11,7 +11,7 @@
 
 #include "drawing/plot.h"
 #include "harness/results/result_row.h"
-#include "json_reader.h"
+#include "param_text.h"
 
 namespace aoeval {
 

@@ -61,8 +61,4 @@ class JsonReader {
 nlohmann::json parse_json_file(const std::string& path);
 nlohmann::json parse_json_text(const std::string& text, const std::string& name);
 
-// The stable text of a parameter value, used in run names, results and reports: 0.2, 8, true,
-// cosine (numbers in the shortest form that reads back as the same double).
-std::string format_param_value(const nlohmann::json& value);
-
 }  // namespace aoeval
