@@ -1,5 +1,6 @@
 // The text writers of result rows (results_store.h): the column order, CSV, JSON, Markdown and
 // console tables. Each reads the same ResultRows; none runs or stores anything.
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
