@@ -79,19 +79,19 @@ const Analytic& tree_scene() {
   return *a;
 }
 
-struct Run {
+struct Outcome {
   EstimateResult result;
   OIIO::ImageBuf image;  // as the harness writes it
 };
 
 // The estimator at its declared defaults; GTEST_SKIP when its backend is missing here.
-std::optional<Run> run(const EstimatorInfo& e, const Analytic& a) {
+std::optional<Outcome> run(const EstimatorInfo& e, const Analytic& a) {
   const ParamSet params = default_params(e);
   std::unique_ptr<Estimator> est = e.create(params);
   const EstimateContext context{a.scene, *a.embree, a.gbuffer};
   try {
     est->prepare(context);
-    Run r;
+    Outcome r;
     r.result = est->run(context);
     r.image = estimate_to_image(a.gbuffer, r.result);
     return r;
@@ -101,7 +101,7 @@ std::optional<Run> run(const EstimatorInfo& e, const Analytic& a) {
 }
 
 #define RUN_OR_SKIP(var, e, a)                                           \
-  const std::optional<Run> var = run(e, a);                              \
+  const std::optional<Outcome> var = run(e, a);                              \
   if (!var) GTEST_SKIP() << e.name << ": backend unavailable on this machine"
 
 class Conformance : public ::testing::TestWithParam<std::string> {
@@ -110,7 +110,7 @@ class Conformance : public ::testing::TestWithParam<std::string> {
 };
 
 // Covered pixels finite and in [0, 1]; uncovered pixels 0 in the written image.
-void expect_valid(const EstimatorInfo& e, const Analytic& a, const Run& r, const char* scene) {
+void expect_valid(const EstimatorInfo& e, const Analytic& a, const Outcome& r, const char* scene) {
   const GBuffer& g = a.gbuffer;
   ASSERT_EQ(r.result.ao.size(), g.pixel_count()) << e.name << " " << scene;
   std::vector<float> px(g.pixel_count() * r.image.spec().nchannels);
@@ -172,7 +172,7 @@ TEST_P(Conformance, SameSeedSameBits) {
   const EstimatorInfo& e = info();
   for (const Analytic* a : {&open_plane(), &tree_scene()}) {
     RUN_OR_SKIP(first, e, *a);
-    const std::optional<Run> second = run(e, *a);
+    const std::optional<Outcome> second = run(e, *a);
     ASSERT_TRUE(second);
     ASSERT_EQ(first->result.ao.size(), second->result.ao.size());
     EXPECT_EQ(std::memcmp(first->result.ao.data(), second->result.ao.data(),
