@@ -9,8 +9,8 @@
 #include <cmath>
 #include <limits>
 
-#include "errors.h"
 #include "ao_exr.h"
+#include "errors.h"
 
 namespace aoeval {
 

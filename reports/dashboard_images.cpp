@@ -8,12 +8,12 @@
 #include <thread>
 
 #include "ao_exr.h"
+#include "drawing/error_maps.h"
+#include "drawing/plot.h"
 #include "errors.h"
 #include "exr_io.h"
-#include "drawing/error_maps.h"
 #include "harness/results/result_row.h"
 #include "reports/dashboard.h"
-#include "drawing/plot.h"
 
 namespace aoeval {
 

@@ -13,8 +13,8 @@ AoExr read_ao_exr(const std::string& path, bool need_stderr) {
   f.width = spec.width;
   f.height = spec.height;
   const int ao = channel_index(image, "AO", path);
-  const int se = need_stderr ? channel_index(image, "AO_stderr", path)
-                             : spec.channelindex("AO_stderr");
+  const int se =
+      need_stderr ? channel_index(image, "AO_stderr", path) : spec.channelindex("AO_stderr");
   const int a = channel_index(image, "A", path);
   const int bx = spec.channelindex("bent.X"), by = spec.channelindex("bent.Y"),
             bz = spec.channelindex("bent.Z"), sp = spec.channelindex("spp");

@@ -13,10 +13,10 @@ namespace aoeval {
 struct AoExr {
   std::string path;  // the file it was read from
   int width = 0, height = 0;
-  std::vector<float> ao, coverage;    // per pixel, row-major
-  std::vector<float> stderr_ao;       // empty when the file has no AO_stderr channel
-  std::vector<glm::vec3> bent;        // empty unless bent.X, bent.Y and bent.Z are all present
-  std::vector<float> spp;             // empty without an spp channel
+  std::vector<float> ao, coverage;      // per pixel, row-major
+  std::vector<float> stderr_ao;         // empty when the file has no AO_stderr channel
+  std::vector<glm::vec3> bent;          // empty unless bent.X, bent.Y and bent.Z are all present
+  std::vector<float> spp;               // empty without an spp channel
   std::string scene, view, definition;  // aoeval: attributes, "" where absent
 };
 

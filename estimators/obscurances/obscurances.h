@@ -37,8 +37,8 @@
 namespace aoeval {
 
 struct ObscuranceSettings {
-  // No defaults here: the parameter table declares them once; obscurance_settings_of fills this from a ParamSet
-  // (default_params(...) for "every parameter at its default").
+  // No defaults here: the parameter table declares them once; obscurance_settings_of fills this
+  // from a ParamSet (default_params(...) for "every parameter at its default").
   int rays;              // Nobs, §4.1 (Fig. 6 uses 16)
   double dmax;           // scene units, eq. 2 (Fig. 4: 1.0 m)
   Falloff rho;           // §3; none = the constant function

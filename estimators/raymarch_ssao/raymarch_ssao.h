@@ -17,8 +17,8 @@
 namespace aoeval {
 
 struct RaymarchSettings {
-  // No defaults here: the parameter table declares them once; raymarch_settings_of fills this from a ParamSet
-  // (default_params(...) for "every parameter at its default").
+  // No defaults here: the parameter table declares them once; raymarch_settings_of fills this from
+  // a ParamSet (default_params(...) for "every parameter at its default").
   double radius;  // R
   int steps;      // Ns
   int rays;       // marches per pixel

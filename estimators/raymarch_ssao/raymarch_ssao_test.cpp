@@ -7,8 +7,8 @@
 #include <cmath>
 
 #include "errors.h"
-#include "estimators/testing/ssao_test_scenes.h"
 #include "estimators/registry.h"
+#include "estimators/testing/ssao_test_scenes.h"
 
 namespace aoeval {
 namespace {

@@ -45,8 +45,9 @@ TEST(Raytraced, TheFootOfAWallIsHalfOccluded) {
   const Scene s = scene_of({std::move(floor), std::move(wall)});
   const int pixels = 256, rays = 64;
   for (const char* w : {"cosine", "uniform"}) {
-    const EstimateResult r = run_raytraced(s, probe({1e-3f, 0, 0}, {0, 1, 0}, pixels),
-                                           {{"weighting", w}, {"rays", rays}, {"sampler", "random"}});
+    const EstimateResult r =
+        run_raytraced(s, probe({1e-3f, 0, 0}, {0, 1, 0}, pixels),
+                      {{"weighting", w}, {"rays", rays}, {"sampler", "random"}});
     const double tol = 5.0 * std::sqrt(0.25 / (pixels * rays));
     EXPECT_NEAR(mean(r.ao), 0.5, tol) << w;
     ASSERT_EQ(r.extra_channels.count("AO_stderr"), 1u);

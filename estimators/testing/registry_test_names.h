@@ -29,8 +29,8 @@ inline std::string estimator_test_name(const ::testing::TestParamInfo<std::strin
 }  // namespace aoeval::testing_support
 
 // Instantiates SUITE once per registered estimator.
-#define AOEVAL_INSTANTIATE_OVER_REGISTRY(SUITE)                                            \
-  INSTANTIATE_TEST_SUITE_P(                                                                \
-      Registry, SUITE,                                                                     \
-      ::testing::ValuesIn(::aoeval::testing_support::registered_estimator_names()),        \
+#define AOEVAL_INSTANTIATE_OVER_REGISTRY(SUITE)                                     \
+  INSTANTIATE_TEST_SUITE_P(                                                         \
+      Registry, SUITE,                                                              \
+      ::testing::ValuesIn(::aoeval::testing_support::registered_estimator_names()), \
       ::aoeval::testing_support::estimator_test_name)

@@ -6,15 +6,15 @@
 #include <filesystem>
 #include <sstream>
 
-#include "harness/cli/commands.h"
 #include "corpus.h"
 #include "errors.h"
 #include "estimators/registry.h"
+#include "harness/cli/commands.h"
 #include "harness/evaluation/evaluation.h"
 #include "harness/evaluation/progress.h"
 #include "harness/results/results_store.h"
-#include "version.h"
 #include "harness/results/summary.h"
+#include "version.h"
 
 namespace aoeval {
 

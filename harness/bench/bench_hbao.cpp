@@ -11,17 +11,17 @@
 #include <filesystem>
 #include <sstream>
 
-#include "harness/cli/commands.h"
 #include "corpus.h"
 #include "errors.h"
 #include "estimators/hbao_split/hbao_split.h"
 #include "estimators/hbao_split/hbao_vulkan.h"
 #include "estimators/registry.h"
 #include "estimators/vulkan/vk_context.h"
+#include "harness/cli/commands.h"
 #include "harness/evaluation/evaluation.h"
 #include "harness/results/results_store.h"
-#include "version.h"
 #include "harness/results/summary.h"
+#include "version.h"
 
 namespace aoeval {
 

@@ -9,10 +9,10 @@
 #include <cmath>
 #include <cstdio>
 
-#include "harness/cli/commands.h"
 #include "corpus.h"
-#include "references/reference.h"
+#include "harness/cli/commands.h"
 #include "harness/results/summary.h"
+#include "references/reference.h"
 
 namespace aoeval {
 

@@ -1,8 +1,8 @@
 // `aoeval bench ...`: timing tables and throughput figures. Benchmarks measure; tests never time.
-#include "harness/bench/bench_reference.h"
-#include "harness/cli/commands.h"
 #include "harness/bench/bench_estimators.h"
 #include "harness/bench/bench_hbao.h"
+#include "harness/bench/bench_reference.h"
+#include "harness/cli/commands.h"
 
 namespace aoeval {
 

@@ -4,11 +4,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "harness/cli/commands.h"
 #include "ao_exr.h"
+#include "drawing/error_maps.h"
 #include "errors.h"
 #include "exr_io.h"
-#include "drawing/error_maps.h"
+#include "harness/cli/commands.h"
 #include "harness/scoring/metrics.h"
 
 namespace aoeval {
@@ -17,7 +17,9 @@ namespace {
 
 using AoFile = AoExr;
 
-AoFile read_ao_file(const std::string& path) { return read_ao_exr(path); }
+AoFile read_ao_file(const std::string& path) {
+  return read_ao_exr(path);
+}
 
 void check_same_view(const AoFile& a, const AoFile& b) {
   if (a.width != b.width || a.height != b.height)

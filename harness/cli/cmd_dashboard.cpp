@@ -5,8 +5,8 @@
 // (thresholds; default reports/dashboard.json), --no-charts.
 #include <cstdio>
 
-#include "harness/cli/commands.h"
 #include "errors.h"
+#include "harness/cli/commands.h"
 #include "reports/dashboard.h"
 
 namespace aoeval {

@@ -1,10 +1,10 @@
 // `aoeval estimate --estimator E --scene S [--view V] [--res WxH] [--set KEY=VALUE]... -o FILE.exr`
 #include <cstdio>
 
-#include "harness/cli/commands.h"
 #include "corpus.h"
 #include "errors.h"
 #include "estimators/registry.h"
+#include "harness/cli/commands.h"
 #include "harness/evaluation/evaluation.h"
 
 namespace aoeval {

@@ -1,8 +1,8 @@
 // `aoeval estimators [list|show NAME]`: every estimator's declaration, as the registry holds it.
 #include <cstdio>
 
-#include "harness/cli/commands.h"
 #include "estimators/registry.h"
+#include "harness/cli/commands.h"
 
 namespace aoeval {
 

@@ -8,10 +8,10 @@
 #include <fstream>
 #include <sstream>
 
-#include "harness/cli/commands.h"
 #include "errors.h"
-#include "harness/figures/figure.h"
+#include "harness/cli/commands.h"
 #include "harness/evaluation/progress.h"
+#include "harness/figures/figure.h"
 #include "reports/html.h"
 #include "scenes/exr_io.h"
 

@@ -1,10 +1,10 @@
 // `aoeval gbuffer --scene S [--view V] [--res WxH] -o FILE.exr`: the shared G-buffer (CONTRACT §4).
 #include <cstdio>
 
-#include "harness/cli/commands.h"
 #include "corpus.h"
 #include "errors.h"
 #include "gbuffer.h"
+#include "harness/cli/commands.h"
 
 namespace aoeval {
 

@@ -5,10 +5,10 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "harness/cli/commands.h"
 #include "corpus.h"
 #include "errors.h"
 #include "gbuffer.h"
+#include "harness/cli/commands.h"
 #include "references/reference_cache.h"
 #include "version.h"
 

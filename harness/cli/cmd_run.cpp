@@ -33,7 +33,8 @@ void add_run_command(CLI::App& app) {
                             run.report.suite, run.gallery);
       run.report.gbuffer_gallery = "gbuffers/index.html";
     }
-    run.report.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    run.report.wall_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const std::string page = write_suite_report(run.out_dir, run.report);
     const double wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

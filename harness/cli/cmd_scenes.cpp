@@ -5,10 +5,10 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
-#include "harness/cli/commands.h"
 #include "corpus.h"
 #include "embree_scene.h"
 #include "errors.h"
+#include "harness/cli/commands.h"
 #include "harness/evaluation/progress.h"
 
 namespace aoeval {

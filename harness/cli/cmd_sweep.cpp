@@ -1,6 +1,6 @@
 // `aoeval sweep SPEC.json [--out DIR] [--resume] [--shard I/N] [--db FILE]` (CONTRACT §5).
-#include "harness/cli/commands.h"
 #include "errors.h"
+#include "harness/cli/commands.h"
 #include "harness/sweep/sweep_runner.h"
 
 namespace aoeval {

@@ -3,8 +3,8 @@
 #include <cstdio>
 #include <exception>
 
-#include "harness/cli/commands.h"
 #include "errors.h"
+#include "harness/cli/commands.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"aoeval: benchmark and accuracy evaluation of ambient-occlusion estimators"};

@@ -1,7 +1,7 @@
 #include <cstdlib>
 
-#include "harness/cli/commands.h"
 #include "errors.h"
+#include "harness/cli/commands.h"
 
 namespace aoeval {
 

@@ -55,12 +55,13 @@ const Analytic& open_plane() {
   return *a;
 }
 
-// The inside of a closed 0.2 box (it stands on y = 0), from near its centre: every pixel covered, every ray hits a wall
-// within the box's diagonal.
+// The inside of a closed 0.2 box (it stands on y = 0), from near its centre: every pixel covered,
+// every ray hits a wall within the box's diagonal.
 constexpr double kBoxSize = 0.2;
 const Analytic& closed_box() {
   static const auto a = make(
-      scene_of({generated("box", "box", {{"size", {kBoxSize, kBoxSize, kBoxSize}}, {"inward", true}})}),
+      scene_of(
+          {generated("box", "box", {{"size", {kBoxSize, kBoxSize, kBoxSize}}, {"inward", true}})}),
       {0, 0.1f, 0.05f}, {0, 0.1f, -1});
   return *a;
 }
@@ -100,8 +101,8 @@ std::optional<Outcome> run(const EstimatorInfo& e, const Analytic& a) {
   }
 }
 
-#define RUN_OR_SKIP(var, e, a)                                           \
-  const std::optional<Outcome> var = run(e, a);                              \
+#define RUN_OR_SKIP(var, e, a)                  \
+  const std::optional<Outcome> var = run(e, a); \
   if (!var) GTEST_SKIP() << e.name << ": backend unavailable on this machine"
 
 class Conformance : public ::testing::TestWithParam<std::string> {

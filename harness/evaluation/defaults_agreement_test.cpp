@@ -86,14 +86,15 @@ TEST_P(DefaultsAgree, EstimateExrParamsAreTheTable) {
                 "width": 24, "height": 18}]})";
   }
   const std::string exr = (dir / "estimate.exr").string();
-  const auto r = run_aoeval("", "estimate --estimator " + e.name + " --scene " + scene + " -o " + exr,
-                            dir);
+  const auto r =
+      run_aoeval("", "estimate --estimator " + e.name + " --scene " + scene + " -o " + exr, dir);
   if (r.code == 1 && r.err.find("skipped") != std::string::npos)
     GTEST_SKIP() << e.name << ": " << r.err;
   ASSERT_EQ(r.code, 0) << r.err << r.out;
   OIIO::ImageBuf image(exr);
   ASSERT_TRUE(image.init_spec(exr, 0, 0)) << image.geterror();
-  nlohmann::json written = nlohmann::json::parse(image.spec().get_string_attribute("aoeval:params"));
+  nlohmann::json written =
+      nlohmann::json::parse(image.spec().get_string_attribute("aoeval:params"));
   written.erase("derived");  // what prepare() derived from the scene, not a parameter
   EXPECT_EQ(written, table_defaults(e)) << e.name;
 }

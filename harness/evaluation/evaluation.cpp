@@ -7,10 +7,10 @@
 #include "corpus.h"
 #include "errors.h"
 #include "estimators/registry.h"
+#include "harness/results/summary.h"
 #include "harness/scoring/metrics.h"
 #include "references/reference_cache.h"
 #include "version.h"
-#include "harness/results/summary.h"
 
 namespace aoeval {
 

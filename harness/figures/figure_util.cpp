@@ -6,8 +6,8 @@
 #include <chrono>
 #include <cmath>
 
-#include "estimators/registry.h"
 #include "drawing/error_maps.h"
+#include "estimators/registry.h"
 #include "harness/results/summary.h"
 
 namespace aoeval::figures {

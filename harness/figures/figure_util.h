@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "harness/figures/figure.h"
-#include "harness/scoring/metrics.h"
 #include "drawing/plot.h"
+#include "harness/figures/figure.h"
 #include "harness/results/summary.h"  // median
+#include "harness/scoring/metrics.h"
 
 namespace aoeval::figures {
 

@@ -7,8 +7,8 @@
 #include <cmath>
 
 #include "corpus.h"
-#include "estimators/registry.h"
 #include "drawing/error_maps.h"
+#include "estimators/registry.h"
 #include "harness/figures/figure_util.h"
 #include "scenes/exr_io.h"
 
@@ -83,8 +83,8 @@ FigureResult fig6(FigureContext& ctx) {
     rmse.push_back(p.rmse);
     mean.push_back(p.mean_ao);
     r.table.add({fmt(R), param_text(p.params, "Nd"), param_text(p.params, "Ns"),
-                 param_text(p.params, "Nn"), scene, std::to_string(w), std::to_string(h), fmt(p.rmse),
-                 fmt(p.true_rmse), fmt(p.mean_ao)});
+                 param_text(p.params, "Nn"), scene, std::to_string(w), std::to_string(h),
+                 fmt(p.rmse), fmt(p.true_rmse), fmt(p.mean_ao)});
     if (R == 0.1 || R == 0.2 || R == 0.5)  // the paper's three panels
       panels.push_back(ao_image(w, h, p.estimate.data(), mask, "R = " + fmt(R)));
     e.x.push_back(R), e.y.push_back(p.rmse), m.x.push_back(R), m.y.push_back(p.mean_ao);
@@ -196,8 +196,8 @@ FigureResult fig11(FigureContext& ctx) {
     rmse.push_back(run.row.metrics["rmse"].get<double>());
     time.push_back(t.median_ms);
     r.table.add({p.label.substr(0, 3), std::to_string(p.nd), std::to_string(p.ns),
-                 std::to_string(p.nn), param_text(run.row.params, "R"), std::to_string(w), std::to_string(h),
-                 fmt(rmse.back()), fmt(run.row.metrics["ssim"].get<double>()),
+                 std::to_string(p.nn), param_text(run.row.params, "R"), std::to_string(w),
+                 std::to_string(h), fmt(rmse.back()), fmt(run.row.metrics["ssim"].get<double>()),
                  fmt(run.row.true_metrics["rmse"].get<double>()), fmt(t.median_ms)});
     estimates.push_back(run.estimate);
   }
@@ -265,9 +265,8 @@ FigureResult fig12(FigureContext& ctx) {
                  fmt(e_hs.back()), fmt(a.row.true_metrics["rmse"].get<double>()),
                  fmt(a.row.time_ms_median)});
     r.table.add({std::to_string(b), "raymarch-ssao", "", "", std::to_string(b),
-                 param_text(c.row.params, "R"), param_text(c.row.params, "Ns"),
-                 fmt(e_rm.back()), fmt(c.row.true_metrics["rmse"].get<double>()),
-                 fmt(c.row.time_ms_median)});
+                 param_text(c.row.params, "R"), param_text(c.row.params, "Ns"), fmt(e_rm.back()),
+                 fmt(c.row.true_metrics["rmse"].get<double>()), fmt(c.row.time_ms_median)});
     hs.x.push_back(b), hs.y.push_back(e_hs.back()), rm.x.push_back(b), rm.y.push_back(e_rm.back());
     if (b == 8 || (ctx.quick && b == 4)) {
       panels.push_back(

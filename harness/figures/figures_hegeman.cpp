@@ -7,8 +7,8 @@
 #include <cmath>
 
 #include "drawing/error_maps.h"
-#include "harness/figures/figure_util.h"
 #include "drawing/plot.h"
+#include "harness/figures/figure_util.h"
 #include "scenes/exr_io.h"
 
 namespace aoeval::figures {

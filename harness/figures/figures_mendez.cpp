@@ -4,10 +4,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "estimators/registry.h"
 #include "drawing/error_maps.h"
-#include "harness/figures/figure_util.h"
 #include "drawing/plot.h"
+#include "estimators/registry.h"
+#include "harness/figures/figure_util.h"
 #include "scenes/exr_io.h"
 
 namespace aoeval::figures {

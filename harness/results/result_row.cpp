@@ -224,5 +224,4 @@ std::string file_stem_for(const std::string& run_name) {
   return out;
 }
 
-
 }  // namespace aoeval

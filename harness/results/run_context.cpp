@@ -3,9 +3,9 @@
 #include <unistd.h>
 
 #include <cstdio>
-#include <string>
 #include <fstream>
 #include <random>
+#include <string>
 #include <thread>
 
 #include "harness/results/results_store.h"

@@ -8,9 +8,9 @@
 #include <set>
 
 #include "corpus.h"
+#include "drawing/error_maps.h"
 #include "errors.h"
 #include "exr_io.h"
-#include "drawing/error_maps.h"
 #include "harness/evaluation/evaluation.h"
 #include "harness/evaluation/progress.h"
 #include "harness/results/results_store.h"

@@ -27,12 +27,13 @@ struct SuiteRunOptions {
 // What a run leaves for its report (cli/cmd_run.cpp writes the page with reports/).
 struct SuiteRun {
   std::string out_dir;
-  SuiteReport report;                // rows and the images kept beside them
+  SuiteReport report;                 // rows and the images kept beside them
   std::vector<GalleryEntry> gallery;  // the G-buffer EXRs written under <out>/gbuffers/
   size_t skipped = 0;                 // rows whose status is not "ok"
 };
 
-// Runs every point, stores the rows (results.csv/json, SQLite) and keeps the images; writes no page.
+// Runs every point, stores the rows (results.csv/json, SQLite) and keeps the images; writes no
+// page.
 SuiteRun run_suite(const SuiteRunOptions& options);
 
 }  // namespace aoeval

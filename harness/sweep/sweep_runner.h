@@ -20,5 +20,4 @@ struct SweepOptions {
 // Returns the exit status: 0 done, 130 interrupted.
 int run_sweep(const SweepOptions& options);
 
-
 }  // namespace aoeval

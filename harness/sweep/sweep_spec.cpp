@@ -87,8 +87,8 @@ SweepSpec parse_sweep_spec(const nlohmann::json& doc, const std::string& file) {
   if (auto ref = root.optional_object("reference")) {
     const ReferenceSpec defaults;
     spec.reference.spp = static_cast<int>(ref->integer("spp", defaults.spp, 1, 1 << 24));
-    spec.reference.sampler = parse_sampler(ref->choice("sampler", sampler_name(defaults.sampler),
-                                                       {"random", "stratified", "sobol"}));
+    spec.reference.sampler = parse_sampler(
+        ref->choice("sampler", sampler_name(defaults.sampler), {"random", "stratified", "sobol"}));
     spec.reference.seed = static_cast<uint64_t>(
         ref->integer("seed", static_cast<int64_t>(defaults.seed), 0, INT64_MAX));
     ref->finish();
