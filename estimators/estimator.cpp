@@ -55,28 +55,28 @@ const ParamSpec* EstimatorInfo::find_param(const std::string& param) const {
 }
 
 double ParamSet::real(const std::string& name) const {
+  note_read(name);
   return values_.at(name).get<double>();
 }
 int64_t ParamSet::integer(const std::string& name) const {
+  note_read(name);
   return values_.at(name).get<int64_t>();
 }
 bool ParamSet::boolean(const std::string& name) const {
+  note_read(name);
   return values_.at(name).get<bool>();
 }
 std::string ParamSet::choice(const std::string& name) const {
+  note_read(name);
   return values_.at(name).get<std::string>();
 }
-
-std::string format_param_value(const nlohmann::json& v) {
-  if (v.is_string()) return v.get<std::string>();
-  if (v.is_boolean()) return v.get<bool>() ? "true" : "false";
-  if (v.is_number_integer()) return std::to_string(v.get<int64_t>());
-  if (v.is_number()) {  // shortest text that reads back as the same double: 0.2, not 0.200000
-    char buf[64];
-    auto r = std::to_chars(buf, buf + sizeof(buf), v.get<double>());
-    return std::string(buf, r.ptr);
-  }
-  return v.dump();
+void ParamSet::note_read(const std::string& name) const {
+  std::lock_guard<std::mutex> lock(reads_->mutex);
+  reads_->names.insert(name);
+}
+std::set<std::string> ParamSet::read_names() const {
+  std::lock_guard<std::mutex> lock(reads_->mutex);
+  return reads_->names;
 }
 
 namespace {
@@ -176,6 +176,20 @@ nlohmann::json parse_set_arguments(const std::vector<std::string>& assignments) 
     out[key] = a.substr(eq + 1);
   }
   return out;
+}
+
+ParamSet default_params(const EstimatorInfo& info) {
+  return resolve_params(info.name, info.params, nlohmann::json::object(), info.name + " defaults");
+}
+
+double EstimatorInfo::open_plane_tolerance() const {
+  if (conformance.open_plane_tolerance >= 0.0) return conformance.open_plane_tolerance;
+  return backend == Backend::embree ? 1e-6 : 0.05;
+}
+
+bool EstimatorInfo::sees_enclosure() const {
+  if (conformance.sees_enclosure >= 0) return conformance.sees_enclosure != 0;
+  return backend == Backend::embree;
 }
 
 }  // namespace aoeval

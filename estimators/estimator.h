@@ -8,7 +8,9 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -16,6 +18,7 @@
 #include "ao_definition.h"
 #include "embree_scene.h"
 #include "gbuffer.h"
+#include "param_text.h"
 #include "scene.h"
 
 namespace aoeval {
@@ -46,8 +49,20 @@ class ParamSet {
   std::string choice(const std::string& name) const;
   const nlohmann::json& json() const { return values_; }
 
+  // The names read so far through real/integer/boolean/choice, by this set and every copy of it (a
+  // shared log): which declared parameters an estimator actually used. The default-agreement test
+  // (harness/evaluation/defaults_agreement_test.cpp) proves with it that each one is read from the
+  // table rather than fixed in code.
+  std::set<std::string> read_names() const;
+
  private:
+  void note_read(const std::string& name) const;
   nlohmann::json values_ = nlohmann::json::object();
+  struct ReadLog {
+    std::mutex mutex;
+    std::set<std::string> names;
+  };
+  std::shared_ptr<ReadLog> reads_ = std::make_shared<ReadLog>();
 };
 
 // Builds the ParamSet from overrides. `overrides` holds JSON values (numbers, bools, strings; a
@@ -57,8 +72,7 @@ ParamSet resolve_params(const std::string& estimator, const std::vector<ParamSpe
                         const nlohmann::json& overrides, const std::string& where);
 // "KEY=VALUE" strings from --set into an overrides object (values kept as text).
 nlohmann::json parse_set_arguments(const std::vector<std::string>& assignments);
-// The stable name fragment of a parameter value: 0.2, 8, true, cosine.
-std::string format_param_value(const nlohmann::json& value);
+// format_param_value (param_text.h): the stable name fragment of a parameter value.
 
 enum class Backend { cpu, embree, vulkan, process };  // process: a plug-in program (CONTRACT §7)
 const char* backend_name(Backend b);
@@ -108,6 +122,20 @@ class Estimator {
   virtual nlohmann::json derived() const { return nlohmann::json::object(); }
 };
 
+// What the conformance test (harness/evaluation/conformance_test.cpp) may expect of an estimator
+// on analytic scenes. Every field has a default that follows from the backend, so a new estimator
+// is checked without declaring anything; declare a field only to say why it differs.
+struct ConformanceSpec {
+  // Largest |AO - 1| on an open plane. < 0: by backend: 1e-6 for embree (ray casting into the
+  // scene: every ray above a lone plane escapes), 0.05 for the others (screen-space and model
+  // approximations, which may darken an open plane a little through their bias terms).
+  double open_plane_tolerance = -1.0;
+  // Whether it sees every occluder around a point, so that inside a closed box its AO is at most
+  // its definition's ray value at the box's diagonal. -1: by backend (embree yes, others no: a
+  // depth buffer does not hold the walls behind the camera); 0 no; 1 yes.
+  int sees_enclosure = -1;
+};
+
 struct EstimatorInfo {
   std::string name;     // "raytraced", "hbao-split", ...
   std::string summary;  // one line
@@ -120,8 +148,16 @@ struct EstimatorInfo {
   std::function<std::unique_ptr<Estimator>(const ParamSet&)> create;
   std::string kind = "built-in";  // or a plug-in's kind: "process", "glsl" (CONTRACT §7)
   std::string folder;             // a plug-in's folder; "" for built-ins
+  ConformanceSpec conformance;  // defaults by backend; see ConformanceSpec
 
   const ParamSpec* find_param(const std::string& name) const;
+  // ConformanceSpec with the backend's defaults filled in.
+  double open_plane_tolerance() const;
+  bool sees_enclosure() const;
 };
+
+// Every declared parameter at its declared default: what the estimator runs with when nothing is
+// set. Settings structs hold no defaults of their own; tests and benches start from this.
+ParamSet default_params(const EstimatorInfo& info);
 
 }  // namespace aoeval

@@ -12,6 +12,7 @@
 #include <limits>
 #include <numbers>
 
+#include "ao_exr.h"
 #include "errors.h"
 
 namespace aoeval {
@@ -21,13 +22,6 @@ int replicate_count(SamplerKind sampler, int spp) {
   for (int r : {8, 4, 2})
     if (spp % r == 0 && spp / r >= 1) return r;
   return 1;
-}
-
-float origin_offset(const glm::vec3& p, float scene_extent) {
-  const float magnitude = std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-  // 2^-14 relative: ~500 ulps of the position, far above barycentric rounding (a few ulps of the
-  // vertices' magnitude, bounded by the scene extent) and far below any modelled feature.
-  return std::ldexp(std::max(magnitude, 0.01f * scene_extent), -14);
 }
 
 namespace {
@@ -381,33 +375,17 @@ void parse_reference_options(ReferenceSettings& s, const std::string& weighting,
 namespace aoeval {
 
 ReferenceImage read_reference_image(const std::string& path) {
-  OIIO::ImageBuf image = read_image(path);
+  AoExr f = read_ao_exr(path, /*need_stderr=*/true);
   ReferenceImage r;
-  r.width = image.spec().width;
-  r.height = image.spec().height;
-  const int ao = channel_index(image, "AO", path), se = channel_index(image, "AO_stderr", path),
-            a = channel_index(image, "A", path);
-  const int bx = image.spec().channelindex("bent.X"), by = image.spec().channelindex("bent.Y"),
-            bz = image.spec().channelindex("bent.Z"), sp = image.spec().channelindex("spp"),
-            bs = image.spec().channelindex("bent_stderr");
-  const size_t n = static_cast<size_t>(r.width) * r.height;
-  r.ao.resize(n);
-  r.stderr_ao.resize(n);
-  r.coverage.resize(n);
-  r.bent.assign(n, glm::vec3(0.0f));
-  r.spp.assign(n, 0.0f);
-  if (bs >= 0) r.bent_stderr.resize(n);
-  const auto* px = static_cast<const float*>(image.localpixels());
-  const int nc = image.spec().nchannels;
-  for (size_t k = 0; k < n; ++k) {
-    const float* s = px + k * nc;
-    r.ao[k] = s[ao];
-    r.stderr_ao[k] = s[se];
-    r.coverage[k] = s[a];
-    if (bx >= 0 && by >= 0 && bz >= 0) r.bent[k] = {s[bx], s[by], s[bz]};
-    if (sp >= 0) r.spp[k] = s[sp];
-    if (bs >= 0) r.bent_stderr[k] = s[bs];
-  }
+  r.width = f.width;
+  r.height = f.height;
+  const size_t n = f.ao.size();
+  r.ao = std::move(f.ao);
+  r.stderr_ao = std::move(f.stderr_ao);
+  r.coverage = std::move(f.coverage);
+  r.bent = f.bent.empty() ? std::vector<glm::vec3>(n, glm::vec3(0.0f)) : std::move(f.bent);
+  r.spp = f.spp.empty() ? std::vector<float>(n, 0.0f) : std::move(f.spp);
+  r.bent_stderr = std::move(f.bent_stderr);
   return r;
 }
 

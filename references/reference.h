@@ -16,16 +16,19 @@
 #include "ao_definition.h"
 #include "embree_scene.h"
 #include "gbuffer.h"
-#include "references/samplers.h"
+#include "sampling/ray_offset.h"
+#include "sampling/samplers.h"
 
 namespace aoeval {
 
 enum class NormalMode { shading, geometric };
 
+// The reference's settings and, declared once here, its defaults: `aoeval reference`, sweep specs'
+// "reference" block (harness ReferenceSpec), figures and benches all start from these.
 struct ReferenceSettings {
   int spp = 256;  // rays per pixel (the minimum, when target_stderr is set)
   AoDefinition definition;
-  SamplerKind sampler = SamplerKind::random;
+  SamplerKind sampler = SamplerKind::sobol;  // Owen-scrambled Sobol: the least error per ray
   uint64_t seed = 1;
   NormalMode normal = NormalMode::shading;  // which normal orients the hemisphere
   double target_stderr = 0.0;               // > 0: keep sampling until stderr <= this ...
@@ -57,9 +60,7 @@ struct ReferenceImage {
 ReferenceImage compute_reference(const EmbreeScene& scene, const GBuffer& gbuffer,
                                  const ReferenceSettings& settings);
 
-// The offset of a ray origin along Ng: large enough to clear the G-buffer position's rounding error
-// (barycentric interpolation: a few ulps of the coordinates' magnitude), small against any feature.
-float origin_offset(const glm::vec3& position, float scene_extent);
+// origin_offset (sampling/ray_offset.h): where the reference's rays start.
 
 // The reference as an EXR image (channels AO, AO_stderr, bent.X/Y/Z, A, bent_stderr, and spp when
 // adaptive).

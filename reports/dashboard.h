@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/results_store.h"
+#include "harness/results/results_store.h"
 #include "reports/regression.h"
 
 namespace aoeval {

@@ -7,12 +7,13 @@
 #include <map>
 #include <thread>
 
+#include "ao_exr.h"
+#include "drawing/error_maps.h"
+#include "drawing/plot.h"
 #include "errors.h"
 #include "exr_io.h"
-#include "harness/error_maps.h"
-#include "harness/sweep_runner.h"
+#include "harness/results/result_row.h"
 #include "reports/dashboard.h"
-#include "reports/plot.h"
 
 namespace aoeval {
 
@@ -27,22 +28,13 @@ struct AoPlanes {
 };
 
 AoPlanes read_planes(const std::string& path) {
-  const OIIO::ImageBuf image = read_image(path);
-  const int ao = channel_index(image, "AO", path), a = channel_index(image, "A", path);
-  const OIIO::ImageSpec& spec = image.spec();
+  AoExr f = read_ao_exr(path);
   AoPlanes p;
-  p.w = spec.width;
-  p.h = spec.height;
-  const size_t n = static_cast<size_t>(p.w) * p.h, nc = spec.nchannels;
-  std::vector<float> all(n * nc);
-  if (!image.get_pixels(OIIO::ROI::All(), OIIO::TypeFloat, all.data()))
-    throw InputError(path + ": cannot read its pixels: " + image.geterror());
-  p.ao.resize(n);
-  p.covered.resize(n);
-  for (size_t k = 0; k < n; ++k) {
-    p.ao[k] = all[k * nc + ao];
-    p.covered[k] = all[k * nc + a] > 0.5f;
-  }
+  p.w = f.width;
+  p.h = f.height;
+  p.ao = std::move(f.ao);
+  p.covered.resize(f.coverage.size());
+  for (size_t k = 0; k < f.coverage.size(); ++k) p.covered[k] = f.coverage[k] > 0.5f;
   return p;
 }
 

@@ -5,17 +5,9 @@
 #include <string>
 #include <vector>
 
-namespace aoeval {
+#include "harness/results/suite_record.h"
 
-struct GalleryEntry {
-  std::string scene;
-  std::string view;
-  size_t triangles = 0;
-  size_t objects = 0;
-  double load_ms = 0.0;
-  double bvh_ms = 0.0;
-  std::string gbuffer_exr;  // relative to the output folder
-};
+namespace aoeval {
 
 // Writes PNG previews beside each EXR and `out_dir`/index.html; returns the page's path.
 std::string write_gbuffer_gallery(const std::string& out_dir, const std::string& suite,

@@ -34,6 +34,7 @@
 // Not modelled: an estimator's own randomness across seeds (rows do not carry it; deterministic
 // estimators repeat bit for bit, CONTRACT "same seed, same bits").
 #include "reports/regression.h"
+#include "harness/results/summary.h"
 
 #include <algorithm>
 #include <cmath>
@@ -80,12 +81,6 @@ std::vector<double> rank_sum_counts(const std::vector<long>& rank2, int n) {
 
 double normal_upper(double z) {
   return 0.5 * std::erfc(z / std::sqrt(2.0));
-}
-
-double median_of(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 template <typename... Args>
@@ -310,7 +305,7 @@ std::vector<Check> compare_rows(const ResultRow& before, const ResultRow& after,
     time.detail = "different devices (" + before.device + " vs " + after.device + ")";
   } else {
     const RankTest r = mann_whitney(xb, xa);
-    const double ratio = median_of(xa) / median_of(xb);
+    const double ratio = median(xa) / median(xb);
     const bool slower = r.p_greater < t.time_alpha && ratio > 1.0 + t.time_relative;
     const bool faster = r.p_less < t.time_alpha && ratio < 1.0 / (1.0 + t.time_relative);
     time.verdict = slower ? Verdict::regressed : faster ? Verdict::improved : Verdict::unchanged;

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/result_row.h"
+#include "harness/results/result_row.h"
 
 namespace aoeval {
 

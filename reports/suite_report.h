@@ -9,29 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "harness/result_row.h"
-#include "harness/results_store.h"
+#include "harness/results/suite_record.h"
 
 namespace aoeval {
-
-struct SuiteReportEntry {
-  ResultRow row;          // row.estimate_file is relative to the output folder ("" = not kept)
-  bool featured = false;  // shown as a mosaic and in the per-scene tables
-  // Relative to the output folder; "" where there is none (a skipped row).
-  std::string mosaic_png;
-  std::string reference_exr;       // the matched reference
-  std::string true_reference_exr;  // the unbounded cosine reference ("true AO")
-};
-
-struct SuiteReport {
-  std::string suite;       // "default"
-  std::string suite_file;  // where it was read from
-  RunContext context;
-  double wall_s = 0.0;
-  std::vector<std::string> overrides;  // the --set assignments, as given
-  std::vector<SuiteReportEntry> entries;
-  std::string gbuffer_gallery;  // relative path of the G-buffer gallery page, "" = none
-};
 
 // Writes the error-against-time charts under <out_dir>/runs/<run_id>/plots/ and
 // <out_dir>/index.html (atomically); returns the page's path.

@@ -9,9 +9,9 @@
 #include <stdexcept>
 #include <thread>
 
-#include "estimators/estimator.h"
-#include "harness/sweep_runner.h"
-#include "reports/plot.h"
+#include "drawing/plot.h"
+#include "harness/results/result_row.h"
+#include "param_text.h"
 
 namespace aoeval {
 

@@ -11,7 +11,7 @@
 #include "errors.h"
 #include "estimators/gtao/gtao.h"
 #include "estimators/gtao/gtao_vulkan.h"
-#include "estimators/hbao_split/ssao_test_scenes.h"
+#include "estimators/testing/ssao_test_scenes.h"
 #include "estimators/registry.h"
 #include "estimators/vulkan/vk_context.h"
 

@@ -121,7 +121,7 @@ std::vector<ParamSpec> hbao_param_specs() {
 }
 
 HbaoSettings hbao_settings_of(const ParamSet& p) {
-  HbaoSettings s;
+  HbaoSettings s{};
   s.radius = p.real("R");
   s.directions = static_cast<int>(p.integer("Nd"));
   s.steps = static_cast<int>(p.integer("Ns"));

@@ -28,16 +28,18 @@ using hbao_glsl::HbaoConstants;
 // Defaults: Fig. 11 (c) of the paper (R = 0.3 with linear attenuation, Nd = 8, Ns = 18, Nn = 1),
 // the middle of its quality range; its quality preset is Nd = 18, Ns = 25, Nn = 2 (Fig. 11 (d)).
 struct HbaoSettings {
-  double radius = 0.3;  // R
-  int directions = 8;   // Nd
-  int steps = 18;       // Ns
-  int normal_rays = 1;  // Nn (0 disables normal occlusion)
-  bool attenuation = true;
-  bool offset = true;
-  bool jitter = true;
-  int tile = 4;
-  bool blur = true;
-  uint64_t seed = 1;
+  // No defaults here: the parameter table declares them once; hbao_settings_of fills this from a
+  // ParamSet (default_params(...) for "every parameter at its default").
+  double radius;    // R
+  int directions;   // Nd
+  int steps;        // Ns
+  int normal_rays;  // Nn (0 disables normal occlusion)
+  bool attenuation;
+  bool offset;
+  bool jitter;
+  int tile;
+  bool blur;
+  uint64_t seed;
 };
 
 // The parameter table shared by both twins (hbao-split adds `gbuffer`).

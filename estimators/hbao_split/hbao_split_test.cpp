@@ -9,8 +9,8 @@
 #include "errors.h"
 #include "estimators/hbao_split/hbao_split.h"
 #include "estimators/hbao_split/hbao_vulkan.h"
-#include "estimators/hbao_split/ssao_test_scenes.h"
 #include "estimators/registry.h"
+#include "estimators/testing/ssao_test_scenes.h"
 
 namespace aoeval {
 namespace {

@@ -47,7 +47,7 @@ std::vector<glm::vec4> padded(const std::vector<glm::vec3>& v) {
 
 struct HbaoDevice::Impl {
   vk::Context& vk;
-  HbaoSettings settings;
+  HbaoSettings settings{};
   HbaoConstants constants{};
   Camera camera;
   int width = 0, height = 0;

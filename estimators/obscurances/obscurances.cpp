@@ -10,7 +10,7 @@
 #include <glm/geometric.hpp>
 
 #include "errors.h"
-#include "references/reference.h"
+#include "sampling/ray_offset.h"
 
 namespace aoeval {
 
@@ -56,8 +56,10 @@ AoDefinition definition_of(const ObscuranceSettings& s) {
   return d;
 }
 
-ObscuranceSettings settings_of(const ParamSet& p) {
-  ObscuranceSettings s;
+}  // namespace
+
+ObscuranceSettings obscurance_settings_of(const ParamSet& p) {
+  ObscuranceSettings s{};
   s.rays = static_cast<int>(p.integer("rays"));
   s.dmax = p.real("dmax");
   s.rho = parse_rho(p.choice("rho"));
@@ -66,9 +68,11 @@ ObscuranceSettings settings_of(const ParamSet& p) {
   return s;
 }
 
+namespace {
+
 class ObscurancesEstimator : public Estimator {
  public:
-  explicit ObscurancesEstimator(const ParamSet& p) : settings_(settings_of(p)) {}
+  explicit ObscurancesEstimator(const ParamSet& p) : settings_(obscurance_settings_of(p)) {}
   void prepare(const EstimateContext& context) override {
     r_ave_ = average_reflectivity(context.scene);
     prepared_ = true;
@@ -244,7 +248,7 @@ EstimatorInfo obscurances_estimator() {
       "albedo), else R_ave = area-weighted mean albedo of the scene (eq. 3); below-surface "
       "directions are worth 0";
   info.definition = [](const ParamSet& p) {
-    const AoDefinition d = definition_of(settings_of(p));
+    const AoDefinition d = definition_of(obscurance_settings_of(p));
     validate_definition(d);
     return d;
   };

@@ -20,7 +20,7 @@
 // Estimator: Nobs = `rays` directions per pixel drawn with pdf cos(theta)/pi around the shading
 // normal, so W = mean of the ray values (the cos/pi cancels). Sampling: i.i.d. (`random`) or the
 // systematic sampling of §4.2 (one random offset shared by an n1 x n2 grid, n1 n2 = Nobs, mapped
-// through the concentric cosine map: references/samplers.h, SamplerKind::stratified). A direction
+// through the concentric cosine map: sampling/samplers.h, SamplerKind::stratified). A direction
 // below the geometric surface counts as a hit at distance 0 (grey value rho(0) = 0, colour 0), as
 // the reference does. With the random sampler and the same seed the grey output equals the Embree
 // reference (references/reference.h) with spp = rays bit for bit: same directions, origins, values.
@@ -32,16 +32,18 @@
 #include <glm/vec3.hpp>
 
 #include "estimators/estimator.h"
-#include "references/samplers.h"
+#include "sampling/samplers.h"
 
 namespace aoeval {
 
 struct ObscuranceSettings {
-  int rays = 16;                                   // Nobs, §4.1 (Fig. 6 uses 16)
-  double dmax = 1.0;                               // scene units, eq. 2 (Fig. 4: 1.0 m)
-  Falloff rho = Falloff::sqrt;                     // §3; none = the constant function
-  SamplerKind sampling = SamplerKind::stratified;  // stratified = systematic, §4.2
-  uint64_t seed = 7;
+  // No defaults here: the parameter table declares them once; obscurance_settings_of fills this
+  // from a ParamSet (default_params(...) for "every parameter at its default").
+  int rays;              // Nobs, §4.1 (Fig. 6 uses 16)
+  double dmax;           // scene units, eq. 2 (Fig. 4: 1.0 m)
+  Falloff rho;           // §3; none = the constant function
+  SamplerKind sampling;  // stratified = systematic, §4.2
+  uint64_t seed;
 };
 
 struct ObscuranceImage {
@@ -61,5 +63,6 @@ ObscuranceImage compute_obscurances(const EmbreeScene& scene, const GBuffer& gbu
 Falloff parse_rho(const std::string& name);
 
 EstimatorInfo obscurances_estimator();
+ObscuranceSettings obscurance_settings_of(const ParamSet& params);
 
 }  // namespace aoeval

@@ -34,7 +34,7 @@ Pooled pooled(size_t n, F value) {
 }
 
 ObscuranceSettings settings(Falloff rho, SamplerKind sampling, double dmax, int rays = 16) {
-  ObscuranceSettings s;
+  ObscuranceSettings s = obscurance_settings_of(default_params(obscurances_estimator()));
   s.rho = rho;
   s.sampling = sampling;
   s.dmax = dmax;
@@ -61,6 +61,7 @@ class SmallScene : public ::testing::Test {
   }
   ReferenceSettings reference_settings(Falloff rho, double dmax, int spp, uint64_t seed) const {
     ReferenceSettings r;
+    r.sampler = SamplerKind::random;
     r.spp = spp;
     r.seed = seed;
     r.definition.dmax = dmax;

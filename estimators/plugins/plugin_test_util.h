@@ -5,7 +5,7 @@
 #include <fstream>
 #include <string>
 
-#include "estimators/hbao_split/ssao_test_scenes.h"
+#include "estimators/testing/ssao_test_scenes.h"
 #include "estimators/plugins/plugin_registry.h"
 #include "test_temp_dir.h"
 

@@ -8,7 +8,7 @@
 #include "errors.h"
 #include "estimators/hbao_split/hbao_split.h"
 #include "random.h"
-#include "references/samplers.h"
+#include "sampling/samplers.h"
 
 // hbao-split's kernel: this file uses its pixel set-up (P' of eq. 13, the normal, a tangent frame)
 // and its linear search along a ray (hbao_march).
@@ -31,7 +31,7 @@ namespace aoeval {
 namespace {
 
 HbaoSettings march_settings(const RaymarchSettings& s) {
-  HbaoSettings h;
+  HbaoSettings h{};  // blur and seed stay 0: the march reads neither
   h.radius = s.radius;
   h.steps = s.steps;
   h.attenuation = s.attenuation;
@@ -43,8 +43,10 @@ HbaoSettings march_settings(const RaymarchSettings& s) {
   return h;
 }
 
-RaymarchSettings settings_of(const ParamSet& p) {
-  RaymarchSettings s;
+}  // namespace
+
+RaymarchSettings raymarch_settings_of(const ParamSet& p) {
+  RaymarchSettings s{};
   s.radius = p.real("R");
   s.steps = static_cast<int>(p.integer("Ns"));
   s.rays = static_cast<int>(p.integer("rays"));
@@ -53,6 +55,8 @@ RaymarchSettings settings_of(const ParamSet& p) {
   s.seed = static_cast<uint64_t>(p.integer("seed"));
   return s;
 }
+
+namespace {
 
 AoDefinition definition_of(const RaymarchSettings& s) {
   AoDefinition d;
@@ -63,7 +67,7 @@ AoDefinition definition_of(const RaymarchSettings& s) {
 
 class RaymarchEstimator : public Estimator {
  public:
-  explicit RaymarchEstimator(const ParamSet& p) : settings_(settings_of(p)) {}
+  explicit RaymarchEstimator(const ParamSet& p) : settings_(raymarch_settings_of(p)) {}
   EstimateResult run(const EstimateContext& context) override {
     EstimateResult r;
     r.ao = raymarch_ssao(context.gbuffer, settings_);
@@ -189,7 +193,7 @@ EstimatorInfo raymarch_ssao_estimator() {
       "cosine weighting (eq. 1), dmax = R, falloff linear when attenuation is on (an occluder at "
       "distance r < R counts 1 - r/R, §3.5), none when off; only what the depth buffer shows "
       "within R of P' can occlude";
-  info.definition = [](const ParamSet& p) { return definition_of(settings_of(p)); };
+  info.definition = [](const ParamSet& p) { return definition_of(raymarch_settings_of(p)); };
   info.create = [](const ParamSet& p) { return std::make_unique<RaymarchEstimator>(p); };
   return info;
 }

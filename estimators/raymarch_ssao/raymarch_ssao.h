@@ -17,17 +17,20 @@
 namespace aoeval {
 
 struct RaymarchSettings {
-  double radius = 0.3;  // R (hbao-split's default, Fig. 11)
-  int steps = 18;       // Ns
-  int rays = 16;        // per pixel: as many marches as hbao-split's defaults (Nd (1 + Nn) = 16)
-  bool attenuation = true;
-  bool offset = true;
-  uint64_t seed = 7;
+  // No defaults here: the parameter table declares them once; raymarch_settings_of fills this from
+  // a ParamSet (default_params(...) for "every parameter at its default").
+  double radius;  // R
+  int steps;      // Ns
+  int rays;       // marches per pixel
+  bool attenuation;
+  bool offset;
+  uint64_t seed;
 };
 
 // Deterministic: the same settings give the same bits whatever the thread count.
 std::vector<float> raymarch_ssao(const GBuffer& gbuffer, const RaymarchSettings& settings);
 
 EstimatorInfo raymarch_ssao_estimator();
+RaymarchSettings raymarch_settings_of(const ParamSet& params);
 
 }  // namespace aoeval

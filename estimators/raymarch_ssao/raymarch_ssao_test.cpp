@@ -7,14 +7,14 @@
 #include <cmath>
 
 #include "errors.h"
-#include "estimators/hbao_split/ssao_test_scenes.h"
 #include "estimators/registry.h"
+#include "estimators/testing/ssao_test_scenes.h"
 
 namespace aoeval {
 namespace {
 
 RaymarchSettings crease_settings(int rays, bool attenuation) {
-  RaymarchSettings s;
+  RaymarchSettings s = raymarch_settings_of(default_params(raymarch_ssao_estimator()));
   s.radius = 0.5;
   s.steps = 64;
   s.rays = rays;
@@ -43,7 +43,7 @@ Errors crease_errors(const TestView& view, const RaymarchSettings& s) {
 
 TEST(RaymarchSsao, OpenFloorIsUnoccluded) {
   const TestView view = grazing_floor(160, 120);
-  RaymarchSettings s;
+  RaymarchSettings s = raymarch_settings_of(default_params(raymarch_ssao_estimator()));
   s.rays = 8;
   const std::vector<float> ao = raymarch_ssao(view.gbuffer, s);
   double sum = 0.0;
@@ -85,7 +85,7 @@ TEST(RaymarchSsao, ConvergesToTheCreaseClosedFormAsRaysGrow) {
 
 TEST(RaymarchSsao, SameSeedSameBits) {
   const TestView view = crease(64, 48);
-  RaymarchSettings s;
+  RaymarchSettings s = raymarch_settings_of(default_params(raymarch_ssao_estimator()));
   const std::vector<float> a = raymarch_ssao(view.gbuffer, s);
   EXPECT_EQ(a, raymarch_ssao(view.gbuffer, s));
   s.seed = 8;

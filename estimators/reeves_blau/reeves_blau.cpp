@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "estimators/tree_hegeman/hegeman_model.h"
-#include "estimators/tree_hegeman/tree_proxy.h"
+#include "estimators/tree_proxies/hegeman_model.h"
+#include "estimators/tree_proxies/tree_proxy.h"
 
 namespace aoeval {
 

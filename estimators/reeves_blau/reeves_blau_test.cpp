@@ -6,7 +6,7 @@
 
 #include "errors.h"
 #include "estimators/registry.h"
-#include "estimators/tree_hegeman/tree_proxy.h"
+#include "estimators/tree_proxies/tree_proxy.h"
 
 namespace aoeval {
 namespace {

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <limits>
 
-#include "estimators/tree_hegeman/hegeman_model.h"
-#include "estimators/tree_hegeman/tree_proxy.h"
+#include "estimators/tree_proxies/hegeman_model.h"
+#include "estimators/tree_proxies/tree_proxy.h"
 
 namespace aoeval {
 
@@ -38,11 +38,12 @@ struct ObjectRule {
   int index = -1;  // into trees_ or fields_
 };
 
+// Filled from the ParamSet (the tables below declare the defaults once).
 struct Settings {
-  ProxyKind kind = ProxyKind::sphere;
-  int shells = 4;
-  double alpha_rho = 0.0, alpha_scale = 1.0, blade_height = 0.0;
-  bool prefer_scene = true, horizon = true, grass_ground = true;
+  ProxyKind kind;
+  int shells;  // shells only
+  double alpha_rho, alpha_scale, blade_height;
+  bool prefer_scene, horizon, grass_ground;
 };
 
 class HegemanEstimator : public Estimator {
@@ -321,7 +322,7 @@ EstimatorInfo hegeman_info(ProxyKind kind) {
     return d;
   };
   info.create = [kind](const ParamSet& p) {
-    Settings s;
+    Settings s{};
     s.kind = kind;
     if (kind == ProxyKind::shells) s.shells = static_cast<int>(p.integer("shells"));
     s.alpha_rho = p.real("alpha_rho");

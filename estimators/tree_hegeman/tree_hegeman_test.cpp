@@ -9,8 +9,8 @@
 #include "corpus.h"
 #include "errors.h"
 #include "estimators/registry.h"
-#include "estimators/tree_hegeman/hegeman_model.h"
-#include "estimators/tree_hegeman/tree_proxy.h"
+#include "estimators/tree_proxies/hegeman_model.h"
+#include "estimators/tree_proxies/tree_proxy.h"
 #include "generators/generators.h"
 #include "random.h"
 #include "references/reference.h"
@@ -382,6 +382,7 @@ TEST(TreeEstimators, PoissonArgumentHoldsAtTheCentreOfSphereUniform) {
     expected += std::exp(-lambda) / seeds;
     EmbreeScene es(scene);
     ReferenceSettings rs;
+    rs.sampler = SamplerKind::random;
     rs.spp = 512;
     rs.definition.weighting = Weighting::uniform;
     rs.seed = static_cast<uint64_t>(seed);

@@ -13,7 +13,7 @@
 
 #include "errors.h"
 #include "random.h"
-#include "references/reference.h"
+#include "sampling/ray_offset.h"
 
 namespace aoeval {
 

@@ -19,16 +19,17 @@
 #include <vector>
 
 #include "embree_scene.h"
-#include "references/samplers.h"
+#include "sampling/samplers.h"
 #include "scene.h"
 
 namespace aoeval {
 
 struct BakeSettings {
-  int rays = 128;  // rays per triangle and side (Listing 17-1's "set of rays over the hemisphere")
-  int subdivide = 0;  // 1:4 midpoint splits before baking
-  SamplerKind sampler = SamplerKind::random;
-  uint64_t seed = 7;
+  // No defaults here: vertex-baked's parameter table declares them once (vertex_baked.cpp).
+  int rays;       // rays per triangle and side (Listing 17-1's "set of rays over the hemisphere")
+  int subdivide;  // 1:4 midpoint splits before baking
+  SamplerKind sampler;
+  uint64_t seed;
 };
 
 // One scene object's (subdivided) mesh and its per-vertex values, per side.

@@ -88,7 +88,7 @@ class VertexBakedEstimator : public Estimator {
   }
 
  private:
-  BakeSettings settings_;
+  BakeSettings settings_{};
   std::optional<VertexBake> bake_;
 };
 

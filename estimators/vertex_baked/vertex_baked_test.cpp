@@ -11,6 +11,7 @@
 #include "errors.h"
 #include "estimators/registry.h"
 #include "estimators/vertex_baked/vertex_bake.h"
+#include "estimators/vertex_baked/vertex_baked.h"
 #include "generators/generators.h"
 #include "references/reference.h"
 
@@ -25,7 +26,8 @@ GBuffer gbuffer_of(const EmbreeScene& es, glm::vec3 eye, glm::vec3 target, glm::
 }
 
 BakeSettings settings(int rays, int subdivide = 0, SamplerKind k = SamplerKind::random) {
-  BakeSettings s;
+  BakeSettings s{};
+  s.seed = default_params(vertex_baked_estimator()).integer("seed");
   s.rays = rays;
   s.subdivide = subdivide;
   s.sampler = k;
@@ -257,6 +259,7 @@ TEST(VertexBaked, ErrorFallsAsTessellationRises) {
   EmbreeScene es(s);
   const GBuffer g = gbuffer_of(es, {1.0f, 1.4f, 2.0f}, {0, 0.2f, 0}, {0, 1, 0}, 96, 72);
   ReferenceSettings rs;
+  rs.sampler = SamplerKind::random;
   rs.spp = 1024;
   rs.definition.weighting = Weighting::uniform;
   rs.normal = NormalMode::geometric;

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/evaluation.h"
+#include "harness/evaluation/evaluation.h"
 
 namespace aoeval::figures {
 

@@ -6,8 +6,9 @@
 #include <chrono>
 #include <cmath>
 
+#include "drawing/error_maps.h"
 #include "estimators/registry.h"
-#include "harness/error_maps.h"
+#include "harness/results/summary.h"
 
 namespace aoeval::figures {
 
@@ -103,19 +104,12 @@ TimedRun time_estimator(FigureContext& ctx, const std::string& estimator,
     for (const auto& [pass, ms] : r.pass_ms) passes[pass].push_back(ms);
   }
   TimedRun t;
-  t.median_ms = median_of(times);
+  t.median_ms = median(times);
   t.min_ms = *std::min_element(times.begin(), times.end());
   t.max_ms = *std::max_element(times.begin(), times.end());
-  for (auto& [pass, values] : passes) t.pass_ms[pass] = median_of(values);
+  for (auto& [pass, values] : passes) t.pass_ms[pass] = median(values);
   t.pixels = g.pixel_count();
   return t;
-}
-
-double median_of(std::vector<double> v) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 double masked_mean(const std::vector<float>& v, const std::vector<uint8_t>& mask) {

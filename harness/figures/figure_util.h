@@ -11,9 +11,10 @@
 #include <string>
 #include <vector>
 
+#include "drawing/plot.h"
 #include "harness/figures/figure.h"
-#include "harness/metrics.h"
-#include "reports/plot.h"
+#include "harness/results/summary.h"  // median
+#include "harness/scoring/metrics.h"
 
 namespace aoeval::figures {
 
@@ -62,7 +63,6 @@ TimedRun time_estimator(FigureContext& ctx, const std::string& estimator,
                         const nlohmann::json& overrides, const std::string& scene,
                         const std::string& view, int w, int h, int warmup, int repetitions);
 
-double median_of(std::vector<double> v);
 double masked_mean(const std::vector<float>& v, const std::vector<uint8_t>& mask);
 // Pearson correlation of a and b over the mask; 0 when either is constant there.
 double pearson(const std::vector<float>& a, const std::vector<float>& b,

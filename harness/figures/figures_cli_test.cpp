@@ -10,7 +10,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "harness/cli_test_util.h"
+#include "harness/cli/cli_test_util.h"
 #include "scenes/test_temp_dir.h"
 
 namespace {
@@ -43,7 +43,17 @@ TEST(FiguresCli, QuickFigureWritesPngCsvCaptionAndIndex) {
   const std::string caption = slurp(out / "mendez-fig6.txt");
   EXPECT_NE(caption.find("Claim: "), std::string::npos);
   EXPECT_NE(caption.find("Verdict: "), std::string::npos);
-  EXPECT_NE(caption.find("reproduced"), std::string::npos);
+  // The verdict follows the checks listed above it (figure.cpp's rule): all pass -> "reproduced",
+  // none -> "not reproduced", else "partly reproduced". Matched with its "Verdict: " prefix and the
+  // rule's " (" after it, so "reproduced" cannot be found inside "not reproduced".
+  size_t passed = 0, failed = 0;
+  for (size_t at = 0; (at = caption.find("  [pass] ", at)) != std::string::npos; ++at) ++passed;
+  for (size_t at = 0; (at = caption.find("  [fail] ", at)) != std::string::npos; ++at) ++failed;
+  ASSERT_GT(passed + failed, 0u) << caption;
+  const std::string verdict = failed == 0   ? "reproduced"
+                              : passed == 0 ? "not reproduced"
+                                            : "partly reproduced";
+  EXPECT_NE(caption.find("\nVerdict: " + verdict + " ("), std::string::npos) << caption;
   const std::string index = slurp(out / "index.html");
   EXPECT_NE(index.find("mendez-fig6.png"), std::string::npos);
   EXPECT_NE(r.out.find("mendez-fig6"), std::string::npos);

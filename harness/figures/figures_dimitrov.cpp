@@ -7,8 +7,8 @@
 #include <cmath>
 
 #include "corpus.h"
+#include "drawing/error_maps.h"
 #include "estimators/registry.h"
-#include "harness/error_maps.h"
 #include "harness/figures/figure_util.h"
 #include "scenes/exr_io.h"
 
@@ -44,14 +44,20 @@ std::string join(const std::vector<double>& v, int digits = 4) {
 struct Point {
   double rmse, true_rmse, mean_ao;
   std::vector<float> estimate;
+  nlohmann::json params;  // the row's effective parameters
 };
+
+// A parameter of a row as its tables print it: the value that ran, not a literal beside it.
+std::string param_text(const nlohmann::json& params, const std::string& key) {
+  return format_param_value(params.at(key));
+}
 
 Point score_point(FigureContext& ctx, const std::string& estimator, const nlohmann::json& o,
                   const std::string& scene, int w, int h) {
   const ScoredRun run = run_scored(ctx, estimator, o, scene, "main", w, h);
   const auto mask = compared_mask(ctx, scene, "main", w, h, true_ao_definition());
   return {run.row.metrics["rmse"].get<double>(), run.row.true_metrics["rmse"].get<double>(),
-          masked_mean(run.estimate, mask), run.estimate};
+          masked_mean(run.estimate, mask), run.estimate, run.row.params};
 }
 
 // ---- Fig. 6: R --------------------------------------------------------------------------------
@@ -76,8 +82,9 @@ FigureResult fig6(FigureContext& ctx) {
     const Point p = score_point(ctx, kHbaoCpu, {{"R", R}}, scene, w, h);
     rmse.push_back(p.rmse);
     mean.push_back(p.mean_ao);
-    r.table.add({fmt(R), "8", "18", "1", scene, std::to_string(w), std::to_string(h), fmt(p.rmse),
-                 fmt(p.true_rmse), fmt(p.mean_ao)});
+    r.table.add({fmt(R), param_text(p.params, "Nd"), param_text(p.params, "Ns"),
+                 param_text(p.params, "Nn"), scene, std::to_string(w), std::to_string(h),
+                 fmt(p.rmse), fmt(p.true_rmse), fmt(p.mean_ao)});
     if (R == 0.1 || R == 0.2 || R == 0.5)  // the paper's three panels
       panels.push_back(ao_image(w, h, p.estimate.data(), mask, "R = " + fmt(R)));
     e.x.push_back(R), e.y.push_back(p.rmse), m.x.push_back(R), m.y.push_back(p.mean_ao);
@@ -189,8 +196,8 @@ FigureResult fig11(FigureContext& ctx) {
     rmse.push_back(run.row.metrics["rmse"].get<double>());
     time.push_back(t.median_ms);
     r.table.add({p.label.substr(0, 3), std::to_string(p.nd), std::to_string(p.ns),
-                 std::to_string(p.nn), "0.3", std::to_string(w), std::to_string(h),
-                 fmt(rmse.back()), fmt(run.row.metrics["ssim"].get<double>()),
+                 std::to_string(p.nn), param_text(run.row.params, "R"), std::to_string(w),
+                 std::to_string(h), fmt(rmse.back()), fmt(run.row.metrics["ssim"].get<double>()),
                  fmt(run.row.true_metrics["rmse"].get<double>()), fmt(t.median_ms)});
     estimates.push_back(run.estimate);
   }
@@ -253,12 +260,13 @@ FigureResult fig12(FigureContext& ctx) {
     const ScoredRun c = run_scored(ctx, "raymarch-ssao", orm, scene, "main", w, h);
     e_hs.push_back(a.row.metrics["rmse"].get<double>());
     e_rm.push_back(c.row.metrics["rmse"].get<double>());
-    r.table.add({std::to_string(b), kHbaoCpu, std::to_string(b / 2), "1", "", "0.3", "18",
+    r.table.add({std::to_string(b), kHbaoCpu, std::to_string(b / 2), param_text(a.row.params, "Nn"),
+                 "", param_text(a.row.params, "R"), param_text(a.row.params, "Ns"),
                  fmt(e_hs.back()), fmt(a.row.true_metrics["rmse"].get<double>()),
                  fmt(a.row.time_ms_median)});
-    r.table.add({std::to_string(b), "raymarch-ssao", "", "", std::to_string(b), "0.3", "18",
-                 fmt(e_rm.back()), fmt(c.row.true_metrics["rmse"].get<double>()),
-                 fmt(c.row.time_ms_median)});
+    r.table.add({std::to_string(b), "raymarch-ssao", "", "", std::to_string(b),
+                 param_text(c.row.params, "R"), param_text(c.row.params, "Ns"), fmt(e_rm.back()),
+                 fmt(c.row.true_metrics["rmse"].get<double>()), fmt(c.row.time_ms_median)});
     hs.x.push_back(b), hs.y.push_back(e_hs.back()), rm.x.push_back(b), rm.y.push_back(e_rm.back());
     if (b == 8 || (ctx.quick && b == 4)) {
       panels.push_back(

@@ -5,8 +5,8 @@
 // transfer between machines is the ratios between passes and their growth with the pixel count.
 #include <cmath>
 
+#include "drawing/plot.h"
 #include "harness/figures/figure_util.h"
-#include "reports/plot.h"
 
 namespace aoeval::figures {
 

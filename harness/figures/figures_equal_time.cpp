@@ -11,7 +11,7 @@
 #include <cmath>
 
 #include "estimators/registry.h"
-#include "harness/error_maps.h"
+#include "drawing/error_maps.h"
 #include "harness/figures/figure_util.h"
 #include "scenes/exr_io.h"
 

@@ -8,7 +8,7 @@
 #include <fstream>
 
 #include "estimators/registry.h"
-#include "harness/error_maps.h"
+#include "drawing/error_maps.h"
 #include "harness/figures/figure_util.h"
 #include "harness/figures/figures_gpugems.h"
 #include "scenes/corpus.h"

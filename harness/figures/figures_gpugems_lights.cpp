@@ -11,7 +11,7 @@
 #include "estimators/shadowmap_ao/shadowmap_ao.h"
 #include "harness/figures/figure_util.h"
 #include "harness/figures/figures_gpugems.h"
-#include "reports/plot.h"
+#include "drawing/plot.h"
 
 namespace aoeval::figures {
 

@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "harness/cli_test_util.h"
+#include "harness/cli/cli_test_util.h"
 #include "harness/figures/figures_gpugems.h"
 #include "scenes/corpus.h"
 #include "scenes/test_temp_dir.h"

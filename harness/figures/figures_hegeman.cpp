@@ -6,9 +6,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "harness/error_maps.h"
+#include "drawing/error_maps.h"
+#include "drawing/plot.h"
 #include "harness/figures/figure_util.h"
-#include "reports/plot.h"
 #include "scenes/exr_io.h"
 
 namespace aoeval::figures {

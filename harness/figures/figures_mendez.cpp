@@ -4,10 +4,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "drawing/error_maps.h"
+#include "drawing/plot.h"
 #include "estimators/registry.h"
-#include "harness/error_maps.h"
 #include "harness/figures/figure_util.h"
-#include "reports/plot.h"
 #include "scenes/exr_io.h"
 
 namespace aoeval::figures {

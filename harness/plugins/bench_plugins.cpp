@@ -7,7 +7,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "commands.h"
+#include "harness/cli/commands.h"
 #include "corpus.h"
 #include "estimators/plugins/plugin_registry.h"
 #include "estimators/registry.h"

@@ -6,7 +6,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "harness/cli_test_util.h"
+#include "harness/cli/cli_test_util.h"
 #include "test_temp_dir.h"
 
 namespace aoeval {

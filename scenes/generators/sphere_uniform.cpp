@@ -14,14 +14,9 @@
 // Facts: envelope (the ball), leaf_count, leaf_area (exact sum of the triangle areas), leaf
 // density.
 
-// Same bits on every platform: no fused multiply-add contraction (GCC and Clang contract a * b + c
-// by default wherever the CPU has FMA, e.g. on every ARM64), even where the build lacks
-// -ffp-contract=off. It precedes the includes so that the inlined glm code is covered too.
-#if defined(__clang__)
-#pragma STDC FP_CONTRACT OFF
-#elif defined(__GNUC__)
-#pragma GCC optimize("fp-contract=off")
-#endif
+// First: no FMA contraction in this file (same bits on every platform).
+#include "fp_contract_off.h"  // IWYU pragma: keep
+
 #include <cmath>
 #include <glm/geometric.hpp>
 

@@ -34,14 +34,9 @@
 // constant, so the only libm calls are cos/sin of the parameter angles and of the tube sides,
 // evaluated in double and rounded to float.
 
-// Same bits on every platform: no fused multiply-add contraction (GCC and Clang contract a * b + c
-// by default wherever the CPU has FMA, e.g. on every ARM64), even where the build lacks
-// -ffp-contract=off. It precedes the includes so that the inlined glm code is covered too.
-#if defined(__clang__)
-#pragma STDC FP_CONTRACT OFF
-#elif defined(__GNUC__)
-#pragma GCC optimize("fp-contract=off")
-#endif
+// First: no FMA contraction in this file (same bits on every platform).
+#include "fp_contract_off.h"  // IWYU pragma: keep
+
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>

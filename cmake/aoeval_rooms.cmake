@@ -1,0 +1,77 @@
+# The one-way rule of the rooms (README "Architecture", ../shared/STYLE.md), checked at configure
+# time from the targets' declared link lists, so a violation stops the build before it compiles:
+#   - reports/ (aoeval_reports) and the code it draws and reads with (aoeval_drawing,
+#     aoeval_results) never reach, directly or through another target, an estimator, the Vulkan
+#     layer, a reference, or a runner (evaluation, sweep, bench, figures);
+#   - only the `aoeval` binary (cli/), aoeval_figures and the reports' own tests link aoeval_reports.
+# The closure of every checked target is written to <build>/rooms_links.txt (the evidence, no ldd).
+
+# The aoeval targets `target` reaches through LINK_LIBRARIES and INTERFACE_LINK_LIBRARIES.
+function(aoeval_link_closure target out)
+  set(seen)
+  set(todo ${target})
+  while(todo)
+    list(POP_FRONT todo t)
+    foreach(prop LINK_LIBRARIES INTERFACE_LINK_LIBRARIES)
+      get_target_property(libs ${t} ${prop})
+      if(NOT libs)
+        continue()
+      endif()
+      foreach(lib IN LISTS libs)
+        string(REGEX REPLACE "^\\$<LINK_ONLY:(.*)>$" "\\1" lib "${lib}")
+        if(lib MATCHES "^aoeval" AND TARGET ${lib} AND NOT lib IN_LIST seen)
+          list(APPEND seen ${lib})
+          list(APPEND todo ${lib})
+        endif()
+      endforeach()
+    endforeach()
+  endwhile()
+  list(SORT seen)
+  set(${out} ${seen} PARENT_SCOPE)
+endfunction()
+
+# Every target defined under `dir`, recursively.
+function(aoeval_targets_under dir out)
+  get_property(targets DIRECTORY ${dir} PROPERTY BUILDSYSTEM_TARGETS)
+  get_property(subdirs DIRECTORY ${dir} PROPERTY SUBDIRECTORIES)
+  foreach(sub IN LISTS subdirs)
+    aoeval_targets_under(${sub} sub_targets)
+    list(APPEND targets ${sub_targets})
+  endforeach()
+  set(${out} ${targets} PARENT_SCOPE)
+endfunction()
+
+function(aoeval_check_rooms)
+  set(forbidden_pattern
+    "^(aoeval_estimators|aoeval_estimator_.*|aoeval_vulkan|aoeval_references|aoeval_evaluation|aoeval_sweep|aoeval_bench|aoeval_figures)$")
+  set(report "# target: the aoeval targets it links, directly or transitively (configure time)\n")
+  set(errors)
+  aoeval_targets_under(${PROJECT_SOURCE_DIR} all_targets)
+  foreach(t IN LISTS all_targets)
+    get_target_property(type ${t} TYPE)
+    if(type STREQUAL "UTILITY")
+      continue()
+    endif()
+    aoeval_link_closure(${t} closure)
+    string(JOIN " " closure_text ${closure})
+    string(APPEND report "${t}: ${closure_text}\n")
+    if(t MATCHES "^(aoeval_reports|aoeval_drawing|aoeval_results)$")
+      foreach(lib IN LISTS closure)
+        if(lib MATCHES "${forbidden_pattern}")
+          list(APPEND errors "${t} links ${lib}: reports/, drawing/ and results/ may not reach an estimator, a reference or a runner")
+        endif()
+      endforeach()
+    endif()
+    get_target_property(direct ${t} LINK_LIBRARIES)
+    get_target_property(dir ${t} SOURCE_DIR)
+    if(direct AND "aoeval_reports" IN_LIST direct AND NOT t MATCHES "^(aoeval|aoeval_figures)$"
+       AND NOT dir MATCHES "^${PROJECT_SOURCE_DIR}/reports")
+      list(APPEND errors "${t} links aoeval_reports: only cli/ (aoeval) and figures/ may")
+    endif()
+  endforeach()
+  file(WRITE ${CMAKE_BINARY_DIR}/rooms_links.txt "${report}")
+  if(errors)
+    string(JOIN "\n  " text ${errors})
+    message(FATAL_ERROR "The one-way rule of the rooms is broken (cmake/aoeval_rooms.cmake):\n  ${text}")
+  endif()
+endfunction()

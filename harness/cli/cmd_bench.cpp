@@ -1,0 +1,95 @@
+// `aoeval bench ...`: timing tables and throughput figures. Benchmarks measure; tests never time.
+#include "harness/bench/bench_reference.h"
+#include "harness/cli/commands.h"
+#include "harness/bench/bench_estimators.h"
+#include "harness/bench/bench_gtao.h"
+#include "harness/bench/bench_hbao.h"
+#include "harness/bench/bench_shadowmap.h"
+#include "harness/plugins/bench_plugins.h"
+#include "harness/plugins/plugin_options.h"
+
+namespace aoeval {
+
+void add_bench_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("bench", "timing tables and throughput figures");
+  cmd->require_subcommand(1);
+  static ReferenceBenchOptions ref;
+  auto* reference = cmd->add_subcommand(
+      "reference", "reference rays/s against a bare Embree loop; sampler RMSE at equal rays");
+  reference->add_option("--scene", ref.scene, "corpus name or scene file")->required();
+  reference->add_option("--view", ref.view, "view name (default: the scene's first view)");
+  reference->add_option("--res", ref.res, "resolution WIDTHxHEIGHT (default: the view's)");
+  reference->add_option("--spp", ref.spp, "rays per pixel")->check(CLI::Range(1, 65536));
+  reference->add_option("--repetitions", ref.repetitions, "timed repetitions")
+      ->check(CLI::Range(1, 100));
+  reference->add_option("--accuracy-res", ref.accuracy_res, "resolution of the accuracy part");
+  reference->add_option("--truth-spp", ref.truth_spp, "rays per pixel of the accuracy truth")
+      ->check(CLI::Range(1, 1 << 24));
+  reference->add_flag("--skip-accuracy", ref.skip_accuracy, "throughput only");
+  reference->callback([] { bench_reference(ref); });
+
+  static EstimatorBenchOptions est;
+  auto* estimators =
+      cmd->add_subcommand("estimators", "timing table: median/min/max ms and Mpixel/s");
+  estimators->add_option("--scene", est.scenes, "scenes (repeatable)");
+  estimators->add_option("--estimator", est.estimators, "estimators (repeatable; default all)");
+  estimators->add_option("--set", est.sets, "KEY=VALUE for estimators that have the key");
+  estimators->add_option("--res", est.res, "resolution WIDTHxHEIGHT");
+  estimators->add_option("--warmup", est.warmup, "untimed runs first")->check(CLI::Range(0, 1000));
+  estimators->add_option("--repetitions", est.repetitions, "timed runs")
+      ->check(CLI::Range(1, 10000));
+  estimators->add_option("--out", est.out_dir, "output folder (bench.csv, bench.md, results.*)");
+  estimators->add_option("--db", est.database, "SQLite results store");
+  add_plugins_option(estimators);
+  estimators->callback([] { bench_estimators(est); });
+
+  static HbaoBenchOptions hb;
+  auto* hbao = cmd->add_subcommand(
+      "hbao",
+      "hbao-split: depth fetches/s against a bare fetch loop (target ratio >= 0.5), and "
+      "against hbao-split-cpu on the same G-buffer");
+  hbao->add_option("--scene", hb.scene, "corpus name or scene file (default bunny)");
+  hbao->add_option("--view", hb.view, "view name (default: the scene's first view)");
+  hbao->add_option("--res", hb.res, "resolution WIDTHxHEIGHT (default 640x480)");
+  hbao->add_option("--set", hb.sets, "KEY=VALUE for hbao-split (repeatable)");
+  hbao->add_option("--warmup", hb.warmup, "untimed runs first")->check(CLI::Range(0, 100));
+  hbao->add_option("--repetitions", hb.repetitions, "timed runs")->check(CLI::Range(1, 1000));
+  hbao->add_option("--out", hb.out_dir,
+                   "output folder (bench_hbao.json, bench_hbao.md, results.*)");
+  hbao->add_option("--db", hb.database, "SQLite results store");
+  hbao->callback([] { bench_hbao(hb); });
+
+  static GtaoBenchOptions gt;
+  auto* gtao = cmd->add_subcommand(
+      "gtao",
+      "gtao: GPU time per pass, horizon samples/s, and against gtao-cpu on the same G-buffer");
+  gtao->add_option("--scene", gt.scene, "corpus name or scene file (default bunny)");
+  gtao->add_option("--view", gt.view, "view name (default: the scene's first view)");
+  gtao->add_option("--res", gt.res, "resolution WIDTHxHEIGHT (default 640x480)");
+  gtao->add_option("--set", gt.sets, "KEY=VALUE for gtao (repeatable)");
+  gtao->add_option("--warmup", gt.warmup, "untimed runs first")->check(CLI::Range(0, 100));
+  gtao->add_option("--repetitions", gt.repetitions, "timed runs")->check(CLI::Range(1, 1000));
+  gtao->add_option("--out", gt.out_dir,
+                   "output folder (bench_gtao.json, bench_gtao.md, results.*)");
+  gtao->add_option("--db", gt.database, "SQLite results store");
+  gtao->callback([] { bench_gtao(gt); });
+  static ShadowmapBenchOptions sm;
+  auto* shadowmap = cmd->add_subcommand(
+      "shadowmap", "shadowmap-ao: time per pass against the number of lights and the map size");
+  shadowmap->add_option("--scene", sm.scene, "corpus name or scene file (default bunny)");
+  shadowmap->add_option("--res", sm.res, "camera resolution WIDTHxHEIGHT (default 320x240)");
+  shadowmap->add_option("--lights", sm.lights, "light counts (repeatable)")
+      ->check(CLI::Range(1, 4096));
+  shadowmap->add_option("--map-res", sm.resolutions, "shadow-map resolutions (repeatable)")
+      ->check(CLI::Range(16, 4096));
+  shadowmap->add_option("--set", sm.sets, "further KEY=VALUE for shadowmap-ao (repeatable)");
+  shadowmap->add_option("--warmup", sm.warmup, "untimed runs first")->check(CLI::Range(0, 100));
+  shadowmap->add_option("--repetitions", sm.repetitions, "timed runs")
+      ->check(CLI::Range(1, 1000));
+  shadowmap->add_option("--out", sm.out_dir, "output folder (bench_shadowmap.md/csv, results.*)");
+  shadowmap->add_option("--db", sm.database, "SQLite results store");
+  shadowmap->callback([] { bench_shadowmap(sm); });
+  add_plugins_bench(cmd);
+}
+
+}  // namespace aoeval

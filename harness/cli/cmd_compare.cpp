@@ -1,0 +1,182 @@
+// `aoeval compare REF.exr EST.exr [--json FILE] [--errmap FILE.png] [--signed FILE.png]
+//  [--mosaic FILE.png] [--true-ref TRUE.exr]`: metrics over the pixels both images cover, and maps.
+#include <OpenImageIO/imageio.h>
+
+#include <cstdio>
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "ao_exr.h"
+#include "drawing/error_maps.h"
+#include "errors.h"
+#include "exr_io.h"
+#include "harness/scoring/bent_metrics.h"
+#include "harness/scoring/metrics.h"
+#include "json_reader.h"
+#include "harness/cli/commands.h"
+
+namespace aoeval {
+
+namespace {
+
+struct AoFile {
+  std::string path;
+  int width = 0, height = 0;
+  std::vector<float> ao, coverage, stderr_ao;
+  std::vector<glm::vec3> bent;     // empty without bent.X/Y/Z
+  std::vector<float> bent_stderr;  // the reference's, empty without it
+  std::string scene, view, definition;
+};
+
+AoFile read_ao_file(const std::string& path) {
+  const OIIO::ImageBuf image = read_image(path);
+  AoFile f;
+  f.path = path;
+  f.width = image.spec().width;
+  f.height = image.spec().height;
+  const int ao = channel_index(image, "AO", path), a = channel_index(image, "A", path);
+  const int se = image.spec().channelindex("AO_stderr");
+  const int bx = image.spec().channelindex("bent.X"), by = image.spec().channelindex("bent.Y"),
+            bz = image.spec().channelindex("bent.Z"), bs = image.spec().channelindex("bent_stderr");
+  const bool has_bent = bx >= 0 && by >= 0 && bz >= 0;
+  const size_t n = static_cast<size_t>(f.width) * f.height;
+  const auto* px = static_cast<const float*>(image.localpixels());
+  const int nc = image.spec().nchannels;
+  f.ao.resize(n);
+  f.coverage.resize(n);
+  if (se >= 0) f.stderr_ao.resize(n);
+  if (has_bent) f.bent.resize(n);
+  if (bs >= 0) f.bent_stderr.resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    f.ao[k] = px[k * nc + ao];
+    f.coverage[k] = px[k * nc + a];
+    if (se >= 0) f.stderr_ao[k] = px[k * nc + se];
+    if (has_bent) f.bent[k] = {px[k * nc + bx], px[k * nc + by], px[k * nc + bz]};
+    if (bs >= 0) f.bent_stderr[k] = px[k * nc + bs];
+  }
+  f.scene = string_attribute(image, "aoeval:scene");
+  f.view = string_attribute(image, "aoeval:view");
+  f.definition = string_attribute(image, "aoeval:definition");
+  return f;
+}
+
+void check_same_view(const AoFile& a, const AoFile& b) {
+  if (a.width != b.width || a.height != b.height)
+    throw InputError(b.path + ": size " + std::to_string(b.width) + "x" + std::to_string(b.height) +
+                     " differs from " + a.path + " (" + std::to_string(a.width) + "x" +
+                     std::to_string(a.height) + ")");
+  if (!a.scene.empty() && !b.scene.empty() && (a.scene != b.scene || a.view != b.view))
+    throw InputError(b.path + ": aoeval:scene/view " + b.scene + "/" + b.view + " differ from " +
+                     a.path + " (" + a.scene + "/" + a.view + ")");
+}
+
+std::vector<uint8_t> joint_mask(const AoFile& a, const AoFile& b) {
+  std::vector<uint8_t> m(a.ao.size());
+  for (size_t k = 0; k < m.size(); ++k) m[k] = a.coverage[k] > 0.5f && b.coverage[k] > 0.5f;
+  return m;
+}
+
+// An image output whose format OpenImageIO cannot write is bad usage, found before any work.
+void check_image_output(const std::string& path, const char* option) {
+  if (path.empty()) return;
+  auto writer = OIIO::ImageOutput::create(path);
+  if (!writer)
+    throw InputError(std::string(option) + " " + path + ": no image format for the extension '" +
+                     std::filesystem::path(path).extension().string() + "' (use .png or .exr)");
+}
+
+// The outputs of one compare: on failure every file it already wrote is removed again, so a
+// failed command leaves nothing (CONTRACT §2).
+class OutputSet {
+ public:
+  ~OutputSet() {
+    if (committed_) return;
+    std::error_code ec;
+    for (const auto& p : written_) std::filesystem::remove(p, ec);
+  }
+  void wrote(const std::string& path) { written_.push_back(path); }
+  void commit() { committed_ = true; }
+
+ private:
+  std::vector<std::string> written_;
+  bool committed_ = false;
+};
+
+}  // namespace
+
+void add_compare_command(CLI::App& app) {
+  struct Options {
+    std::string ref, est, json, errmap, signed_map, mosaic, true_ref;
+  };
+  static Options o;
+  auto* cmd =
+      app.add_subcommand("compare", "metrics and error maps of an estimate against a reference");
+  cmd->add_option("REF", o.ref,
+                  "reference EXR (channels AO, A, optional AO_stderr, bent.X/Y/Z, bent_stderr)")
+      ->required();
+  cmd->add_option("EST", o.est, "estimate EXR (channels AO, A, optional bent.X/Y/Z)")->required();
+  cmd->add_option("--json", o.json, "write the metrics as JSON to this file (else to stdout)");
+  cmd->add_option("--errmap", o.errmap, "absolute-error map (PNG)");
+  cmd->add_option("--signed", o.signed_map, "signed-error map (PNG)");
+  cmd->add_option("--mosaic", o.mosaic, "reference | estimate | |error| | signed error (PNG)");
+  cmd->add_option("--true-ref", o.true_ref, "unbounded cosine reference: adds true_* metrics");
+  cmd->callback([] {
+    check_image_output(o.errmap, "--errmap");
+    check_image_output(o.signed_map, "--signed");
+    check_image_output(o.mosaic, "--mosaic");
+    const AoFile ref = read_ao_file(o.ref), est = read_ao_file(o.est);
+    check_same_view(ref, est);
+    if (!ref.definition.empty() && !est.definition.empty() &&
+        parse_json_text(ref.definition, o.ref + ": aoeval:definition") !=
+            parse_json_text(est.definition, o.est + ": aoeval:definition"))
+      std::fprintf(stderr, "aoeval: note: the estimate's definition %s is not the reference's %s\n",
+                   est.definition.c_str(), ref.definition.c_str());
+    const auto mask = joint_mask(ref, est);
+    const Metrics m = compare_images({ref.width, ref.height, ref.ao.data()},
+                                     {est.width, est.height, est.ao.data()}, mask, ref.stderr_ao);
+    nlohmann::json out = to_json(m);
+    // Bent-normal metrics (bent_metrics.h) where both images carry bent.X/Y/Z.
+    auto add_bent = [&](const AoFile& r, const std::vector<uint8_t>& joint,
+                        const std::string& prefix) {
+      if (r.bent.empty() || est.bent.empty()) return;
+      if (const auto b = compare_bent(r.width, r.height, r.bent, est.bent, joint, r.bent_stderr))
+        add_bent_json(*b, out, prefix);
+    };
+    add_bent(ref, mask, "");
+    if (!o.true_ref.empty()) {
+      const AoFile truth = read_ao_file(o.true_ref);
+      check_same_view(truth, est);
+      const std::vector<uint8_t> joint = joint_mask(truth, est);
+      const Metrics t =
+          compare_images({truth.width, truth.height, truth.ao.data()},
+                         {est.width, est.height, est.ao.data()}, joint, truth.stderr_ao);
+      out.update(to_json(t, "true_"));
+      add_bent(truth, joint, "true_");
+    }
+    const int w = ref.width, h = ref.height;
+    OutputSet outputs;
+    if (!o.errmap.empty()) {
+      write_image(o.errmap, abs_error_map(w, h, ref.ao.data(), est.ao.data(), mask, 0.0f));
+      outputs.wrote(o.errmap);
+    }
+    if (!o.signed_map.empty()) {
+      write_image(o.signed_map, signed_error_map(w, h, ref.ao.data(), est.ao.data(), mask, 0.0f));
+      outputs.wrote(o.signed_map);
+    }
+    if (!o.mosaic.empty()) {
+      char caption[256];
+      std::snprintf(caption, sizeof(caption), "%s/%s %dx%d   rmse %.4f   ssim %.3f   flip %.3f",
+                    ref.scene.c_str(), ref.view.c_str(), w, h, m.rmse, m.ssim, m.flip_mean);
+      write_image(o.mosaic, error_mosaic(w, h, ref.ao.data(), est.ao.data(), mask, caption));
+      outputs.wrote(o.mosaic);
+    }
+    if (o.json.empty())
+      std::printf("%s\n", out.dump(2).c_str());
+    else
+      write_text(o.json, out.dump(2) + "\n");
+    outputs.commit();
+  });
+}
+
+}  // namespace aoeval

@@ -1,0 +1,46 @@
+// `aoeval dashboard [--db FILE] [--baseline RUN] [--out DIR]` (CONTRACT §2): the newest run of the
+// results history against a baseline under noise-aware rules (reports/regression.h); writes
+// <out>/index.html and exits 1 when a tracked figure regressed past its threshold, 0 otherwise,
+// so it can gate CI. Extra options: --run RUN (judge another run than the newest), --config FILE
+// (thresholds; default reports/dashboard.json), --no-charts.
+#include <cstdio>
+
+#include "errors.h"
+#include "harness/cli/commands.h"
+#include "reports/dashboard.h"
+
+namespace aoeval {
+
+void add_dashboard_command(CLI::App& app) {
+  static DashboardOptions o;
+  static bool no_charts = false;
+  auto* cmd = app.add_subcommand(
+      "dashboard", "regression dashboard: the newest run against a baseline; exit 1 if regressed");
+  cmd->add_option("--db", o.database, "SQLite results store");
+  cmd->add_option("--baseline", o.baseline_run,
+                  "baseline run id (default: the previous run of the same command)");
+  cmd->add_option("--run", o.new_run, "run id to judge (default: the newest run with rows)");
+  cmd->add_option("--out", o.out_dir, "output folder of the page");
+  cmd->add_option("--config", o.config_path,
+                  "thresholds file (default: reports/dashboard.json of the source tree)");
+  cmd->add_flag("--no-charts", no_charts, "skip the history charts (matplotlib; seconds)");
+  cmd->callback([] {
+    o.charts = !no_charts;
+    const Dashboard d = build_dashboard(o);
+    for (const auto& line : console_lines(d)) std::printf("%s\n", line.c_str());
+    std::printf("dashboard: %d regressed, %d warnings, %d improved, %d unchanged, %d not compared",
+                d.regressed, d.warnings, d.improved, d.unchanged, d.not_compared);
+    if (d.before_run) {
+      std::printf(" (%s against baseline %s)\n", d.after_run.run_id.c_str(),
+                  d.before_run->run_id.c_str());
+    } else {
+      std::printf(" (%s: no earlier run of \"%s\" to compare with)\n", d.after_run.run_id.c_str(),
+                  d.after_run.command.c_str());
+    }
+    std::printf("%s\n", d.page.c_str());
+    std::fflush(stdout);
+    if (d.regressed > 0) throw ExitStatus{1};
+  });
+}
+
+}  // namespace aoeval

@@ -1,0 +1,53 @@
+// `aoeval estimate --estimator E --scene S [--view V] [--res WxH] [--set KEY=VALUE]... -o FILE.exr`
+#include <cstdio>
+
+#include "corpus.h"
+#include "errors.h"
+#include "estimators/registry.h"
+#include "harness/evaluation/evaluation.h"
+#include "harness/plugins/plugin_options.h"
+#include "harness/cli/commands.h"
+
+namespace aoeval {
+
+void add_estimate_command(CLI::App& app) {
+  struct Options {
+    std::string estimator, scene, view, res, output;
+    std::vector<std::string> sets;
+  };
+  static Options o;
+  auto* cmd = app.add_subcommand("estimate", "one estimator, one view");
+  cmd->add_option("--estimator", o.estimator, "estimator name (aoeval estimators list)")
+      ->required();
+  cmd->add_option("--scene", o.scene, "corpus name or scene file")->required();
+  cmd->add_option("--view", o.view, "view name (default: the scene's first view)");
+  cmd->add_option("--res", o.res, "resolution WIDTHxHEIGHT (default: the view's)");
+  cmd->add_option("--set", o.sets, "KEY=VALUE for a parameter (aoeval estimators show E)");
+  cmd->add_option("-o,--output", o.output, "output OpenEXR file")->required();
+  add_plugins_option(cmd);
+  cmd->callback([] {
+    const EstimatorInfo& e = find_estimator(o.estimator);
+    const ParamSet params = resolve_params(e.name, e.params, parse_set_arguments(o.sets), "--set");
+    const auto [w, h] = parse_resolution(o.res);
+    Scene scene = load_scene(o.scene);
+    const View& view = scene.view(o.view);
+    EmbreeScene es(scene);
+    const Camera camera = make_camera(view, w, h);
+    const GBuffer g = render_gbuffer(es, camera);
+    const EstimateContext context{scene, es, g};
+    auto estimator = e.create(params);
+    EstimateResult r;
+    try {
+      estimator->prepare(context);
+      r = estimator->run(context);
+    } catch (const EstimatorUnavailable& unavailable) {
+      // No backend here (e.g. no Vulkan device): say so in the results' words, write nothing.
+      std::fprintf(stderr, "aoeval: skipped: %s\n", unavailable.what());
+      throw ExitStatus{1};
+    }
+    write_exr(o.output, estimate_to_image(g, r),
+              estimate_attributes(scene, view, camera, e, params, estimator->derived()));
+  });
+}
+
+}  // namespace aoeval

@@ -1,0 +1,122 @@
+// `aoeval reference --scene S [--view V] [--res WxH] [--spp N] [--weighting cosine|uniform]
+//  [--dmax D] [--falloff none|linear|sqrt|exp] [--sampler random|stratified|sobol] [--seed K]
+//  [--normal shading|geometric] [--target-stderr E [--max-spp M]] [--no-cache] -o FILE.exr`
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include "corpus.h"
+#include "errors.h"
+#include "gbuffer.h"
+#include "harness/cli/commands.h"
+#include "references/reference_cache.h"
+#include "version.h"
+
+namespace aoeval {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Options {
+  std::string scene, view, res, output;
+  // Defaults: ReferenceSettings' (references/reference.h), declared there once.
+  int spp = ReferenceSettings{}.spp;
+  std::string weighting = "cosine", dmax = "inf", falloff = "none";
+  std::string sampler = sampler_name(ReferenceSettings{}.sampler);
+  std::string normal = "shading";
+  uint64_t seed = ReferenceSettings{}.seed;
+  double target_stderr = ReferenceSettings{}.target_stderr;
+  int max_spp = ReferenceSettings{}.max_spp;
+  bool no_cache = false;
+};
+
+void copy_atomically(const std::string& from, const std::string& to) {
+  const std::string tmp = temporary_path_for(to);
+  fs::copy_file(from, tmp, fs::copy_options::overwrite_existing);
+  commit_temporary(tmp, to);
+}
+
+void run_reference(const Options& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto [w, h] = parse_resolution(o.res);
+  ReferenceSettings s;
+  s.spp = o.spp;
+  s.seed = o.seed;
+  s.target_stderr = o.target_stderr;
+  s.max_spp = o.max_spp;
+  parse_reference_options(s, o.weighting, o.dmax, o.falloff, o.sampler, o.normal);
+  if (!std::isfinite(s.target_stderr) || s.target_stderr < 0.0)
+    throw InputError("--target-stderr: must be a finite positive number");
+  if (s.target_stderr > 0.0 && s.max_spp < s.spp)
+    throw InputError("--max-spp: must be at least --spp");
+  Scene scene = load_scene(o.scene);
+  const View& view = scene.view(o.view);
+  const Camera camera = make_camera(view, w, h);
+  const std::string key = reference_cache_key(scene, camera, s);
+  const std::string cached = reference_cache_path(key);
+  if (!o.no_cache && usable_cache_entry(cached, key)) {
+    copy_atomically(cached, o.output);
+    std::fprintf(stderr, "reference: served from cache %s (%.2f s)\n", cached.c_str(),
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    return;
+  }
+  EmbreeScene es(scene);
+  const GBuffer g = render_gbuffer(es, camera);
+  const ReferenceImage r = compute_reference(es, g, s);
+  const OIIO::ImageBuf image = reference_to_image(r, s.target_stderr > 0.0);
+  Attributes attributes = reference_attributes(scene, view, camera, s);
+  add_cache_attributes(attributes, key, image);
+  // Written once and copied, so the output and the cached file are the same bytes (the EXR
+  // header's capDate included) and a later cache hit serves exactly this file.
+  write_exr(o.output, image, attributes);
+  if (!o.no_cache) copy_atomically(o.output, cached);
+  double se2 = 0.0;
+  size_t covered = 0;
+  for (size_t k = 0; k < r.ao.size(); ++k) {
+    if (r.coverage[k] < 0.5f) continue;
+    se2 += static_cast<double>(r.stderr_ao[k]) * r.stderr_ao[k];
+    ++covered;
+  }
+  std::fprintf(stderr,
+               "reference: %dx%d, %.1f Mrays traced in %.2f s (%.2f Mrays/s), rms stderr %.4f%s\n",
+               r.width, r.height, r.rays_traced / 1e6, r.seconds, r.rays_traced / 1e6 / r.seconds,
+               covered ? std::sqrt(se2 / covered) : 0.0, o.no_cache ? "" : ", cached");
+}
+
+}  // namespace
+
+void add_reference_command(CLI::App& app) {
+  static Options o;
+  auto* cmd =
+      app.add_subcommand("reference", "ground-truth AO with Embree, with its standard error");
+  cmd->add_option("--scene", o.scene, "corpus name or scene file")->required();
+  cmd->add_option("--view", o.view, "view name (default: the scene's first view)");
+  cmd->add_option("--res", o.res, "resolution WIDTHxHEIGHT (default: the view's)");
+  cmd->add_option("--spp", o.spp, "rays per pixel (the minimum with --target-stderr)")
+      ->check(CLI::Range(1, 1 << 24));
+  cmd->add_option("--weighting", o.weighting, "cosine or uniform");
+  cmd->add_option("--dmax", o.dmax, "occluder range in scene units, or inf");
+  cmd->add_option("--falloff", o.falloff, "none, linear, sqrt or exp (CONTRACT §3)");
+  cmd->add_option("--sampler", o.sampler, "random, stratified or sobol");
+  // CLI11 reads "-1" into an unsigned as 2^64 - 1; a seed is a plain non-negative integer.
+  cmd->add_option("--seed", o.seed, "random seed (a non-negative integer)")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            return !text.empty() && text.size() <= 20 &&
+                           text.find_first_not_of("0123456789") == std::string::npos
+                       ? std::string()
+                       : "must be a non-negative integer, got '" + text + "'";
+          },
+          "UINT"));
+  cmd->add_option("--normal", o.normal, "hemisphere orientation: shading or geometric");
+  cmd->add_option("--target-stderr", o.target_stderr,
+                  "keep sampling each pixel until its standard error is <= this");
+  cmd->add_option("--max-spp", o.max_spp, "ray limit per pixel with --target-stderr")
+      ->check(CLI::Range(1, 1 << 24));
+  cmd->add_flag("--no-cache", o.no_cache, "neither read nor write the reference cache");
+  cmd->add_option("-o,--output", o.output, "output OpenEXR file")->required();
+  cmd->callback([] { run_reference(o); });
+}
+
+}  // namespace aoeval

@@ -1,0 +1,233 @@
+#include "harness/evaluation/evaluation.h"
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+
+#include "corpus.h"
+#include "errors.h"
+#include "estimators/registry.h"
+#include "harness/scoring/bent_metrics.h"
+#include "harness/scoring/metrics.h"
+#include "harness/results/summary.h"
+#include "references/reference_cache.h"
+#include "version.h"
+
+namespace aoeval {
+
+namespace fs = std::filesystem;
+
+nlohmann::json ReferenceSpec::to_json() const {
+  return {{"spp", spp}, {"sampler", sampler_name(sampler)}, {"seed", seed}};
+}
+
+std::string run_name(const EstimatorInfo& e, const ParamSet& params,
+                     const nlohmann::json& overrides, const std::string& scene,
+                     const std::string& view, int width, int height) {
+  std::string name = e.name;
+  for (const auto& p : e.params)
+    if (overrides.contains(p.name))
+      name += "/" + p.name + ":" + format_param_value(params.json()[p.name]);
+  name += "/scene:" + scene + "/view:" + view + "/" + std::to_string(width) + "x" +
+          std::to_string(height);
+  return name;
+}
+
+Attributes estimate_attributes(const Scene& scene, const View& view, const Camera& camera,
+                               const EstimatorInfo& e, const ParamSet& params,
+                               const nlohmann::json& derived) {
+  Attributes a = gbuffer_attributes(scene, view, camera);
+  a.emplace_back("aoeval:estimator", e.name);
+  nlohmann::json all = params.json();
+  if (!derived.empty()) all["derived"] = derived;
+  a.emplace_back("aoeval:params", all.dump());
+  a.emplace_back("aoeval:definition", e.definition(params).to_json().dump());
+  return a;
+}
+
+OIIO::ImageBuf estimate_to_image(const GBuffer& g, const EstimateResult& r) {
+  std::vector<std::string> names = {"AO", "A"};
+  for (const auto& [name, values] : r.extra_channels) names.push_back(name);
+  OIIO::ImageSpec spec(g.width, g.height, static_cast<int>(names.size()), OIIO::TypeDesc::FLOAT);
+  spec.channelnames = names;
+  OIIO::ImageBuf image(spec);
+  auto* px = static_cast<float*>(image.localpixels());
+  const size_t nc = names.size();
+  for (size_t k = 0; k < g.pixel_count(); ++k) {
+    float* o = px + k * nc;
+    o[0] = g.covered(k) ? r.ao[k] : 0.0f;
+    o[1] = g.coverage[k];
+    size_t c = 2;
+    for (const auto& [name, values] : r.extra_channels) o[c++] = g.covered(k) ? values[k] : 0.0f;
+  }
+  return image;
+}
+
+EvaluationSession::EvaluationSession(ReferenceSpec reference, TimingSpec timing, bool disk_cache)
+    : reference_spec_(reference), timing_(timing), disk_cache_(disk_cache) {}
+
+EvaluationSession::~EvaluationSession() = default;
+
+const EvaluationSession::SceneData& EvaluationSession::scene(const std::string& name) {
+  auto it = scenes_.find(name);
+  if (it != scenes_.end()) return it->second;
+  SceneData data;
+  data.scene = load_scene(name);
+  auto& stored = scenes_[name];
+  stored.scene = std::move(data.scene);
+  stored.embree = std::make_unique<EmbreeScene>(stored.scene);
+  return stored;
+}
+
+namespace {
+std::string view_key(const std::string& scene, const View& v, int w, int h) {
+  return scene + "|" + v.name + "|" + std::to_string(w) + "x" + std::to_string(h);
+}
+}  // namespace
+
+const GBuffer& EvaluationSession::gbuffer(const std::string& scene_name, const View& view, int w,
+                                          int h) {
+  const std::string key = view_key(scene_name, view, w, h);
+  auto it = gbuffers_.find(key);
+  if (it != gbuffers_.end()) return it->second;
+  const SceneData& s = scene(scene_name);
+  return gbuffers_[key] = render_gbuffer(*s.embree, make_camera(view, w, h));
+}
+
+const ReferenceImage& EvaluationSession::reference(const std::string& scene_name, const View& view,
+                                                   int w, int h, const AoDefinition& definition) {
+  const std::string key = view_key(scene_name, view, w, h) + "|" + definition.to_json().dump();
+  auto it = references_.find(key);
+  if (it != references_.end()) return it->second;
+  const SceneData& s = scene(scene_name);
+  ReferenceSettings settings;
+  settings.spp = reference_spec_.spp;
+  settings.sampler = reference_spec_.sampler;
+  settings.seed = reference_spec_.seed;
+  settings.definition = definition;
+  const Camera camera = make_camera(view, w, h);
+  const std::string cache_key = reference_cache_key(s.scene, camera, settings);
+  const std::string path = reference_cache_path(cache_key);
+  if (disk_cache_ && usable_cache_entry(path, cache_key))
+    return references_[key] = read_reference_image(path);
+  ReferenceImage r = compute_reference(*s.embree, gbuffer(scene_name, view, w, h), settings);
+  if (disk_cache_) {
+    const OIIO::ImageBuf image = reference_to_image(r, false);
+    Attributes attributes = reference_attributes(s.scene, view, camera, settings);
+    add_cache_attributes(attributes, cache_key, image);
+    write_exr(path, image, attributes);
+  }
+  return references_[key] = std::move(r);
+}
+
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+nlohmann::json score(const GBuffer& g, const ReferenceImage& ref, const std::vector<float>& est,
+                     const std::optional<std::vector<glm::vec3>>& bent, const std::string& prefix) {
+  std::vector<uint8_t> mask(g.pixel_count());
+  for (size_t k = 0; k < mask.size(); ++k) mask[k] = g.covered(k) && ref.coverage[k] > 0.5f;
+  const Metrics m = compare_images({g.width, g.height, ref.ao.data()},
+                                   {g.width, g.height, est.data()}, mask, ref.stderr_ao);
+  nlohmann::json out = to_json(m, prefix);
+  if (bent) {
+    if (const auto b = compare_bent(g.width, g.height, ref.bent, *bent, mask, ref.bent_stderr))
+      add_bent_json(*b, out, prefix);
+  }
+  return out;
+}
+
+const std::vector<float>* channel(const EstimateResult& r, const std::string& name) {
+  const auto it = r.extra_channels.find(name);
+  return it == r.extra_channels.end() ? nullptr : &it->second;
+}
+
+}  // namespace
+
+ResultRow EvaluationSession::evaluate(const EvaluationRequest& req,
+                                      const std::string& estimate_path) {
+  const EstimatorInfo& e = *req.estimator;
+  const ParamSet params = resolve_params(e.name, e.params, req.overrides, "estimator " + e.name);
+  const SceneData& s = scene(req.scene);
+  const View& view = s.scene.view(req.view);
+  const int w = req.width > 0 ? req.width : view.width;
+  const int h = req.height > 0 ? req.height : view.height;
+  const GBuffer& g = gbuffer(req.scene, view, w, h);
+  const AoDefinition definition = e.definition(params);
+
+  ResultRow row;
+  row.run_name = run_name(e, params, req.overrides, s.scene.name, view.name, w, h);
+  row.estimator = e.name;
+  row.params = params.json();
+  row.scene = s.scene.name;
+  row.view = view.name;
+  row.width = w;
+  row.height = h;
+  row.definition = definition.to_json().dump();
+  row.reference = reference_spec_.to_json();
+  row.backend = backend_name(e.backend);
+  row.device = backend_device(e.backend);  // "" = the CPU; runners fill in the machine's
+  row.aoeval_version = kAoevalVersion;
+
+  const EstimateContext context{s.scene, *s.embree, g};
+  std::unique_ptr<Estimator> estimator = e.create(params);
+  nlohmann::json derived;
+  EstimateResult result;
+  std::vector<double> times;
+  std::map<std::string, std::vector<double>> passes;
+  try {
+    const auto t_pre = std::chrono::steady_clock::now();
+    estimator->prepare(context);
+    row.precompute_ms = ms_since(t_pre);
+    derived = estimator->derived();
+    if (!derived.empty()) row.params["derived"] = derived;
+    for (int i = 0; i < timing_.warmup; ++i) result = estimator->run(context);
+    for (int i = 0; i < std::max(1, timing_.repetitions); ++i) {
+      const auto t0 = std::chrono::steady_clock::now();
+      result = estimator->run(context);
+      const double wall = ms_since(t0);
+      const auto total = result.pass_ms.find("total_ms");
+      times.push_back(total != result.pass_ms.end() ? total->second : wall);
+      for (const auto& [pass, ms] : result.pass_ms) passes[pass].push_back(ms);
+    }
+  } catch (const EstimatorUnavailable& unavailable) {
+    // The backend is missing on this machine (e.g. no Vulkan device): the row says why, with no
+    // metrics or timings, and sweeps and runs carry on with the other estimators.
+    row.status = std::string("skipped: ") + unavailable.what();
+    row.timestamp = utc_now();
+    last_estimate_.clear();
+    return row;
+  }
+  if (result.ao.size() != g.pixel_count())
+    throw std::runtime_error("estimator " + e.name + " returned " +
+                             std::to_string(result.ao.size()) + " values for " +
+                             std::to_string(g.pixel_count()) + " pixels");
+  row.time_ms_median = median(times);
+  row.time_ms_min = *std::min_element(times.begin(), times.end());
+  row.time_ms_max = *std::max_element(times.begin(), times.end());
+  row.repetitions = static_cast<int>(times.size());
+  row.time_ms_samples = times;
+  for (const auto& [pass, values] : passes)
+    if (pass != "total_ms") row.pass_ms[pass] = median(values);
+  row.timing_source = !result.timing_source.empty()           ? result.timing_source
+                      : result.pass_ms.count("total_ms") != 0 ? "gpu-timestamps"
+                                                              : "wall";
+  row.timestamp = utc_now();
+
+  const auto bent = bent_of_channels(channel(result, "bent.X"), channel(result, "bent.Y"),
+                                     channel(result, "bent.Z"));
+  row.metrics = score(g, reference(req.scene, view, w, h, definition), result.ao, bent, "");
+  row.true_metrics =
+      score(g, reference(req.scene, view, w, h, true_ao_definition()), result.ao, bent, "");
+  if (!estimate_path.empty()) {
+    write_exr(estimate_path, estimate_to_image(g, result),
+              estimate_attributes(s.scene, view, make_camera(view, w, h), e, params, derived));
+  }
+  last_estimate_ = std::move(result.ao);
+  return row;
+}
+
+}  // namespace aoeval

@@ -1,0 +1,85 @@
+// One evaluation = an estimator with its parameters on one scene view at one resolution: run it
+// (precompute, warm-up, timed repetitions), score it against the reference of its own AO definition
+// ("matched") and against true AO, and return a results row. The session caches what runs share:
+// scenes, Embree scenes, G-buffers and references (in memory, and references on disk too).
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <tuple>
+
+#include "estimators/estimator.h"
+#include "harness/results/result_row.h"
+#include "references/reference.h"
+
+namespace aoeval {
+
+// The reference of a sweep or suite; its defaults are ReferenceSettings' (references/reference.h).
+struct ReferenceSpec {
+  int spp = ReferenceSettings{}.spp;
+  SamplerKind sampler = ReferenceSettings{}.sampler;
+  uint64_t seed = ReferenceSettings{}.seed;
+  nlohmann::json to_json() const;
+};
+
+struct TimingSpec {
+  int warmup = 1;
+  int repetitions = 5;
+};
+
+struct EvaluationRequest {
+  const EstimatorInfo* estimator = nullptr;
+  nlohmann::json overrides = nlohmann::json::object();  // the parameters set explicitly
+  std::string scene, view;                              // view "" = the scene's first
+  int width = 0, height = 0;                            // 0 = the view's own
+};
+
+// "raytraced/rays:16/scene:bunny/view:main/640x480": the explicitly set parameters in declaration
+// order, then scene, view and resolution.
+std::string run_name(const EstimatorInfo& e, const ParamSet& params,
+                     const nlohmann::json& overrides, const std::string& scene,
+                     const std::string& view, int width, int height);
+
+class EvaluationSession {
+ public:
+  EvaluationSession(ReferenceSpec reference, TimingSpec timing, bool disk_cache = true);
+  ~EvaluationSession();
+
+  struct SceneData {
+    Scene scene;
+    std::unique_ptr<EmbreeScene> embree;
+  };
+  const SceneData& scene(const std::string& name);
+  const GBuffer& gbuffer(const std::string& scene, const View& view, int width, int height);
+  const ReferenceImage& reference(const std::string& scene, const View& view, int width, int height,
+                                  const AoDefinition& definition);
+
+  // Runs and scores one request. When `estimate_path` is not empty the estimate EXR is written
+  // there.
+  ResultRow evaluate(const EvaluationRequest& request, const std::string& estimate_path = "");
+  // The estimate of the last evaluate() call (for error maps).
+  const std::vector<float>& last_estimate() const { return last_estimate_; }
+
+  const ReferenceSpec& reference_spec() const { return reference_spec_; }
+
+ private:
+  ReferenceSpec reference_spec_;
+  TimingSpec timing_;
+  bool disk_cache_;
+  std::map<std::string, SceneData> scenes_;
+  std::map<std::string, GBuffer> gbuffers_;
+  std::map<std::string, ReferenceImage> references_;
+  std::vector<float> last_estimate_;
+};
+
+// Header attributes of an estimate EXR.
+// `derived` (Estimator::derived()) is recorded under "derived" in aoeval:params when not empty.
+Attributes estimate_attributes(const Scene& scene, const View& view, const Camera& camera,
+                               const EstimatorInfo& e, const ParamSet& params,
+                               const nlohmann::json& derived = nlohmann::json::object());
+// The estimate as an image: AO, A and the estimator's extra channels.
+OIIO::ImageBuf estimate_to_image(const GBuffer& g, const EstimateResult& r);
+
+}  // namespace aoeval

@@ -1,0 +1,58 @@
+// One results row (CONTRACT §4 "Results"): one (estimator, parameters, scene, view, resolution)
+// with its metrics against the matched reference and against true AO, its timings and its context.
+// Every writer (console, CSV, JSON, SQLite, HTML) reads these rows and nothing else.
+#pragma once
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace aoeval {
+
+inline constexpr int kResultsSchemaVersion = 1;
+
+struct ResultRow {
+  std::string run_id;    // one id per invocation of sweep/run/bench (all its rows share it)
+  std::string run_name;  // stable: "raytraced/rays:16/scene:bunny/view:main/640x480"
+  std::string estimator;
+  nlohmann::json params = nlohmann::json::object();  // every effective parameter, defaults included
+  std::string scene, view;
+  int width = 0, height = 0;
+  std::string definition;  // AoDefinition::to_json().dump() of the matched reference
+  nlohmann::json reference =
+      nlohmann::json::object();  // matched reference settings (spp, sampler, seed)
+  nlohmann::json metrics = nlohmann::json::object();  // metric_keys() against the matched reference
+  nlohmann::json true_metrics = nlohmann::json::object();  // the same keys against true AO
+  double time_ms_median = 0.0, time_ms_min = 0.0, time_ms_max = 0.0;
+  int repetitions = 0;
+  // Every timed repetition in ms, in order (what the dashboard's rank test compares); the
+  // "time_ms_samples" column holds them as a JSON array.
+  std::vector<double> time_ms_samples;
+  std::map<std::string, double> pass_ms;  // per-pass GPU/CPU times, column names end in "_ms"
+  double precompute_ms = 0.0;
+  std::string backend;  // cpu, embree, vulkan
+  std::string machine, device, git_commit, aoeval_version;
+  std::string timestamp;      // ISO 8601 UTC, when the row was measured
+  std::string estimate_file;  // relative path of the estimate EXR, "" if not kept
+  std::string status = "ok";  // "ok", or "skipped: <reason>" (e.g. no Vulkan device)
+  // What the time columns measure: "wall" (the harness's clock around one frame),
+  // "gpu-timestamps", "plugin-frames" (a process plug-in's own frame_ms), "process-wall" (a
+  // process plug-in's whole process: start-up and file I/O included). CONTRACT §7.
+  std::string timing_source;
+};
+
+// The row as one flat JSON object whose keys are exactly the CSV/SQLite column names: fixed
+// columns, then one column per parameter (named after it), metrics, "true_" metrics, timings.
+nlohmann::json flatten(const ResultRow& row);
+ResultRow unflatten(const nlohmann::json& flat);
+
+// The fixed columns in order, for writers that need a stable header. Parameter columns come
+// between the identifying columns and the metrics; pass-time columns at the end.
+std::vector<std::string> identifying_columns();  // run_id, run_name, estimator, scene, view, ...
+std::vector<std::string> measured_columns();     // metrics, true_ metrics, timings, context
+
+// A file name for a run name: "raytraced/rays:16/scene:bunny" -> "raytraced__rays-16__scene-bunny".
+std::string file_stem_for(const std::string& run_name);
+
+}  // namespace aoeval

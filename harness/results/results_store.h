@@ -1,0 +1,130 @@
+// Where results rows go (CONTRACT §4 "Results"; STYLE "Reporters are separate from runners"):
+// the run context, an output folder's results.csv + results.json, the SQLite history database,
+// and the text writers (CSV, JSON, Markdown, console). Every writer reads the same ResultRows.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "harness/results/result_row.h"
+
+struct sqlite3;
+
+namespace aoeval {
+
+// What one invocation of sweep/run/bench shares across its rows (the JSON "context" block).
+struct RunContext {
+  std::string run_id;          // UTC timestamp + random suffix: "20240501T123456Z-3f9a1c"
+  std::string command;         // "sweep hbao-radius", "run default", ...
+  std::string machine;         // "hostname (CPU model, N cores)"
+  std::string device;          // the CPU model; the caller replaces it when a GPU runs
+  std::string embree_version;  // RTC_VERSION_STRING, "unknown" where Embree's header is absent
+  std::string git_commit;      // `git rev-parse HEAD` of the source tree, or "unknown"
+  std::string aoeval_version;
+  std::string started;     // ISO 8601 UTC: "2024-05-01T12:34:56Z"
+  std::string output_dir;  // absolute path of the output folder (images, EXRs); "" if none
+};
+
+RunContext make_run_context(const std::string& command);
+nlohmann::json to_json(const RunContext& context);
+RunContext run_context_from_json(const nlohmann::json& j);
+
+// The ordered union of the columns of `rows`: identifying_columns(), then parameter columns in
+// order of first appearance, then measured_columns(), then pass columns in order of first
+// appearance. The header of results.csv and the column set of the SQLite results table.
+std::vector<std::string> result_columns(const std::vector<ResultRow>& rows);
+// True for the metric and "true_" metric columns, where null means +infinity (psnr).
+bool is_metric_column(const std::string& column);
+
+// One output folder's results: <dir>/<stem>.csv and <dir>/<stem>.json, both rewritten atomically
+// (temporary + rename) after every added row, so an interrupted run never leaves a partial row.
+// `stem` defaults to "results"; give shards of one sweep that share a folder their own stem
+// (e.g. "results.shard-1-of-4"), since each process rewrites its files whole.
+class ResultsFolder {
+ public:
+  ResultsFolder(std::string dir, RunContext context, std::string stem = "results");
+  // Loads the rows already in <dir>/<stem>.json (for --resume) and returns their run names; no
+  // file: none. Throws std::runtime_error naming the file when it is unreadable, not results JSON,
+  // or of a newer schema version.
+  std::vector<std::string> load_existing();
+  // The context of <dir>/<stem>.json as load_existing() found it (a resumed sweep keeps its run
+  // id, so one sweep is one run however often it was interrupted); empty before loading or when
+  // there was no file.
+  const std::optional<RunContext>& existing_context() const { return existing_context_; }
+  void set_context(const RunContext& context) { context_ = context; }
+  // Appends `row` (replacing, in place, a row with the same run_name) and rewrites both files.
+  void add(const ResultRow& row);
+  // Appends `row` when no row has its run_name, without rewriting the files (resume's repair).
+  void merge(const ResultRow& row);
+  // Rewrites both files from the rows held (JSON first, then CSV; each atomically).
+  void write() const;
+  const std::vector<ResultRow>& rows() const { return rows_; }
+  const RunContext& context() const { return context_; }
+  std::string csv_path() const;
+  std::string json_path() const;
+
+ private:
+  std::string dir_, stem_;
+  RunContext context_;
+  std::optional<RunContext> existing_context_;
+  std::vector<ResultRow> rows_;
+};
+
+// The SQLite history (results_sqlite.cpp; default out/results.sqlite), shared by every run and by
+// concurrent shards: WAL journal, busy timeout, one transaction per row, PRAGMA user_version =
+// kResultsSchemaVersion plus a `meta` table. Tables:
+//   meta(key TEXT PRIMARY KEY, value TEXT)            schema_version, created
+//   runs(run_id TEXT PRIMARY KEY, command, machine, device, git_commit, started, context JSON)
+//   results(id INTEGER PRIMARY KEY AUTOINCREMENT, <identifying_columns()>, <measured_columns()>,
+//           then one column per parameter and per pass, added by ALTER TABLE ADD COLUMN when a
+//           row brings a new name)
+// A psnr of +infinity (JSON null) is stored as REAL Inf; an absent value as NULL.
+class SqliteStore {
+ public:
+  // read_write creates the parent folders and the database (WAL journal, tables). read_only is for
+  // readers of someone's history (the dashboard): it never creates, converts or adds anything, and
+  // a file that is missing, corrupt, foreign (no aoeval tables) or of another schema version is an
+  // InputError naming it, so the caller can exit 2 and leave the file byte-identical.
+  enum class Mode { read_write, read_only };
+  // Throws std::runtime_error with sqlite's message on failure (read_write), and when the
+  // database's schema version is newer than this build's.
+  explicit SqliteStore(const std::string& path, Mode mode = Mode::read_write);
+  ~SqliteStore();
+  SqliteStore(const SqliteStore&) = delete;
+  SqliteStore& operator=(const SqliteStore&) = delete;
+
+  void add_run(const RunContext& context);  // a run_id already present is left as it is
+  // One transaction. A row with the same run_id and run_name is replaced, so storing a row twice
+  // (a sweep killed between its SQLite commit and its file write, then resumed) keeps one.
+  void add(const ResultRow& row);
+
+  std::vector<ResultRow> all_rows();  // in insertion order
+  std::vector<ResultRow> rows_of_run(const std::string& run_id);
+  std::vector<std::string> run_ids();  // in order of `started`
+  std::vector<RunContext> runs();      // likewise
+  std::vector<std::string> columns();  // of the results table, in order
+  const std::string& path() const { return path_; }
+
+ private:
+  std::vector<ResultRow> select_rows(const std::string& sql, const std::string& bound);
+  void open_read_only();
+  std::string path_;
+  sqlite3* db_ = nullptr;
+};
+
+// Writers (results_store.cpp). Numbers in CSV use the shortest representation that reads back to
+// the same double (std::to_chars); a null metric (psnr = +infinity) is written "inf"; other nulls
+// and absent values are blank. Strings are quoted per RFC 4180 when they hold a comma, quote, CR or
+// LF. Lines end in "\n".
+std::string results_csv(const std::vector<ResultRow>& rows);
+// {"schema_version": 1, "context": {...}, "rows": [flat rows, keys in column order]}
+std::string results_json(const std::vector<ResultRow>& rows, const RunContext& context);
+// Tables of chosen columns (flat column names; absent values blank); numbers to 4 significant
+// digits, integers whole.
+std::string markdown_table(const std::vector<ResultRow>& rows,
+                           const std::vector<std::string>& columns);
+std::string console_table(const std::vector<ResultRow>& rows,
+                          const std::vector<std::string>& columns);
+
+}  // namespace aoeval

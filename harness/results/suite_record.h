@@ -1,0 +1,44 @@
+// What one `aoeval run` leaves for its report: the rows, the images the runner kept beside them and
+// the G-buffer views it rendered. The runner (harness/sweep/suite_runner.h) fills it; reports/
+// (suite_report.h, gbuffer_gallery.h) reads it. Plain data, so reports/ needs no runner to read it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "harness/results/result_row.h"
+#include "harness/results/results_store.h"
+
+namespace aoeval {
+
+struct SuiteReportEntry {
+  ResultRow row;          // row.estimate_file is relative to the output folder ("" = not kept)
+  bool featured = false;  // shown as a mosaic and in the per-scene tables
+  // Relative to the output folder; "" where there is none (a skipped row).
+  std::string mosaic_png;
+  std::string reference_exr;       // the matched reference
+  std::string true_reference_exr;  // the unbounded cosine reference ("true AO")
+};
+
+struct SuiteReport {
+  std::string suite;       // "default"
+  std::string suite_file;  // where it was read from
+  RunContext context;
+  double wall_s = 0.0;
+  std::vector<std::string> overrides;  // the --set assignments, as given
+  std::vector<SuiteReportEntry> entries;
+  std::string gbuffer_gallery;  // relative path of the G-buffer gallery page, "" = none
+};
+
+// One scene view of the G-buffer gallery.
+struct GalleryEntry {
+  std::string scene;
+  std::string view;
+  size_t triangles = 0;
+  size_t objects = 0;
+  double load_ms = 0.0;
+  double bvh_ms = 0.0;
+  std::string gbuffer_exr;  // relative to the output folder
+};
+
+}  // namespace aoeval

@@ -1,0 +1,255 @@
+#include "harness/sweep/suite_runner.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <set>
+
+#include "corpus.h"
+#include "drawing/error_maps.h"
+#include "errors.h"
+#include "exr_io.h"
+#include "harness/evaluation/evaluation.h"
+#include "harness/results/output_lock.h"
+#include "harness/evaluation/progress.h"
+#include "harness/results/results_store.h"
+#include "harness/sweep/suite.h"
+#include "harness/sweep/sweep_runner.h"
+#include "harness/results/suite_record.h"
+#include "references/reference_cache.h"
+
+namespace aoeval {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::string resolution(int w, int h) {
+  return std::to_string(w) + "x" + std::to_string(h);
+}
+
+// Everything the run keeps besides the rows: references copied into <out>/references/ (once per
+// run), mosaics, and the G-buffers for the gallery.
+class RunImages {
+ public:
+  RunImages(std::string out, std::string run_dir)
+      : out_(std::move(out)), run_dir_(std::move(run_dir)) {}
+
+  // The reference EXR for (scene, view, resolution, definition) under references/, copied from
+  // the content-addressed cache the session filled; returns its path relative to the output.
+  std::string reference(EvaluationSession& session, const std::string& scene_name, const View& view,
+                        int w, int h, const AoDefinition& definition) {
+    const auto& scene = session.scene(scene_name).scene;
+    const ReferenceSpec& spec = session.reference_spec();
+    const std::string rel =
+        "references/" +
+        file_stem_for(scene.name + "/" + view.name + "/" + resolution(w, h) + "/" +
+                      definition.label() + "/spp:" + std::to_string(spec.spp) + "/" +
+                      sampler_name(spec.sampler) + "/seed:" + std::to_string(spec.seed)) +
+        ".exr";
+    if (!written_.insert(rel).second) return rel;
+    session.reference(scene_name, view, w, h, definition);  // computes or reads the cache
+    ReferenceSettings settings;
+    settings.spp = spec.spp;
+    settings.sampler = spec.sampler;
+    settings.seed = spec.seed;
+    settings.definition = definition;
+    const std::string cached =
+        reference_cache_path(reference_cache_key(scene, make_camera(view, w, h), settings));
+    const fs::path target = fs::path(out_) / rel;
+    fs::create_directories(target.parent_path());
+    const fs::path temp = target.string() + ".tmp";
+    fs::copy_file(cached, temp, fs::copy_options::overwrite_existing);
+    fs::rename(temp, target);
+    return rel;
+  }
+
+  std::string mosaic(EvaluationSession& session, const SweepPoint& p, const ResultRow& row,
+                     const AoDefinition& definition) {
+    const View& view = session.scene(p.scene).scene.view(p.view);
+    const GBuffer& g = session.gbuffer(p.scene, view, p.width, p.height);
+    const ReferenceImage& ref = session.reference(p.scene, view, p.width, p.height, definition);
+    const std::vector<float>& est = session.last_estimate();
+    std::vector<uint8_t> mask(g.pixel_count());
+    for (size_t k = 0; k < mask.size(); ++k) mask[k] = g.covered(k) && ref.coverage[k] > 0.5f;
+    char numbers[160];
+    std::snprintf(numbers, sizeof numbers, "   rmse %.4f   ssim %.3f   flip %.3f",
+                  row.metrics.value("rmse", 0.0), row.metrics.value("ssim", 0.0),
+                  row.metrics.value("flip_mean", 0.0));
+    const std::string rel = run_dir_ + "/mosaics/" + file_stem_for(p.name) + ".png";
+    write_image((fs::path(out_) / rel).string(),
+                error_mosaic(g.width, g.height, ref.ao.data(), est.data(), mask,
+                             std::string(p.name) + numbers));
+    return rel;
+  }
+
+  // G-buffer EXRs of every (scene, view, resolution) the suite renders, and their gallery page.
+  void note_view(const std::string& scene, const std::string& view, int w, int h) {
+    const std::string key = scene + "|" + view + "|" + resolution(w, h);
+    if (seen_views_.insert(key).second) views_.push_back({scene, view, w, h});
+  }
+  std::vector<GalleryEntry> gallery(EvaluationSession& session,
+                                    const std::map<std::string, double>& load_ms) {
+    std::vector<GalleryEntry> entries;
+    const fs::path dir = fs::path(out_) / "gbuffers";
+    for (const auto& v : views_) {
+      const auto& data = session.scene(v.scene);
+      const View& view = data.scene.view(v.view);
+      const Camera camera = make_camera(view, v.w, v.h);
+      GalleryEntry e;
+      e.scene = data.scene.name;
+      e.view = view.name;
+      e.triangles = data.scene.triangle_count();
+      e.objects = data.scene.objects.size();
+      e.bvh_ms = data.embree->build_ms();
+      e.load_ms = std::max(0.0, load_ms.at(v.scene) - e.bvh_ms);
+      e.gbuffer_exr =
+          (fs::path("scenes") / e.scene / (view.name + "_" + resolution(v.w, v.h) + "_gbuffer.exr"))
+              .string();
+      write_exr((dir / e.gbuffer_exr).string(),
+                gbuffer_to_image(session.gbuffer(v.scene, view, v.w, v.h)),
+                gbuffer_attributes(data.scene, view, camera));
+      entries.push_back(e);
+    }
+    return entries;
+  }
+
+ private:
+  struct ViewUse {
+    std::string scene, view;
+    int w, h;
+  };
+  std::string out_, run_dir_;
+  std::set<std::string> written_, seen_views_;
+  std::vector<ViewUse> views_;
+};
+
+// Evaluates one point, keeps its estimate (and, when featured, its mosaic) and the references it
+// was scored against.
+SuiteReportEntry run_point(const SuitePoint& sp, EvaluationSession& session, RunImages& images,
+                           const RunContext& context, const std::string& out,
+                           const std::string& run_dir) {
+  const SweepPoint& p = sp.point;
+  EvaluationRequest req;
+  req.estimator = p.estimator;
+  req.overrides = p.overrides;
+  req.scene = p.scene;
+  req.view = p.view;
+  req.width = p.width;
+  req.height = p.height;
+  const std::string estimate_rel = run_dir + "/estimates/" + file_stem_for(p.name) + ".exr";
+  SuiteReportEntry entry;
+  entry.featured = sp.featured;
+  try {  // a missing backend (no Vulkan device) gives a "skipped: ..." row, not an exception
+    entry.row = session.evaluate(req, (fs::path(out) / estimate_rel).string());
+  } catch (const InputError& e) {
+    throw InputError(p.name + ": " + e.what());
+  } catch (const std::exception& e) {
+    throw std::runtime_error(p.name + ": " + e.what());
+  }
+  ResultRow& row = entry.row;
+  row.run_id = context.run_id;
+  row.machine = context.machine;
+  if (row.device.empty()) row.device = context.device;  // CPU estimators name the CPU
+  row.git_commit = context.git_commit;
+  if (row.status != "ok") return entry;
+  row.estimate_file = estimate_rel;
+  const ParamSet params =
+      resolve_params(p.estimator->name, p.estimator->params, p.overrides, p.name);
+  const AoDefinition definition = p.estimator->definition(params);
+  const View& view = session.scene(p.scene).scene.view(p.view);
+  entry.reference_exr = images.reference(session, p.scene, view, p.width, p.height, definition);
+  entry.true_reference_exr =
+      images.reference(session, p.scene, view, p.width, p.height, true_ao_definition());
+  if (sp.featured) entry.mosaic_png = images.mosaic(session, p, row, definition);
+  images.note_view(p.scene, p.view, p.width, p.height);
+  return entry;
+}
+
+}  // namespace
+
+SuiteRun run_suite(const SuiteRunOptions& o) {
+  const auto t_start = std::chrono::steady_clock::now();
+  Suite suite = load_suite(o.suite);
+  std::vector<SuiteOverride> overrides;
+  for (const auto& s : o.sets) overrides.push_back(parse_suite_override(s));
+  apply_suite_overrides(suite, overrides);
+  const std::vector<SuitePoint> points = expand_suite(suite);
+
+  const std::string out = o.out_dir.empty() ? "out/" + suite.name : o.out_dir;
+  // Database first (an unwritable --db leaves no folder), then one writer per folder (see
+  // sweep_runner.cpp for the order that makes results kill-safe).
+  SqliteStore store(o.database);
+  OutputFolderLock lock(out);
+  remove_stale_temporaries(out);
+  std::string command = "run " + suite.name;
+  for (const auto& s : o.sets) command += " --set " + s;
+  RunContext context = make_run_context(command);
+  context.output_dir = fs::weakly_canonical(fs::absolute(out)).string();
+  const std::string run_dir = "runs/" + context.run_id;
+  ResultsFolder folder(out, context);
+  store.add_run(context);
+
+  std::set<std::string> scenes, estimators;
+  for (const auto& p : points) {
+    scenes.insert(p.point.scene);
+    estimators.insert(p.point.estimator->name);
+  }
+  std::fprintf(stderr, "run %s: %zu points, %zu scenes, %zu estimators -> %s\n", suite.name.c_str(),
+               points.size(), scenes.size(), estimators.size(), context.output_dir.c_str());
+
+  // One session per (reference, timing) of the suite's specs; the shipped suites share one.
+  std::map<std::string, std::unique_ptr<EvaluationSession>> sessions;
+  auto session_for = [&](const SweepSpec& spec) -> EvaluationSession& {
+    const std::string key = spec.reference.to_json().dump() + "|" +
+                            std::to_string(spec.timing.warmup) + "," +
+                            std::to_string(spec.timing.repetitions);
+    auto& s = sessions[key];
+    if (!s) s = std::make_unique<EvaluationSession>(spec.reference, spec.timing);
+    return *s;
+  };
+
+  RunImages images(out, run_dir);
+  SuiteRun result;
+  result.out_dir = out;
+  SuiteReport& report = result.report;
+  report.suite = suite.name;
+  report.suite_file = suite.path;
+  report.overrides = o.sets;
+  std::map<std::string, double> load_ms;  // scene -> load + BVH time of its first use
+  size_t skipped = 0;
+  {
+    Progress progress("run " + suite.name, points.size());
+    for (const SuitePoint& sp : points) {
+      EvaluationSession& session = session_for(suite.specs[sp.spec]);
+      if (!load_ms.count(sp.point.scene)) {
+        const auto t0 = std::chrono::steady_clock::now();
+        session.scene(sp.point.scene);
+        load_ms[sp.point.scene] = seconds_since(t0) * 1000.0;
+      }
+      SuiteReportEntry entry = run_point(sp, session, images, context, out, run_dir);
+      skipped += entry.row.status != "ok";
+      store.add(entry.row);
+      folder.add(entry.row);
+      report.entries.push_back(std::move(entry));
+      progress.step(sp.point.name);
+    }
+  }
+  write_text((fs::path(out) / run_dir / "results.json").string(),
+             results_json(folder.rows(), context));
+
+  // The G-buffer gallery needs a session holding the scenes: every suite point used one.
+  if (!sessions.empty()) result.gallery = images.gallery(*sessions.begin()->second, load_ms);
+  report.context = context;
+  report.wall_s = seconds_since(t_start);
+  result.skipped = skipped;
+  return result;
+}
+
+}  // namespace aoeval

@@ -1,0 +1,39 @@
+// Runs a suite (harness/sweep/suite.h); cli/cmd_run.cpp then writes its report (reports/). Output
+// folder:
+//   index.html                  the report of this (the newest) run
+//   results.csv, results.json   this run's rows (also appended to the SQLite history)
+//   runs/<run_id>/estimates/    every row's estimate EXR (row.estimate_file, relative to the
+//   folder) runs/<run_id>/mosaics/      reference | estimate | |error| | signed error of featured
+//   rows runs/<run_id>/plots/        error against time per estimator runs/<run_id>/results.json  a
+//   copy of this run's rows references/                 the reference EXRs the rows were scored
+//   against gbuffers/index.html         the shared G-buffers of every scene view the suite renders
+// Earlier runs' folders under runs/ are kept, so a dashboard can compare against a baseline.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "harness/results/suite_record.h"
+
+namespace aoeval {
+
+struct SuiteRunOptions {
+  std::string suite = "default";  // a shipped suite's name or a suite file's path
+  std::string out_dir;            // default out/<suite name>
+  std::string database = "out/results.sqlite";
+  std::vector<std::string> sets;  // "ESTIMATOR:KEY=VALUE"
+};
+
+// What a run leaves for its report (cli/cmd_run.cpp writes the page with reports/).
+struct SuiteRun {
+  std::string out_dir;
+  SuiteReport report;                 // rows and the images kept beside them
+  std::vector<GalleryEntry> gallery;  // the G-buffer EXRs written under <out>/gbuffers/
+  size_t skipped = 0;                 // rows whose status is not "ok"
+};
+
+// Runs every point, stores the rows (results.csv/json, SQLite) and keeps the images; writes no
+// page.
+SuiteRun run_suite(const SuiteRunOptions& options);
+
+}  // namespace aoeval

@@ -1,0 +1,138 @@
+#include "harness/sweep/sweep_runner.h"
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <set>
+
+#include "errors.h"
+#include "harness/results/output_lock.h"
+#include "harness/evaluation/progress.h"
+#include "harness/results/results_store.h"
+#include "harness/sweep/sweep_spec.h"
+
+namespace aoeval {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+
+extern "C" void on_sigint(int) {
+  g_interrupted = true;
+  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the process at once
+}
+
+}  // namespace
+
+int run_sweep(const SweepOptions& o) {
+  const SweepSpec spec = load_sweep_spec(o.spec_path);
+  std::vector<SweepPoint> points = expand_sweep(spec, o.max_points);
+  const size_t total = points.size();
+  if (!o.shard.empty()) {
+    const auto [index, count] = parse_shard(o.shard);
+    points = select_shard(points, index, count);
+  }
+  // Shards default to a folder each, so that concurrent shards never rewrite each other's files.
+  std::string out = o.out_dir;
+  if (out.empty()) {
+    out = "out/" + spec.name;
+    if (!o.shard.empty()) {
+      const auto [index, count] = parse_shard(o.shard);
+      out += "/shard-" + std::to_string(index) + "-of-" + std::to_string(count);
+    }
+  }
+  // The order below is what makes a sweep safe to kill at any instant (SIGKILL included) and
+  // resume without losing or duplicating a row:
+  //  1. the database is opened first, so an unwritable --db fails before any folder exists;
+  //  2. the folder is locked, so no second process writes it, and leftovers of killed atomic
+  //     writes are removed;
+  //  3. results.json is written (with the run context, possibly no rows) before any row reaches
+  //     the database, so the run id is on disk before it is used: a resume keeps it, and one
+  //     sweep is one run in the history however often it was interrupted;
+  //  4. each row is committed to SQLite first, then the files derived from it are rewritten
+  //     (atomically). A kill between the two leaves the row in SQLite only; --resume takes it
+  //     back from there into the files instead of running the point again.
+  SqliteStore store(o.database);
+  OutputFolderLock lock(out);
+  remove_stale_temporaries(out);
+  RunContext context =
+      make_run_context("sweep " + spec.name + (o.shard.empty() ? "" : " --shard " + o.shard));
+  // The dashboard finds a run's estimate images through this folder.
+  context.output_dir = fs::absolute(out).lexically_normal().string();
+  ResultsFolder folder(out, context);
+  std::set<std::string> done;
+  if (o.resume) {
+    folder.load_existing();
+    if (const auto& existing = folder.existing_context()) {
+      context.run_id = existing->run_id;
+      context.started = existing->started;
+      folder.set_context(context);
+    }
+    std::set<std::string> in_files;
+    for (const ResultRow& r : folder.rows()) in_files.insert(r.run_name);
+    std::set<std::string> in_database;
+    for (const ResultRow& r : store.rows_of_run(context.run_id)) {
+      in_database.insert(r.run_name);
+      folder.merge(r);  // committed to SQLite, killed before the files were rewritten
+    }
+    for (const ResultRow& r : folder.rows())
+      if (!in_database.count(r.run_name) && in_files.count(r.run_name)) store.add(r);
+    for (const ResultRow& r : folder.rows()) done.insert(r.run_name);
+  } else if (fs::exists(fs::path(out) / "results.json")) {
+    throw InputError(out +
+                     ": already holds results; pass --resume to continue it, or choose --out");
+  }
+  folder.write();  // also repairs a CSV that lagged behind results.json
+  store.add_run(context);
+
+  std::vector<const SweepPoint*> pending;
+  for (const auto& p : points)
+    if (!done.count(p.name)) pending.push_back(&p);
+  std::fprintf(stderr, "sweep %s: %zu points (%zu in this shard), %zu already done, %zu to run\n",
+               spec.name.c_str(), total, points.size(), points.size() - pending.size(),
+               pending.size());
+
+  g_interrupted = false;
+  auto previous = std::signal(SIGINT, on_sigint);
+  EvaluationSession session(spec.reference, spec.timing);
+  Progress progress("sweep " + spec.name, pending.size());
+  size_t finished = 0;
+  for (const SweepPoint* p : pending) {
+    if (g_interrupted) break;
+    EvaluationRequest req;
+    req.estimator = p->estimator;
+    req.overrides = p->overrides;
+    req.scene = p->scene;
+    req.view = p->view;
+    req.width = p->width;
+    req.height = p->height;
+    const std::string estimate_rel = "estimates/" + file_stem_for(p->name) + ".exr";
+    ResultRow row =
+        session.evaluate(req, o.keep_estimates ? (fs::path(out) / estimate_rel).string() : "");
+    row.run_id = context.run_id;
+    row.machine = context.machine;
+    if (row.device.empty()) row.device = context.device;
+    row.git_commit = context.git_commit;
+    if (o.keep_estimates && row.status == "ok") row.estimate_file = estimate_rel;
+    store.add(row);
+    folder.add(row);
+    ++finished;
+    progress.step(p->name);
+  }
+  std::signal(SIGINT, previous == SIG_ERR ? SIG_DFL : previous);
+  if (g_interrupted && finished < pending.size()) {
+    std::fprintf(stderr, "sweep %s: interrupted after %zu of %zu points; rerun with --resume\n",
+                 spec.name.c_str(), finished, pending.size());
+    return 130;
+  }
+  std::printf("%s", console_table(folder.rows(), {"run_name", "rmse", "rmse_excess", "ssim",
+                                                  "true_rmse", "time_ms_median"})
+                        .c_str());
+  std::printf("%s\n", (fs::path(out) / "results.csv").string().c_str());
+  return 0;
+}
+
+}  // namespace aoeval

@@ -1,0 +1,24 @@
+// Runs a sweep: expands the spec, takes this shard, skips rows already in the output folder when
+// resuming, evaluates the rest one by one and stores each row the moment it exists (results.csv and
+// results.json rewritten atomically, one SQLite transaction). SIGINT stops it between two rows, so
+// an interrupted sweep resumes without losing or duplicating a row.
+#pragma once
+
+#include <string>
+
+namespace aoeval {
+
+struct SweepOptions {
+  std::string spec_path;
+  std::string out_dir;  // default out/<spec name>
+  bool resume = false;
+  std::string shard;  // "I/N" or ""
+  std::string database = "out/results.sqlite";
+  bool keep_estimates = true;  // write each estimate's EXR under <out>/estimates/
+  size_t max_points = 100000;  // kDefaultMaxSweepPoints (sweep_spec.h); --max-points
+};
+
+// Returns the exit status: 0 done, 130 interrupted.
+int run_sweep(const SweepOptions& options);
+
+}  // namespace aoeval

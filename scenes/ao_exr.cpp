@@ -1,0 +1,48 @@
+#include "ao_exr.h"
+
+#include "errors.h"
+#include "exr_io.h"
+
+namespace aoeval {
+
+AoExr read_ao_exr(const std::string& path, bool need_stderr) {
+  const OIIO::ImageBuf image = read_image(path);
+  const OIIO::ImageSpec& spec = image.spec();
+  AoExr f;
+  f.path = path;
+  f.width = spec.width;
+  f.height = spec.height;
+  const int ao = channel_index(image, "AO", path);
+  const int se =
+      need_stderr ? channel_index(image, "AO_stderr", path) : spec.channelindex("AO_stderr");
+  const int a = channel_index(image, "A", path);
+  const int bx = spec.channelindex("bent.X"), by = spec.channelindex("bent.Y"),
+            bz = spec.channelindex("bent.Z"), sp = spec.channelindex("spp"),
+            bs = spec.channelindex("bent_stderr");
+  const size_t n = static_cast<size_t>(f.width) * f.height, nc = spec.nchannels;
+  std::vector<float> all(n * nc);
+  if (!image.get_pixels(OIIO::ROI::All(), OIIO::TypeFloat, all.data()))
+    throw InputError(path + ": cannot read its pixels: " + image.geterror());
+  f.ao.resize(n);
+  f.coverage.resize(n);
+  if (se >= 0) f.stderr_ao.resize(n);
+  const bool bent = bx >= 0 && by >= 0 && bz >= 0;
+  if (bent) f.bent.resize(n);
+  if (sp >= 0) f.spp.resize(n);
+  if (bs >= 0) f.bent_stderr.resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    const float* s = all.data() + k * nc;
+    f.ao[k] = s[ao];
+    f.coverage[k] = s[a];
+    if (se >= 0) f.stderr_ao[k] = s[se];
+    if (bent) f.bent[k] = {s[bx], s[by], s[bz]};
+    if (sp >= 0) f.spp[k] = s[sp];
+    if (bs >= 0) f.bent_stderr[k] = s[bs];
+  }
+  f.scene = string_attribute(image, "aoeval:scene");
+  f.view = string_attribute(image, "aoeval:view");
+  f.definition = string_attribute(image, "aoeval:definition");
+  return f;
+}
+
+}  // namespace aoeval

@@ -1,0 +1,28 @@
+// The one reader of AO EXRs (references, estimates, any file `aoeval compare` is given): the AO and
+// A (coverage) channels, and the optional AO_stderr, bent.X/Y/Z, bent_stderr and spp channels and the
+// aoeval:scene/view/definition attributes. Every reader of such a file goes through it, so a file
+// means the same thing to compare, the dashboard and the reference cache.
+#pragma once
+
+#include <glm/vec3.hpp>
+#include <string>
+#include <vector>
+
+namespace aoeval {
+
+struct AoExr {
+  std::string path;  // the file it was read from
+  int width = 0, height = 0;
+  std::vector<float> ao, coverage;      // per pixel, row-major
+  std::vector<float> stderr_ao;         // empty when the file has no AO_stderr channel
+  std::vector<glm::vec3> bent;          // empty unless bent.X, bent.Y and bent.Z are all present
+  std::vector<float> spp;               // empty without an spp channel
+  std::vector<float> bent_stderr;       // a reference's bent-normal noise (degrees); may be empty
+  std::string scene, view, definition;  // aoeval: attributes, "" where absent
+};
+
+// InputError naming the file when it is missing, unreadable, or lacks AO or A (or AO_stderr when
+// `need_stderr`).
+AoExr read_ao_exr(const std::string& path, bool need_stderr = false);
+
+}  // namespace aoeval
