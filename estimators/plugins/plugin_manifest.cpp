@@ -231,7 +231,7 @@ PluginManifest read_plugin_manifest(const std::string& folder_text) {
   if (!j.is_object()) r.fail("(top level)", "expected an object");
   r.only_known(j,
                {"name", "summary", "paper", "kind", "command", "shaders", "params", "definition",
-                "outputs", "timeout_s", "frames"},
+                "outputs", "timeout_s", "frames", "open_plane_tolerance"},
                "");
   m.name = r.string_of(r.require(j, "name", "name"), "name");
   if (!is_estimator_name(m.name))
@@ -293,6 +293,11 @@ PluginManifest read_plugin_manifest(const std::string& folder_text) {
   if (j.contains("timeout_s")) {
     m.timeout_s = r.number_of(j["timeout_s"], "timeout_s");
     if (!(m.timeout_s > 0.0) || m.timeout_s > 86400.0) r.fail("timeout_s", "must be in (0, 86400]");
+  }
+  if (j.contains("open_plane_tolerance")) {
+    m.open_plane_tolerance = r.number_of(j["open_plane_tolerance"], "open_plane_tolerance");
+    if (!(m.open_plane_tolerance >= 0.0 && m.open_plane_tolerance <= 1.0))
+      r.fail("open_plane_tolerance", "must be in [0, 1]");
   }
   if (j.contains("frames")) {
     const double f = r.number_of(j["frames"], "frames");

@@ -35,6 +35,9 @@ struct PluginManifest {
   double dmax = 0.0;
   std::string dmax_param;
   bool bent = false;         // outputs holds "bent": bent.X/Y/Z are read back and kept
+  // The largest |AO - 1| the estimator promises on an open plane, which the registry-wide
+  // conformance test holds it to; < 0: the backend's default (EstimatorInfo::conformance).
+  double open_plane_tolerance = -1.0;
   double timeout_s = 120.0;  // process: the whole process group is killed after this long
   int frames = 1;            // process: the N of --frames N (frames the program times itself)
 };

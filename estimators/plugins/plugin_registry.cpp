@@ -45,11 +45,28 @@ std::vector<std::string> plugin_folders_in(const std::string& dir) {
   return found;
 }
 
+namespace {
+// A plug-in receives every declared parameter at once (the params JSON of a process, the uniform
+// block of a shader), so each is read here through its typed accessor: the run-time settings are
+// then provably the table's, as the registry-wide defaults test checks for built-ins.
+void read_every_param(const PluginManifest& m, const ParamSet& p) {
+  for (const ParamSpec& spec : m.params) {
+    switch (spec.type) {
+      case ParamType::real: p.real(spec.name); break;
+      case ParamType::integer: p.integer(spec.name); break;
+      case ParamType::boolean: p.boolean(spec.name); break;
+      case ParamType::choice: p.choice(spec.name); break;
+    }
+  }
+}
+}  // namespace
+
 EstimatorInfo plugin_estimator(const PluginManifest& m) {
   EstimatorInfo info;
   info.name = m.name;
   info.summary = m.summary;
   info.paper = m.paper;
+  info.conformance.open_plane_tolerance = m.open_plane_tolerance;
   info.kind = plugin_kind_name(m.kind);
   info.folder = m.folder;
   info.backend = m.kind == PluginKind::glsl ? Backend::vulkan : Backend::process;
@@ -57,10 +74,17 @@ EstimatorInfo plugin_estimator(const PluginManifest& m) {
   info.params = m.params;
   info.definition_doc = plugin_definition_doc(m);
   info.definition = [m](const ParamSet& p) { return plugin_definition(m, p); };
-  if (m.kind == PluginKind::glsl)
-    info.create = [m](const ParamSet& p) { return make_glsl_estimator(m, p); };
-  else
-    info.create = [m](const ParamSet& p) { return make_process_estimator(m, p); };
+  if (m.kind == PluginKind::glsl) {
+    info.create = [m](const ParamSet& p) {
+      read_every_param(m, p);
+      return make_glsl_estimator(m, p);
+    };
+  } else {
+    info.create = [m](const ParamSet& p) {
+      read_every_param(m, p);
+      return make_process_estimator(m, p);
+    };
+  }
   return info;
 }
 
