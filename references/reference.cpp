@@ -174,12 +174,18 @@ struct Accumulator {
 // their outer products, from which the covariance of the mean follows.
 struct VectorAccumulator {
   glm::dvec3 sum{0.0};
-  glm::dmat3 outer{0.0};
+  // The six distinct sums of the symmetric outer products x x^T (xx, yy, zz, xy, xz, yz): IEEE
+  // multiplication commutes, so the mirrored entries are the same bits as a full 3x3 sum's.
+  double xx = 0.0, yy = 0.0, zz = 0.0, xy = 0.0, xz = 0.0, yz = 0.0;
   long count = 0;
   void add(const glm::dvec3& x) {
     sum += x;
-    outer += glm::outerProduct(x, x);
+    xx += x.x * x.x, yy += x.y * x.y, zz += x.z * x.z;
+    xy += x.x * x.y, xz += x.x * x.z, yz += x.y * x.z;
     ++count;
+  }
+  glm::dmat3 outer() const {  // column-major, symmetric
+    return glm::dmat3(xx, xy, xz, xy, yy, yz, xz, yz, zz);
   }
   // The angular standard error of the unit mean direction, degrees: with C the covariance of the
   // mean vector (sample covariance / n) and u = m / |m|, the error of m across u has variance
@@ -197,7 +203,7 @@ struct VectorAccumulator {
     if (count < 2) {
       across = 1.0 / std::max(1.0, n);
     } else {
-      const glm::dmat3 cov = (outer - glm::outerProduct(sum, sum) / n) / (n - 1.0) / n;
+      const glm::dmat3 cov = (outer() - glm::outerProduct(sum, sum) / n) / (n - 1.0) / n;
       const glm::dvec3 u = m / len;
       const double trace = cov[0][0] + cov[1][1] + cov[2][2];
       across = std::max(0.0, trace - glm::dot(u, cov * u));
@@ -259,6 +265,12 @@ ReferenceImage compute_reference(const EmbreeScene& es, const GBuffer& g,
                 for (uint32_t d = 0; d < m;
                      ++d) {  // in sample order: same bits whatever the packets
                   const float v = values[d];
+                  if (v == 0.0f) {
+                    // An occluded direction adds zeros (x + 0 = x exactly, and a sum that starts
+                    // at +0 stays +0): only the counts move.
+                    if (!replicated) ++acc.count, ++bent_acc.count;
+                    continue;
+                  }
                   rep_sum += v;
                   const glm::dvec3 weighted = glm::dvec3(dirs[d]) * static_cast<double>(v);
                   bent += weighted;
@@ -303,16 +315,23 @@ std::vector<BareRay> generate_reference_rays(const GBuffer& g, const ReferenceSe
   const int replicates = replicate_count(s.sampler, s.spp);
   const auto m = static_cast<uint32_t>(s.spp / replicates);
   const float tfar = s.definition.bounded() ? static_cast<float>(s.definition.dmax) : kInf;
+  uint32_t packet = 0;
   for (size_t k = 0; k < g.pixel_count(); ++k) {
     if (!g.covered(k)) continue;
     const PixelInput in = pixel_input(g, k, s, scene_extent);
     const Frame frame = make_frame(in.normal);
-    for (int rep = 0; rep < replicates; ++rep)
-      for_each_direction(
-          s, k, static_cast<uint32_t>(rep), m, in, frame, square,
-          [&](const glm::vec3& w, bool above) {
-            if (above) rays.push_back({in.position + in.geometric_normal * in.offset, w, tfar});
-          });
+    for (int rep = 0; rep < replicates; ++rep) {
+      int lanes = 0;
+      for_each_direction(s, k, static_cast<uint32_t>(rep), m, in, frame, square,
+                         [&](const glm::vec3& w, bool above) {
+                           if (!above) return;
+                           if (lanes == 16) ++packet, lanes = 0;
+                           rays.push_back(
+                               {in.position + in.geometric_normal * in.offset, w, tfar, packet});
+                           ++lanes;
+                         });
+      if (lanes > 0) ++packet;
+    }
   }
   return rays;
 }

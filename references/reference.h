@@ -76,6 +76,10 @@ void parse_reference_options(ReferenceSettings& s, const std::string& weighting,
 struct BareRay {
   glm::vec3 origin, direction;
   float tfar;
+  // The packet the reference traces this ray in: rays of one pixel's replicate share an origin and
+  // go out in packets of 16 in sample order, so consecutive rays with the same packet number form
+  // the reference's RTCRay16 (the bench's bare rtcOccluded16 loop replays exactly those packets).
+  uint32_t packet;
 };
 std::vector<BareRay> generate_reference_rays(const GBuffer& gbuffer, const ReferenceSettings& s,
                                              float scene_extent);

@@ -497,6 +497,26 @@ TEST(SamplerHemisphereMaps, UnitLengthAndUpperHemisphere) {
   EXPECT_EQ(square_to_uniform_hemisphere({0.0f, 0.3f}), glm::vec3(0, 0, 1));
 }
 
+// The batch maps vectorise (the cosine one has no early return): the reference's directions must
+// stay the single-point maps' bits, the centre of the square and the edges included.
+TEST(SamplerHemisphereMaps, BatchMapsAreTheSinglePointMapsBitForBit) {
+  std::vector<glm::vec2> points;
+  SplitMix64 rng(12345);
+  for (int i = 0; i < 4093; ++i) points.emplace_back(rng.uniform_float(), rng.uniform_float());
+  for (float a : {0.0f, 0.5f, kOneMinus, 0.5f + 0x1p-24f})
+    for (float b : {0.0f, 0.5f, kOneMinus, 0.5f - 0x1p-24f}) points.emplace_back(a, b);
+  std::vector<glm::vec3> cosine(points.size()), uniform(points.size());
+  square_to_cosine_hemisphere(points.data(), static_cast<uint32_t>(points.size()), cosine.data());
+  square_to_uniform_hemisphere(points.data(), static_cast<uint32_t>(points.size()),
+                               uniform.data());
+  for (size_t i = 0; i < points.size(); ++i) {
+    const glm::vec3 c = square_to_cosine_hemisphere(points[i]);
+    const glm::vec3 u = square_to_uniform_hemisphere(points[i]);
+    ASSERT_EQ(std::memcmp(&c, &cosine[i], sizeof c), 0) << points[i].x << ", " << points[i].y;
+    ASSERT_EQ(std::memcmp(&u, &uniform[i], sizeof u), 0) << points[i].x << ", " << points[i].y;
+  }
+}
+
 TEST(SamplerHemisphereMaps, ConcentricDiskKeepsStrataCompact) {
   // Shirley & Chiu: the square [0,1)^2 maps to the disk (the directions' xy) so that the square of
   // "radius" r = max(|2u.x - 1|, |2u.y - 1|) becomes the circle of radius r, and the map is
