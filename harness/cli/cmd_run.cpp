@@ -31,15 +31,27 @@ void add_run_command(CLI::App& app) {
     const auto t0 = std::chrono::steady_clock::now();
     SuiteRun run = run_suite(o);
     if (!run.gallery.empty()) {
+      const auto timer = run.stages.time("G-buffer gallery page");
       write_gbuffer_gallery((std::filesystem::path(run.out_dir) / "gbuffers").string(),
                             run.report.suite, run.gallery);
       run.report.gbuffer_gallery = "gbuffers/index.html";
     }
     run.report.wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const std::string page = write_suite_report(run.out_dir, run.report);
+    std::string page;
+    {
+      const auto timer = run.stages.time("report (page, plots)");
+      page = write_suite_report(run.out_dir, run.report);
+    }
     const double wall_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // Where the time went, on stderr and in the run's context (issue 16).
+    RunContext context = run.report.context;
+    context.stages_ms = run.stages.to_json();
+    context.stages_ms["wall"] = wall_s * 1000.0;
+    record_run_context(run, context);
+    std::fprintf(stderr, "run %s: time by stage\n%s", run.report.suite.c_str(),
+                 run.stages.table(wall_s * 1000.0).c_str());
     std::fprintf(stderr, "run %s: %zu rows (%zu skipped) in %.0f s\n", run.report.suite.c_str(),
                  run.report.entries.size(), run.skipped, wall_s);
     std::printf("%s\n", page.c_str());

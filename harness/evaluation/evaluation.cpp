@@ -71,6 +71,7 @@ EvaluationSession::~EvaluationSession() = default;
 const EvaluationSession::SceneData& EvaluationSession::scene(const std::string& name) {
   auto it = scenes_.find(name);
   if (it != scenes_.end()) return it->second;
+  const auto timer = stages_.time("scene load + BVH");
   SceneData data;
   data.scene = load_scene(name);
   auto& stored = scenes_[name];
@@ -91,6 +92,7 @@ const GBuffer& EvaluationSession::gbuffer(const std::string& scene_name, const V
   auto it = gbuffers_.find(key);
   if (it != gbuffers_.end()) return it->second;
   const SceneData& s = scene(scene_name);
+  const auto timer = stages_.time("G-buffer");
   return gbuffers_[key] = render_gbuffer(*s.embree, make_camera(view, w, h));
 }
 
@@ -108,10 +110,18 @@ const ReferenceImage& EvaluationSession::reference(const std::string& scene_name
   const Camera camera = make_camera(view, w, h);
   const std::string cache_key = reference_cache_key(s.scene, camera, settings);
   const std::string path = reference_cache_path(cache_key);
-  if (disk_cache_ && usable_cache_entry(path, cache_key))
-    return references_[key] = read_reference_image(path);
-  ReferenceImage r = compute_reference(*s.embree, gbuffer(scene_name, view, w, h), settings);
   if (disk_cache_) {
+    const auto timer = stages_.time("reference read (cache)");
+    if (usable_cache_entry(path, cache_key)) return references_[key] = read_reference_image(path);
+  }
+  const GBuffer& g = gbuffer(scene_name, view, w, h);
+  ReferenceImage r;
+  {
+    const auto timer = stages_.time("reference compute");
+    r = compute_reference(*s.embree, g, settings);
+  }
+  if (disk_cache_) {
+    const auto timer = stages_.time("reference write (cache)");
     const OIIO::ImageBuf image = reference_to_image(r, false);
     Attributes attributes = reference_attributes(s.scene, view, camera, settings);
     add_cache_attributes(attributes, cache_key, image);
@@ -126,12 +136,19 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-nlohmann::json score(const GBuffer& g, const ReferenceImage& ref, const std::vector<float>& est,
-                     const std::optional<std::vector<glm::vec3>>& bent, const std::string& prefix) {
+std::vector<uint8_t> compared_pixels(const GBuffer& g, const ReferenceImage& ref) {
   std::vector<uint8_t> mask(g.pixel_count());
   for (size_t k = 0; k < mask.size(); ++k) mask[k] = g.covered(k) && ref.coverage[k] > 0.5f;
-  const Metrics m = compare_images({g.width, g.height, ref.ao.data()},
-                                   {g.width, g.height, est.data()}, mask, ref.stderr_ao);
+  return mask;
+}
+
+nlohmann::json score(const GBuffer& g, const ReferenceImage& ref, const std::vector<float>& est,
+                     const std::optional<std::vector<glm::vec3>>& bent, const std::string& prefix,
+                     const flip::ReferenceSide& flip_reference) {
+  const std::vector<uint8_t> mask = compared_pixels(g, ref);
+  const Metrics m =
+      compare_images({g.width, g.height, ref.ao.data()}, {g.width, g.height, est.data()}, mask,
+                     ref.stderr_ao, &flip_reference);
   nlohmann::json out = to_json(m, prefix);
   if (bent) {
     if (const auto b = compare_bent(g.width, g.height, ref.bent, *bent, mask, ref.bent_stderr))
@@ -146,6 +163,22 @@ const std::vector<float>* channel(const EstimateResult& r, const std::string& na
 }
 
 }  // namespace
+
+const flip::ReferenceSide& EvaluationSession::flip_reference(const GBuffer& g,
+                                                             const ReferenceImage& reference) {
+  // References live in references_ (a std::map: stable addresses) for the session's lifetime, and
+  // each belongs to one G-buffer, so the address names the (reference, mask) pair.
+  auto it = flip_references_.find(&reference);
+  if (it != flip_references_.end()) return it->second;
+  // About 100 bytes a pixel (12 double planes): a bound keeps a paper-sized suite's references
+  // from holding gigabytes; past it the cache starts again (the work is redone, not wrong).
+  constexpr size_t kCacheBytes = size_t{1} << 30;
+  const size_t bytes = g.pixel_count() * (12 * sizeof(double) + 1);
+  if ((flip_references_.size() + 1) * bytes > kCacheBytes) flip_references_.clear();
+  const std::vector<uint8_t> mask = compared_pixels(g, reference);
+  return flip_references_[&reference] =
+             flip::prepare_reference(g.width, g.height, reference.ao.data(), mask.data());
+}
 
 ResultRow EvaluationSession::evaluate(const EvaluationRequest& req,
                                       const std::string& estimate_path) {
@@ -173,7 +206,11 @@ ResultRow EvaluationSession::evaluate(const EvaluationRequest& req,
   row.aoeval_version = kAoevalVersion;
 
   const EstimateContext context{s.scene, *s.embree, g};
-  std::unique_ptr<Estimator> estimator = e.create(params);
+  std::unique_ptr<Estimator> estimator;
+  {
+    const auto timer = stages_.time("estimator set-up");
+    estimator = e.create(params);
+  }
   nlohmann::json derived;
   EstimateResult result;
   std::vector<double> times;
@@ -182,9 +219,14 @@ ResultRow EvaluationSession::evaluate(const EvaluationRequest& req,
     const auto t_pre = std::chrono::steady_clock::now();
     estimator->prepare(context);
     row.precompute_ms = ms_since(t_pre);
+    stages_.add(StageTimes::kEstimatorPrecompute, row.precompute_ms);
     derived = estimator->derived();
     if (!derived.empty()) row.params["derived"] = derived;
-    for (int i = 0; i < timing_.warmup; ++i) result = estimator->run(context);
+    {
+      const auto timer = stages_.time(StageTimes::kEstimatorWarmup);
+      for (int i = 0; i < timing_.warmup; ++i) result = estimator->run(context);
+    }
+    const auto timer = stages_.time(StageTimes::kEstimatorFrames);
     for (int i = 0; i < std::max(1, timing_.repetitions); ++i) {
       const auto t0 = std::chrono::steady_clock::now();
       result = estimator->run(context);
@@ -219,10 +261,19 @@ ResultRow EvaluationSession::evaluate(const EvaluationRequest& req,
 
   const auto bent = bent_of_channels(channel(result, "bent.X"), channel(result, "bent.Y"),
                                      channel(result, "bent.Z"));
-  row.metrics = score(g, reference(req.scene, view, w, h, definition), result.ao, bent, "");
-  row.true_metrics =
-      score(g, reference(req.scene, view, w, h, true_ao_definition()), result.ao, bent, "");
+  const ReferenceImage& matched = reference(req.scene, view, w, h, definition);
+  const ReferenceImage& truth = reference(req.scene, view, w, h, true_ao_definition());
+  {
+    const auto timer = stages_.time("scoring");
+    row.metrics = score(g, matched, result.ao, bent, "", flip_reference(g, matched));
+    // An estimator whose declared definition is true AO is scored against one reference twice:
+    // the same inputs give the same numbers, so the second scoring is the first's copy.
+    row.true_metrics = &truth == &matched
+                           ? row.metrics
+                           : score(g, truth, result.ao, bent, "", flip_reference(g, truth));
+  }
   if (!estimate_path.empty()) {
+    const auto timer = stages_.time("estimate EXR");
     write_exr(estimate_path, estimate_to_image(g, result),
               estimate_attributes(s.scene, view, make_camera(view, w, h), e, params, derived));
   }

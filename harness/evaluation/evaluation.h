@@ -12,6 +12,8 @@
 
 #include "estimators/estimator.h"
 #include "harness/results/result_row.h"
+#include "harness/results/stage_times.h"
+#include "harness/scoring/flip.h"
 #include "references/reference.h"
 
 namespace aoeval {
@@ -63,6 +65,9 @@ class EvaluationSession {
   const std::vector<float>& last_estimate() const { return last_estimate_; }
 
   const ReferenceSpec& reference_spec() const { return reference_spec_; }
+  // Where this session's time went (scenes, G-buffers, references, the estimators' stages,
+  // scoring, estimate EXRs); runners add their own stages to theirs.
+  const StageTimes& stages() const { return stages_; }
 
  private:
   ReferenceSpec reference_spec_;
@@ -72,6 +77,10 @@ class EvaluationSession {
   std::map<std::string, GBuffer> gbuffers_;
   std::map<std::string, ReferenceImage> references_;
   std::vector<float> last_estimate_;
+  StageTimes stages_;
+  // FLIP's reference side of each reference scored against (flip::prepare_reference).
+  std::map<const ReferenceImage*, flip::ReferenceSide> flip_references_;
+  const flip::ReferenceSide& flip_reference(const GBuffer& g, const ReferenceImage& reference);
 };
 
 // Header attributes of an estimate EXR.

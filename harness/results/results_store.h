@@ -24,6 +24,9 @@ struct RunContext {
   std::string aoeval_version;
   std::string started;     // ISO 8601 UTC: "2024-05-01T12:34:56Z"
   std::string output_dir;  // absolute path of the output folder (images, EXRs); "" if none
+  // Where the run's wall time went, stage -> ms (StageTimes, stage_times.h), plus "wall"; an
+  // empty object until the run ends.
+  nlohmann::json stages_ms = nlohmann::json::object();
 };
 
 RunContext make_run_context(const std::string& command);

@@ -253,59 +253,102 @@ double pixels_per_degree(double distance_m, double width_m, double pixels_x) {
   return distance_m * (pixels_x / width_m) * (pi / 180.0);
 }
 
-std::vector<float> error_map(int width, int height, const float* ref, const float* est,
-                             const uint8_t* mask, double ppd) {
+// The reference side of the pipeline (issue 16): everything that depends on the reference and the
+// mask only, computed once and reused for every estimate scored against that reference. The
+// estimate side below runs the same operations in the same order as one pass over both would, so
+// the map is the same bits either way (metrics_test).
+ReferenceSide prepare_reference(int width, int height, const float* ref, const uint8_t* mask,
+                                double ppd) {
+  ReferenceSide r;
+  r.width = width;
+  r.height = height;
+  r.ppd = ppd;
   const size_t n = static_cast<size_t>(width) * static_cast<size_t>(height);
-  // Masked channels: the mask m and m * t for both images, t = linear luminance Y/Yw of the
-  // displayed grey (sRGB-encode the clamped AO, then FLIP's sRGB decode).
-  std::vector<double> m(n, 0.0), tr(n, 0.0), te(n, 0.0);
-  // The sRGB encode / decode round trip is the identity, so it is not computed.
+  r.mask.assign(mask, mask + n);
+  // Masked channels: the mask m and m * t, t = linear luminance Y/Yw of the displayed grey
+  // (sRGB-encode the clamped AO, then FLIP's sRGB decode: the identity, so not computed).
+  std::vector<double> m(n, 0.0), tr(n, 0.0);
   for (size_t p = 0; p < n; ++p) {
     if (!mask[p]) continue;
     m[p] = 1.0;
     tr[p] = std::clamp(static_cast<double>(ref[p]), 0.0, 1.0);
-    te[p] = std::clamp(static_cast<double>(est[p]), 0.0, 1.0);
   }
-
   // Colour pipeline: masked CSF filtering of the achromatic channel.
   const std::vector<double> csf = csf_kernel(ppd);
   auto blur = [&](const std::vector<double>& c) {
     return filter_cols(filter_rows(c, width, height, csf, Border::kClamp), width, height, csf,
                        Border::kClamp);
   };
-  const std::vector<double> wsum = blur(m), fr = blur(tr), fe = blur(te);
-
-  const double cmax = std::pow(hyab(hunt_lab(0, 1, 0), hunt_lab(0, 0, 1)), kQc);
-  const double pccmax = kPc * cmax;
-
+  r.wsum = blur(m);
+  r.filtered = blur(tr);
   // Feature pipeline: x-direction filters are lobe(x) gauss(y), y-direction ones gauss(x) lobe(y).
-  // sq[type][img] accumulates the squared x and y responses, type 0 = edges, 1 = points.
   const FeatureKernels fk = feature_kernels(ppd);
-  std::vector<double> sq[2][2];
-  for (auto& t : sq)
-    for (auto& v : t) v.assign(n, 0.0);
-  const std::vector<double>* chans[3] = {&m, &tr, &te};
-  std::vector<double> pre[3], lobe[2][3];  // lobe: [positive, negative][mask, ref, est]
+  for (auto& v : r.squared) v.assign(n, 0.0);
+  std::vector<double> pre_m, pre_r, lobe_r[2];
   for (int dir = 0; dir < 2; ++dir) {
-    // dir 0 (x): gauss down the columns, then the lobe along the rows; dir 1 (y): the converse.
     using Filter = void (*)(const std::vector<double>&, int, int, const std::vector<double>&,
                             Border, std::vector<double>&);
     const Filter first = dir == 0 ? Filter(filter_cols) : Filter(filter_rows);
     const Filter second = dir == 0 ? Filter(filter_rows) : Filter(filter_cols);
-    for (int c = 0; c < 3; ++c) first(*chans[c], width, height, fk.gauss, Border::kClamp, pre[c]);
+    first(m, width, height, fk.gauss, Border::kClamp, pre_m);
+    first(tr, width, height, fk.gauss, Border::kClamp, pre_r);
     for (int type = 0; type < 2; ++type) {
-      for (int l = 0; l < 2; ++l)
-        for (int c = 0; c < 3; ++c)
-          second(pre[c], width, height, fk.lobes[2 * type + l], Border::kClamp, lobe[l][c]);
+      for (int l = 0; l < 2; ++l) {
+        second(pre_m, width, height, fk.lobes[2 * type + l], Border::kClamp,
+               r.mask_lobes[dir][type][l]);
+        second(pre_r, width, height, fk.lobes[2 * type + l], Border::kClamp, lobe_r[l]);
+      }
+      const auto& lobe_m = r.mask_lobes[dir][type];
+      std::vector<double>& sq = r.squared[type];
       tbb::parallel_for(tbb::blocked_range<size_t>(0, n),
                         [&](const tbb::blocked_range<size_t>& rg) {
                           for (size_t p = rg.begin(); p < rg.end(); ++p) {
                             if (!mask[p]) continue;
-                            for (int img = 0; img < 2; ++img) {
-                              const double v = lobe_response(lobe[0][1 + img][p], lobe[0][0][p],
-                                                             lobe[1][1 + img][p], lobe[1][0][p]);
-                              sq[type][img][p] += v * v;
-                            }
+                            const double v =
+                                lobe_response(lobe_r[0][p], lobe_m[0][p], lobe_r[1][p], lobe_m[1][p]);
+                            sq[p] += v * v;
+                          }
+                        });
+    }
+  }
+  return r;
+}
+
+std::vector<float> error_map(const ReferenceSide& r, const float* est) {
+  const int width = r.width, height = r.height;
+  const size_t n = r.mask.size();
+  const uint8_t* mask = r.mask.data();
+  std::vector<double> te(n, 0.0);
+  for (size_t p = 0; p < n; ++p)
+    if (mask[p]) te[p] = std::clamp(static_cast<double>(est[p]), 0.0, 1.0);
+  const std::vector<double> csf = csf_kernel(r.ppd);
+  const std::vector<double> fe = filter_cols(
+      filter_rows(te, width, height, csf, Border::kClamp), width, height, csf, Border::kClamp);
+
+  const double cmax = std::pow(hyab(hunt_lab(0, 1, 0), hunt_lab(0, 0, 1)), kQc);
+  const double pccmax = kPc * cmax;
+
+  const FeatureKernels fk = feature_kernels(r.ppd);
+  std::vector<double> sq[2];  // the estimate's squared x and y responses, [edges, points]
+  for (auto& v : sq) v.assign(n, 0.0);
+  std::vector<double> pre, lobe[2];
+  for (int dir = 0; dir < 2; ++dir) {
+    using Filter = void (*)(const std::vector<double>&, int, int, const std::vector<double>&,
+                            Border, std::vector<double>&);
+    const Filter first = dir == 0 ? Filter(filter_cols) : Filter(filter_rows);
+    const Filter second = dir == 0 ? Filter(filter_rows) : Filter(filter_cols);
+    first(te, width, height, fk.gauss, Border::kClamp, pre);
+    for (int type = 0; type < 2; ++type) {
+      for (int l = 0; l < 2; ++l)
+        second(pre, width, height, fk.lobes[2 * type + l], Border::kClamp, lobe[l]);
+      const auto& lobe_m = r.mask_lobes[dir][type];
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, n),
+                        [&](const tbb::blocked_range<size_t>& rg) {
+                          for (size_t p = rg.begin(); p < rg.end(); ++p) {
+                            if (!mask[p]) continue;
+                            const double v =
+                                lobe_response(lobe[0][p], lobe_m[0][p], lobe[1][p], lobe_m[1][p]);
+                            sq[type][p] += v * v;
                           }
                         });
     }
@@ -316,20 +359,25 @@ std::vector<float> error_map(int width, int height, const float* ref, const floa
     for (size_t p = rg.begin(); p < rg.end(); ++p) {
       if (!mask[p]) continue;
       // Colour: filtered grey, clamped to the RGB cube, to L*; HyAB = |dL*| for grey.
-      const double gr = std::clamp(fr[p] / wsum[p], 0.0, 1.0);
-      const double ge = std::clamp(fe[p] / wsum[p], 0.0, 1.0);
+      const double gr = std::clamp(r.filtered[p] / r.wsum[p], 0.0, 1.0);
+      const double ge = std::clamp(fe[p] / r.wsum[p], 0.0, 1.0);
       const double e = std::pow(std::abs(grey_lightness(gr) - grey_lightness(ge)), kQc);
       const double dec =
           e < pccmax ? (kPt / pccmax) * e : kPt + ((e - pccmax) / (cmax - pccmax)) * (1.0 - kPt);
       // Features: norms of the (x, y) responses of edges and points.
-      const double edge = std::abs(std::sqrt(sq[0][0][p]) - std::sqrt(sq[0][1][p]));
-      const double point = std::abs(std::sqrt(sq[1][0][p]) - std::sqrt(sq[1][1][p]));
+      const double edge = std::abs(std::sqrt(r.squared[0][p]) - std::sqrt(sq[0][p]));
+      const double point = std::abs(std::sqrt(r.squared[1][p]) - std::sqrt(sq[1][p]));
       const double feature = std::max(edge, point);
       const double def = std::pow(feature / std::numbers::sqrt2, kQf);
       out[p] = static_cast<float>(std::pow(dec, 1.0 - def));
     }
   });
   return out;
+}
+
+std::vector<float> error_map(int width, int height, const float* ref, const float* est,
+                             const uint8_t* mask, double ppd) {
+  return error_map(prepare_reference(width, height, ref, mask, ppd), est);
 }
 
 }  // namespace flip

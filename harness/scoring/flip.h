@@ -34,6 +34,22 @@ double pixels_per_degree(double distance_m = 0.7, double width_m = 0.7, double p
 std::vector<float> error_map(int width, int height, const float* ref, const float* est,
                              const uint8_t* mask, double ppd = pixels_per_degree());
 
+// The part of the map that depends on the reference and the mask only (its filtered channel and
+// feature responses, the mask's filter weights), computed once for every estimate scored against
+// one reference: error_map(prepare_reference(w, h, ref, mask, ppd), est) is the same bits as
+// error_map(w, h, ref, est, mask, ppd), at about a third of the filtering per estimate.
+struct ReferenceSide {
+  int width = 0, height = 0;
+  double ppd = 0.0;
+  std::vector<uint8_t> mask;
+  std::vector<double> wsum, filtered;            // CSF-filtered mask and reference
+  std::vector<double> mask_lobes[2][2][2];       // [x, y][edges, points][positive, negative]
+  std::vector<double> squared[2];                // the reference's squared responses [edges, points]
+};
+ReferenceSide prepare_reference(int width, int height, const float* ref, const uint8_t* mask,
+                                double ppd = pixels_per_degree());
+std::vector<float> error_map(const ReferenceSide& reference, const float* est);
+
 }  // namespace flip
 
 namespace detail {

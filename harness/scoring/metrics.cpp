@@ -181,7 +181,8 @@ std::vector<float> flip_map(ImageView ref, ImageView est, const std::vector<uint
 }
 
 Metrics compare_images(ImageView ref, ImageView est, const std::vector<uint8_t>& mask,
-                       const std::vector<float>& ref_stderr) {
+                       const std::vector<float>& ref_stderr,
+                       const flip::ReferenceSide* flip_reference) {
   const std::vector<uint8_t> m = validate(ref, est, mask, &ref_stderr);
   const int w = ref.width, h = ref.height;
   const bool has_stderr = !ref_stderr.empty();
@@ -241,7 +242,11 @@ Metrics compare_images(ImageView ref, ImageView est, const std::vector<uint8_t>&
   out.p95_abs = abs_d[rank - 1];
   out.psnr = mse > 0 ? 10.0 * std::log10(1.0 / mse) : std::numeric_limits<double>::infinity();
   out.ssim = masked_mean(ssim_map_checked(ref, est, m), m, w, h);
-  out.flip_mean = masked_mean(flip::error_map(w, h, ref.data, est.data, m.data()), m, w, h);
+  const bool prepared = flip_reference && flip_reference->width == w &&
+                        flip_reference->height == h && flip_reference->mask == m;
+  out.flip_mean = masked_mean(prepared ? flip::error_map(*flip_reference, est.data)
+                                       : flip::error_map(w, h, ref.data, est.data, m.data()),
+                              m, w, h);
   out.ref_stderr_rms = std::sqrt(mean_var);
   out.rmse_excess = std::sqrt(std::max(0.0, mse - mean_var));
   return out;

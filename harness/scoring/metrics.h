@@ -29,6 +29,8 @@
 // results do not depend on thread scheduling.
 #pragma once
 
+#include "harness/scoring/flip.h"
+
 #include <cstddef>
 #include <cstdint>
 #include <nlohmann/json_fwd.hpp>
@@ -55,8 +57,12 @@ struct ImageView {
 // stderr has the wrong size, when no pixel is compared ("no pixel is covered in both images"),
 // and when a compared pixel of either image (or of ref_stderr) is NaN or infinite (naming the
 // image and the pixel (i, j)).
+// `flip_reference`, when given, is FLIP's reference side prepared for this reference and mask
+// (flip::prepare_reference), reused across the estimates scored against one reference; one
+// prepared for another mask or size is not used.
 Metrics compare_images(ImageView ref, ImageView est, const std::vector<uint8_t>& mask,
-                       const std::vector<float>& ref_stderr);
+                       const std::vector<float>& ref_stderr,
+                       const flip::ReferenceSide* flip_reference = nullptr);
 
 // The metrics as a JSON object, keys exactly metric_keys() with `prefix` before each (e.g.
 // "true_"). `pixels` is an integer; psnr (or any other non-finite value) is null.

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -279,6 +280,38 @@ TEST(Flip, MatchesAuthorsReferenceCode) {
   EXPECT_NEAR(map[14 * w + 24], 0.5730021, 1e-4);
   EXPECT_NEAR(map[5 * w + 5], 0.0001509, 1e-5);
   EXPECT_NEAR(map[20 * w + 40], 0.2312281, 1e-4);
+}
+
+// Sweeps score many estimates against one reference and reuse FLIP's reference side
+// (issue 16): reused, it must give the numbers a fresh scoring gives, bit for bit; prepared for
+// another mask, it must not be used.
+TEST(Flip, PreparedReferenceSideGivesTheSameBitsAndIsIgnoredForAnotherMask) {
+  const int w = 64, h = 48;
+  Image ref(w, h), est_a(w, h), est_b(w, h);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      ref.at(i, j) = 0.5f + 0.3f * std::sin(0.21f * i + 0.1f * j);
+      est_a.at(i, j) = ref.at(i, j) + 0.08f * std::cos(0.5f * i * j);
+      est_b.at(i, j) = 0.9f * ref.at(i, j) + 0.04f * ((i + j) % 3);
+    }
+  std::vector<uint8_t> mask(w * h, 1), other(w * h, 1);
+  for (int k = 0; k < w * h; k += 7) mask[k] = 0;
+  for (int k = 0; k < w * h; k += 5) other[k] = 0;
+  const flip::ReferenceSide side = flip::prepare_reference(w, h, ref.px.data(), mask.data());
+  for (const Image* est : {&est_a, &est_b}) {
+    const Metrics fresh = compare_images(ref.view(), est->view(), mask, {});
+    const Metrics reused = compare_images(ref.view(), est->view(), mask, {}, &side);
+    EXPECT_EQ(std::memcmp(&fresh.flip_mean, &reused.flip_mean, sizeof(double)), 0);
+    EXPECT_GT(fresh.flip_mean, 0.0);
+    const std::vector<float> map = flip::error_map(side, est->px.data());
+    const std::vector<float> one_pass =
+        flip::error_map(w, h, ref.px.data(), est->px.data(), mask.data());
+    EXPECT_EQ(map, one_pass);
+  }
+  const Metrics right = compare_images(ref.view(), est_a.view(), other, {});
+  const Metrics given_wrong_side = compare_images(ref.view(), est_a.view(), other, {}, &side);
+  EXPECT_EQ(right.flip_mean, given_wrong_side.flip_mean);
+  EXPECT_NE(right.flip_mean, compare_images(ref.view(), est_a.view(), mask, {}).flip_mean);
 }
 
 TEST(Flip, MaskOnlyMattersNearItsBoundary) {

@@ -134,7 +134,7 @@ class RunImages {
 // was scored against.
 SuiteReportEntry run_point(const SuitePoint& sp, EvaluationSession& session, RunImages& images,
                            const RunContext& context, const std::string& out,
-                           const std::string& run_dir) {
+                           const std::string& run_dir, StageTimes& stages) {
   const SweepPoint& p = sp.point;
   EvaluationRequest req;
   req.estimator = p.estimator;
@@ -164,10 +164,16 @@ SuiteReportEntry run_point(const SuitePoint& sp, EvaluationSession& session, Run
       resolve_params(p.estimator->name, p.estimator->params, p.overrides, p.name);
   const AoDefinition definition = p.estimator->definition(params);
   const View& view = session.scene(p.scene).scene.view(p.view);
-  entry.reference_exr = images.reference(session, p.scene, view, p.width, p.height, definition);
-  entry.true_reference_exr =
-      images.reference(session, p.scene, view, p.width, p.height, true_ao_definition());
-  if (sp.featured) entry.mosaic_png = images.mosaic(session, p, row, definition);
+  {
+    const auto timer = stages.time("references copied");
+    entry.reference_exr = images.reference(session, p.scene, view, p.width, p.height, definition);
+    entry.true_reference_exr =
+        images.reference(session, p.scene, view, p.width, p.height, true_ao_definition());
+  }
+  if (sp.featured) {
+    const auto timer = stages.time("mosaics");
+    entry.mosaic_png = images.mosaic(session, p, row, definition);
+  }
   images.note_view(p.scene, p.view, p.width, p.height);
   return entry;
 }
@@ -233,10 +239,17 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
         session.scene(sp.point.scene);
         load_ms[sp.point.scene] = seconds_since(t0) * 1000.0;
       }
-      SuiteReportEntry entry = run_point(sp, session, images, context, out, run_dir);
+      SuiteReportEntry entry =
+          run_point(sp, session, images, context, out, run_dir, result.stages);
       skipped += entry.row.status != "ok";
-      store.add(entry.row);
-      folder.add(entry.row);
+      {
+        const auto timer = result.stages.time("results SQLite");
+        store.add(entry.row);
+      }
+      {
+        const auto timer = result.stages.time("results CSV + JSON");
+        folder.add(entry.row);
+      }
       report.entries.push_back(std::move(entry));
       progress.step(sp.point.name);
     }
@@ -245,11 +258,29 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
              results_json(folder.rows(), context));
 
   // The G-buffer gallery needs a session holding the scenes: every suite point used one.
-  if (!sessions.empty()) result.gallery = images.gallery(*sessions.begin()->second, load_ms);
+  if (!sessions.empty()) {
+    const auto timer = result.stages.time("G-buffer gallery EXRs");
+    result.gallery = images.gallery(*sessions.begin()->second, load_ms);
+  }
+  StageTimes stages;
+  for (const auto& [key, session] : sessions) stages.add_all(session->stages());
+  stages.add_all(result.stages);
+  result.stages = stages;
+  result.database = o.database;
   report.context = context;
   report.wall_s = seconds_since(t_start);
   result.skipped = skipped;
   return result;
+}
+
+void record_run_context(const SuiteRun& run, const RunContext& context) {
+  ResultsFolder folder(run.out_dir, context);
+  folder.load_existing();
+  folder.set_context(context);
+  folder.write();
+  write_text((fs::path(run.out_dir) / "runs" / context.run_id / "results.json").string(),
+             results_json(folder.rows(), context));
+  SqliteStore(run.database).add_run(context);
 }
 
 }  // namespace aoeval

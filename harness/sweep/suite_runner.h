@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/results/stage_times.h"
 #include "harness/results/suite_record.h"
 
 namespace aoeval {
@@ -30,10 +31,16 @@ struct SuiteRun {
   SuiteReport report;                 // rows and the images kept beside them
   std::vector<GalleryEntry> gallery;  // the G-buffer EXRs written under <out>/gbuffers/
   size_t skipped = 0;                 // rows whose status is not "ok"
+  StageTimes stages;                  // where the runner's time went (the page's is added later)
+  std::string database;               // the SQLite store the rows went to
 };
 
 // Runs every point, stores the rows (results.csv/json, SQLite) and keeps the images; writes no
 // page.
 SuiteRun run_suite(const SuiteRunOptions& options);
+
+// Stores the run's finished context (its "stages_ms" breakdown, set by the caller once the page is
+// written) in <out>/results.json, <out>/runs/<run_id>/results.json and the SQLite store.
+void record_run_context(const SuiteRun& run, const RunContext& context);
 
 }  // namespace aoeval

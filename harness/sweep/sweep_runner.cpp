@@ -1,6 +1,7 @@
 #include "harness/sweep/sweep_runner.h"
 
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -10,6 +11,7 @@
 #include "harness/results/output_lock.h"
 #include "harness/evaluation/progress.h"
 #include "harness/results/results_store.h"
+#include "harness/results/stage_times.h"
 #include "harness/sweep/sweep_spec.h"
 
 namespace aoeval {
@@ -28,6 +30,8 @@ extern "C" void on_sigint(int) {
 }  // namespace
 
 int run_sweep(const SweepOptions& o) {
+  const auto t_start = std::chrono::steady_clock::now();
+  StageTimes runner_stages;
   const SweepSpec spec = load_sweep_spec(o.spec_path);
   std::vector<SweepPoint> points = expand_sweep(spec, o.max_points);
   const size_t total = points.size();
@@ -117,12 +121,31 @@ int run_sweep(const SweepOptions& o) {
     if (row.device.empty()) row.device = context.device;
     row.git_commit = context.git_commit;
     if (o.keep_estimates && row.status == "ok") row.estimate_file = estimate_rel;
-    store.add(row);
-    folder.add(row);
+    {
+      const auto timer = runner_stages.time("results SQLite");
+      store.add(row);
+    }
+    {
+      const auto timer = runner_stages.time("results CSV + JSON");
+      folder.add(row);
+    }
     ++finished;
     progress.step(p->name);
   }
   std::signal(SIGINT, previous == SIG_ERR ? SIG_DFL : previous);
+  // The breakdown of this invocation (a resumed sweep reports the part it ran), on stderr and in
+  // the run's context.
+  StageTimes stages = session.stages();
+  stages.add_all(runner_stages);
+  const double wall_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count();
+  context.stages_ms = stages.to_json();
+  context.stages_ms["wall"] = wall_ms;
+  folder.set_context(context);
+  folder.write();
+  store.add_run(context);
+  std::fprintf(stderr, "sweep %s: time by stage\n%s", spec.name.c_str(),
+               stages.table(wall_ms).c_str());
   if (g_interrupted && finished < pending.size()) {
     std::fprintf(stderr, "sweep %s: interrupted after %zu of %zu points; rerun with --resume\n",
                  spec.name.c_str(), finished, pending.size());

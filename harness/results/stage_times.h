@@ -1,0 +1,59 @@
+// Where a run's wall time goes (issue 16): named stages with their summed milliseconds, in the
+// order they were first used. The evaluation session times its stages (scene, G-buffer, reference,
+// the estimator's set-up, precompute, warm-up and timed frames, scoring, estimate EXR) and the
+// runners add theirs (results files, SQLite, mosaics, report); the breakdown is printed at the end
+// of `aoeval run` and `aoeval sweep` and stored in the run's context ("stages_ms").
+#pragma once
+
+#include <chrono>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace aoeval {
+
+class StageTimes {
+ public:
+  void add(const std::string& stage, double ms);
+  void add_all(const StageTimes& other);  // every stage of `other` added to this
+  double ms(const std::string& stage) const;  // 0 for a stage never timed
+  double total_ms() const;
+  // The estimator's own share: precompute, warm-up and timed frames (what a sweep exists to
+  // measure); its set-up (creating pipelines, compiling shaders) is counted apart.
+  double estimator_ms() const;
+  nlohmann::json to_json() const;  // {"stage": ms, ...} in first-use order
+  // One line per stage with its share of `wall_ms`, the rest as "other (untimed)", and the
+  // estimator share as the last line.
+  std::string table(double wall_ms) const;
+
+  // Adds the time from construction to destruction to `stage`.
+  class Scope {
+   public:
+    Scope(StageTimes& times, std::string stage)
+        : times_(times), stage_(std::move(stage)), t0_(std::chrono::steady_clock::now()) {}
+    ~Scope() {
+      times_.add(stage_, std::chrono::duration<double, std::milli>(
+                             std::chrono::steady_clock::now() - t0_)
+                             .count());
+    }
+    Scope(const Scope&) = delete;
+    Scope& operator=(const Scope&) = delete;
+
+   private:
+    StageTimes& times_;
+    std::string stage_;
+    std::chrono::steady_clock::time_point t0_;
+  };
+  Scope time(std::string stage) { return Scope(*this, std::move(stage)); }
+
+  // The stage names the session uses, so runners and the breakdown agree on them.
+  static constexpr const char* kEstimatorPrecompute = "estimator precompute";
+  static constexpr const char* kEstimatorWarmup = "estimator warm-up";
+  static constexpr const char* kEstimatorFrames = "estimator timed frames";
+
+ private:
+  std::vector<std::pair<std::string, double>> stages_;
+};
+
+}  // namespace aoeval
