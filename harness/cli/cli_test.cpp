@@ -233,6 +233,33 @@ TEST(Cli, VulkanEstimatorWithoutADeviceIsSkippedWithTheReason) {
   }
 }
 
+// Issue 16: a sweep says where its wall time went, on stderr and in results.json's context; the
+// stages add up to no more than the wall time and the estimator's own stages are there.
+TEST(Cli, SweepReportsItsTimeByStage) {
+  const fs::path d = temp_dir();
+  std::ofstream(d / "stages.json") << R"({"name": "stages", "scenes": ["cornell-box"],
+    "res": [24, 24], "reference": {"spp": 4, "sampler": "sobol"},
+    "timing": {"warmup": 1, "repetitions": 2},
+    "runs": [{"estimator": "constant"}, {"estimator": "raytraced", "grid": {"rays": [4]}}]})";
+  const Result r = run_with_env("AOEVAL_CACHE=" + (d / "cache").string() + " ",
+                                "sweep " + (d / "stages.json").string() + " --out " +
+                                    (d / "out").string() + " --db " + (d / "r.sqlite").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("sweep stages: time by stage"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("(estimator share of wall time)"), std::string::npos) << r.err;
+  const auto stages =
+      nlohmann::json::parse(slurp(d / "out" / "results.json"))["context"]["stages_ms"];
+  ASSERT_TRUE(stages.is_object()) << stages;
+  double sum = 0.0;
+  for (const auto& [stage, ms] : stages.items())
+    if (stage != "wall") sum += ms.get<double>();
+  EXPECT_LE(sum, stages["wall"].get<double>());
+  for (const char* stage : {"estimator precompute", "estimator warm-up", "estimator timed frames",
+                            "reference compute", "scoring", "results CSV + JSON"})
+    EXPECT_TRUE(stages.contains(stage)) << stage << " missing from " << stages;
+  EXPECT_GT(stages["estimator timed frames"].get<double>(), 0.0);
+}
+
 TEST(Cli, EstimateCompareAndMaps) {
   const fs::path d = temp_dir();
   const std::string env = "AOEVAL_CACHE=" + (d / "cache").string() + " ";

@@ -13,6 +13,7 @@ namespace aoeval {
 void add_bench_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("bench", "timing tables and throughput figures");
   cmd->require_subcommand(1);
+  add_bench_harness_command(*cmd);
   static ReferenceBenchOptions ref;
   auto* reference = cmd->add_subcommand(
       "reference", "reference rays/s against a bare Embree loop; sampler RMSE at equal rays");

@@ -14,6 +14,36 @@
 
 namespace aoeval {
 
+RunOutcome run_suite_with_report(const SuiteRunOptions& o) {
+  // The runner runs and stores; the pages are written here, so the runner never links reports/.
+  const auto t0 = std::chrono::steady_clock::now();
+  SuiteRun run = run_suite(o);
+  if (!run.gallery.empty()) {
+    const auto timer = run.stages.time("G-buffer gallery page");
+    write_gbuffer_gallery((std::filesystem::path(run.out_dir) / "gbuffers").string(),
+                          run.report.suite, run.gallery);
+    run.report.gbuffer_gallery = "gbuffers/index.html";
+  }
+  run.report.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  RunOutcome outcome;
+  {
+    const auto timer = run.stages.time("report (page, plots)");
+    outcome.page = write_suite_report(run.out_dir, run.report);
+  }
+  outcome.wall_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  // Where the time went, in the run's context (issue 16).
+  RunContext context = run.report.context;
+  context.stages_ms = run.stages.to_json();
+  context.stages_ms["wall"] = outcome.wall_ms;
+  record_run_context(run, context);
+  outcome.rows = run.report.entries.size();
+  outcome.skipped = run.skipped;
+  outcome.suite = run.report.suite;
+  outcome.stages = std::move(run.stages);
+  return outcome;
+}
+
 void add_run_command(CLI::App& app) {
   static SuiteRunOptions o;
   auto* cmd = app.add_subcommand("run", "run a suite and write its HTML report");
@@ -27,34 +57,12 @@ void add_run_command(CLI::App& app) {
       "--set", o.sets,
       "ESTIMATOR:KEY=VALUE: replaces KEY's value in every run of ESTIMATOR (repeatable)");
   cmd->callback([] {
-    // The runner runs and stores; the pages are written here, so the runner never links reports/.
-    const auto t0 = std::chrono::steady_clock::now();
-    SuiteRun run = run_suite(o);
-    if (!run.gallery.empty()) {
-      const auto timer = run.stages.time("G-buffer gallery page");
-      write_gbuffer_gallery((std::filesystem::path(run.out_dir) / "gbuffers").string(),
-                            run.report.suite, run.gallery);
-      run.report.gbuffer_gallery = "gbuffers/index.html";
-    }
-    run.report.wall_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::string page;
-    {
-      const auto timer = run.stages.time("report (page, plots)");
-      page = write_suite_report(run.out_dir, run.report);
-    }
-    const double wall_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    // Where the time went, on stderr and in the run's context (issue 16).
-    RunContext context = run.report.context;
-    context.stages_ms = run.stages.to_json();
-    context.stages_ms["wall"] = wall_s * 1000.0;
-    record_run_context(run, context);
-    std::fprintf(stderr, "run %s: time by stage\n%s", run.report.suite.c_str(),
-                 run.stages.table(wall_s * 1000.0).c_str());
-    std::fprintf(stderr, "run %s: %zu rows (%zu skipped) in %.0f s\n", run.report.suite.c_str(),
-                 run.report.entries.size(), run.skipped, wall_s);
-    std::printf("%s\n", page.c_str());
+    const RunOutcome run = run_suite_with_report(o);
+    std::fprintf(stderr, "run %s: time by stage\n%s", run.suite.c_str(),
+                 run.stages.table(run.wall_ms).c_str());
+    std::fprintf(stderr, "run %s: %zu rows (%zu skipped) in %.0f s\n", run.suite.c_str(), run.rows,
+                 run.skipped, run.wall_ms / 1000.0);
+    std::printf("%s\n", run.page.c_str());
   });
 }
 

@@ -7,6 +7,9 @@
 #include <string>
 #include <utility>
 
+#include "harness/results/stage_times.h"
+#include "harness/sweep/suite_runner.h"
+
 namespace aoeval {
 
 void add_scenes_command(CLI::App& app);
@@ -18,8 +21,19 @@ void add_estimate_command(CLI::App& app);
 void add_compare_command(CLI::App& app);
 void add_sweep_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
+void add_bench_harness_command(CLI::App& bench);  // `bench harness`, inside add_bench_command
 void add_figures_command(CLI::App& app);
 void add_dashboard_command(CLI::App& app);
+
+// `aoeval run`'s work: the suite, its pages, and the stage breakdown stored in the run's context.
+// Also what `aoeval bench harness` times.
+struct RunOutcome {
+  std::string suite, page;  // the suite's name and the report page's path
+  size_t rows = 0, skipped = 0;
+  double wall_ms = 0.0;
+  StageTimes stages;
+};
+RunOutcome run_suite_with_report(const SuiteRunOptions& options);
 
 // "640x480" -> {640, 480}; {0, 0} for "". InputError naming `option` otherwise.
 std::pair<int, int> parse_resolution(const std::string& text, const std::string& option = "--res");

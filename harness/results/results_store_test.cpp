@@ -1,6 +1,7 @@
 // Tests of the results row (result_row.h) and the results store (results_store.h): flat round
 // trip, CSV/JSON/Markdown/console writers, the output folder with --resume, and SQLite.
 #include "harness/results/results_store.h"
+#include "harness/results/stage_times.h"
 #include "scenes/test_temp_dir.h"
 
 #include <gtest/gtest.h>
@@ -149,6 +150,33 @@ size_t index_of(const std::vector<std::string>& v, const std::string& x) {
   const auto it = std::find(v.begin(), v.end(), x);
   EXPECT_NE(it, v.end()) << x;
   return static_cast<size_t>(it - v.begin());
+}
+
+TEST(StageTimes, SumsByStageInFirstUseOrderAndCountsTheEstimatorsShare) {
+  StageTimes t;
+  t.add("scoring", 2.0);
+  t.add(StageTimes::kEstimatorFrames, 6.0);
+  t.add("scoring", 1.0);
+  t.add(StageTimes::kEstimatorWarmup, 1.0);
+  EXPECT_EQ(t.ms("scoring"), 3.0);
+  EXPECT_EQ(t.ms("never"), 0.0);
+  EXPECT_EQ(t.total_ms(), 10.0);
+  EXPECT_EQ(t.estimator_ms(), 7.0);
+  EXPECT_EQ(t.to_json(), (nlohmann::json{{"scoring", 3.0}, {"estimator timed frames", 6.0},
+                                         {"estimator warm-up", 1.0}}));
+  EXPECT_LT(t.table(20.0).find("scoring"), t.table(20.0).find("estimator timed frames"));
+  StageTimes u;
+  u.add_all(t);
+  u.add_all(t);
+  EXPECT_EQ(u.ms("scoring"), 6.0);
+  const std::string table = t.table(20.0);
+  EXPECT_NE(table.find("other (untimed)"), std::string::npos) << table;
+  EXPECT_NE(table.find(" 35.0 %  (estimator share of wall time)"), std::string::npos) << table;
+  {
+    const auto timer = u.time("timed scope");
+  }
+  EXPECT_GE(u.ms("timed scope"), 0.0);
+  EXPECT_TRUE(u.to_json().contains("timed scope"));
 }
 
 TEST(ResultRow, FlattenUnflattenRoundTrip) {

@@ -22,8 +22,10 @@ class StageTimes {
   // The estimator's own share: precompute, warm-up and timed frames (what a sweep exists to
   // measure); its set-up (creating pipelines, compiling shaders) is counted apart.
   double estimator_ms() const;
-  nlohmann::json to_json() const;  // {"stage": ms, ...} in first-use order
-  // One line per stage with its share of `wall_ms`, the rest as "other (untimed)", and the
+  nlohmann::json to_json() const;  // {"stage": ms, ...}
+  // (stage, ms) in first-use order.
+  const std::vector<std::pair<std::string, double>>& entries() const { return stages_; }
+  // One line per stage, in first-use order, with its share of `wall_ms`, the rest as "other (untimed)", and the
   // estimator share as the last line.
   std::string table(double wall_ms) const;
 
