@@ -177,6 +177,8 @@ std::string results_json(const std::vector<ResultRow>& rows, const RunContext& c
                     {"aoeval_version", context.aoeval_version},
                     {"started", context.started},
                     {"output_dir", context.output_dir}};
+  if (!context.stages_ms.empty())
+    out["context"]["stages_ms"] = nlohmann::ordered_json::parse(context.stages_ms.dump());
   out["rows"] = nlohmann::ordered_json::array();
   for (const ResultRow& row : rows) {
     const nlohmann::json flat = flatten(row);
