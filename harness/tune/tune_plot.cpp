@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "drawing/plot.h"
@@ -95,8 +96,10 @@ void render_tune_plot(const TuneSpec& spec, const std::vector<TunePlotPoint>& po
     b.y = {p.objective};
     b.marker = "*";
     by_time.series.push_back(b);
-    by_eval.notes.push_back("best " + spec.objective + " " + format_param_value(p.objective) +
-                            " at " + format_param_value(p.time_ms) + " ms");
+    char note[160];
+    std::snprintf(note, sizeof note, "best %s %.4g at %.4g ms", spec.objective.c_str(), p.objective,
+                  p.time_ms);
+    by_eval.notes.push_back(note);
   }
   figure.panels = {by_eval, by_time};
   render_plot(figure, out_png);
