@@ -31,13 +31,20 @@ nlohmann::json to_json(const PlotSeries& s) {
 nlohmann::json to_json(const PlotSpec& p) {
   nlohmann::json series = nlohmann::json::array();
   for (const auto& s : p.series) series.push_back(to_json(s));
-  return {{"title", p.title},         {"x_label", p.x_label}, {"y_label", p.y_label},
-          {"log_x", p.log_x},         {"log_y", p.log_y},     {"categories", p.categories},
-          {"series", series},         {"notes", p.notes},     {"width_in", p.width_in},
-          {"height_in", p.height_in}, {"dpi", p.dpi}};
+  nlohmann::json j = {
+      {"title", p.title},         {"x_label", p.x_label}, {"y_label", p.y_label},
+      {"log_x", p.log_x},         {"log_y", p.log_y},     {"categories", p.categories},
+      {"series", series},         {"notes", p.notes},     {"width_in", p.width_in},
+      {"height_in", p.height_in}, {"dpi", p.dpi}};
+  if (!p.panels.empty()) {
+    j["panels"] = nlohmann::json::array();
+    for (const auto& panel : p.panels) j["panels"].push_back(to_json(panel));
+  }
+  return j;
 }
 
 void check_lengths(const PlotSpec& p) {
+  for (const auto& panel : p.panels) check_lengths(panel);
   for (const auto& s : p.series) {
     const size_t n = s.y.size();
     if (s.x.size() != n || (!s.y_error.empty() && s.y_error.size() != n) ||

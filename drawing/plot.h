@@ -31,6 +31,9 @@ struct PlotSpec {
   std::vector<std::string> notes;          // lines of text drawn in the lower corner of the axes
   double width_in = 7.0, height_in = 4.5;  // figure size in inches
   int dpi = 110;
+  // When not empty, the figure is these plots side by side (each its own axes: title, labels,
+  // series, notes), and this spec's own series are not drawn; its size and dpi apply.
+  std::vector<PlotSpec> panels;
 };
 
 // Writes the plot to `out_path` (.png or .svg, chosen by the extension) atomically, plus

@@ -15,7 +15,20 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 
 def draw(spec, out_path):
-    fig, ax = plt.subplots(figsize=(spec.get("width_in", 7.0), spec.get("height_in", 4.5)))
+    panels = spec.get("panels") or [spec]  # "panels": plots side by side, one axes each
+    fig, axes = plt.subplots(1, len(panels),
+                             figsize=(spec.get("width_in", 7.0), spec.get("height_in", 4.5)))
+    for ax, panel in zip(axes if len(panels) > 1 else [axes], panels):
+        draw_axes(ax, panel)
+    fig.tight_layout()
+    root, ext = os.path.splitext(out_path)
+    tmp = root + ".tmp" + str(os.getpid()) + ext
+    fig.savefig(tmp, dpi=spec.get("dpi", 110))
+    plt.close(fig)
+    os.replace(tmp, out_path)
+
+
+def draw_axes(ax, spec):
     series = spec.get("series", [])
     bars = [s for s in series if s.get("kind") == "bar"]
     bar_width = 0.8 / max(1, len(bars))
@@ -72,12 +85,6 @@ def draw(spec, out_path):
     if notes:
         ax.text(0.01, 0.01, "\n".join(notes), transform=ax.transAxes, fontsize=7,
                 va="bottom", ha="left", bbox=dict(facecolor="white", alpha=0.8, linewidth=0))
-    fig.tight_layout()
-    root, ext = os.path.splitext(out_path)
-    tmp = root + ".tmp" + str(os.getpid()) + ext
-    fig.savefig(tmp, dpi=spec.get("dpi", 110))
-    plt.close(fig)
-    os.replace(tmp, out_path)
 
 
 def main():

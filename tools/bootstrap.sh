@@ -14,7 +14,7 @@ packages=(
   libopenimageio-dev openimageio-tools libopenexr-dev
   libassimp-dev assimp-testmodels libcgal-demo
   nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libnlopt-cxx-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-tools glslang-dev
   spirv-tools python3-matplotlib ccache python3-numpy python3-openimageio
 )

@@ -1,0 +1,354 @@
+#include "harness/tune/tune_runner.h"
+
+#include <atomic>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
+
+#include "errors.h"
+#include "exr_io.h"
+#include "harness/evaluation/progress.h"
+#include "harness/results/output_lock.h"
+#include "harness/results/results_store.h"
+#include "harness/tune/tune_budget.h"
+#include "harness/tune/tune_plot.h"
+#include "harness/tune/tune_search.h"
+#include "json_reader.h"
+
+namespace aoeval {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+
+extern "C" void on_tune_sigint(int) {
+  g_interrupted = true;
+  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the process at once
+}
+
+// Pools a re-timed row's repetitions with the first measurement's: the row keeps every sample.
+ResultRow pooled(const ResultRow& first, ResultRow again) {
+  std::vector<double> all = first.time_ms_samples;
+  all.insert(all.end(), again.time_ms_samples.begin(), again.time_ms_samples.end());
+  again.time_ms_samples = all;
+  again.time_ms_median = median_of(all);
+  again.time_ms_min = *std::min_element(all.begin(), all.end());
+  again.time_ms_max = *std::max_element(all.begin(), all.end());
+  again.repetitions = static_cast<int>(all.size());
+  return again;
+}
+
+// What tune.json says of each trial, beyond the search's Outcome.
+struct TrialRecord {
+  double objective = 0.0;  // as the metric reads (not negated)
+  TimeJudgement time;
+  bool retimed = false;
+  std::vector<std::string> run_names;
+  std::string status = "ok";
+};
+
+nlohmann::json trial_json(const TuneSpec& spec, const Trial& t, const TrialRecord& r, size_t i) {
+  nlohmann::json params = nlohmann::json::object();
+  for (const auto& p : spec.params) params[p.spec->name] = t.overrides[p.spec->name];
+  nlohmann::json j = {
+      {"index", i}, {"params", params}, {"status", r.status}, {"run_names", r.run_names}};
+  if (r.status == "ok") {
+    j["objective"] = r.objective;
+    j["time_ms"] = r.time.mean_median;
+    j["time_ms_min"] = r.time.mean_min;
+    j["time_ms_max"] = r.time.mean_max;
+    j["feasible"] = t.outcome.feasible;
+    j["retimed"] = r.retimed;
+  }
+  return j;
+}
+
+nlohmann::json point_json(const TuneSpec& spec, const Trial& t, const TrialRecord& r, size_t i) {
+  nlohmann::json j = trial_json(spec, t, r, i);
+  j["overrides"] = t.overrides;  // fixed values included: what `aoeval estimate --set` takes
+  j["effective_params"] =
+      resolve_params(spec.estimator->name, spec.estimator->params, t.overrides, spec.name).json();
+  return j;
+}
+
+}  // namespace
+
+int run_tune(const TuneOptions& o) {
+  const TuneSpec spec = load_tune_spec(o.spec_path, o.lookup);
+  const std::string out = o.out_dir.empty() ? "out/" + spec.name : o.out_dir;
+  // The sweep's order (sweep_runner.cpp): database, folder lock, leftovers of killed writes,
+  // results.json with the run id before any row reaches the database, then each row to SQLite
+  // first and to the files after.
+  SqliteStore store(o.database);
+  OutputFolderLock lock(out);
+  remove_stale_temporaries(out);
+  const fs::path tune_json = fs::path(out) / "tune.json";
+  if (fs::exists(tune_json)) {
+    const nlohmann::json previous = parse_json_file(tune_json.string());
+    if (!previous.is_object() || previous.value("spec", nlohmann::json()) != spec.document)
+      throw InputError(out + ": holds another tune (its tune.json has a different spec than " +
+                       o.spec_path + "); choose another --out");
+  } else if (fs::exists(fs::path(out) / "results.json")) {
+    throw InputError(out + ": already holds results that are not a tune's; choose another --out");
+  }
+  RunContext context = make_run_context("tune " + spec.name);
+  context.output_dir = fs::absolute(out).lexically_normal().string();
+  ResultsFolder folder(out, context);
+  folder.load_existing();
+  if (const auto& existing = folder.existing_context()) {
+    context.run_id = existing->run_id;  // one tune is one run however often it was interrupted
+    context.started = existing->started;
+    folder.set_context(context);
+  }
+  {
+    std::map<std::string, bool> in_database;
+    for (const ResultRow& r : store.rows_of_run(context.run_id)) {
+      in_database[r.run_name] = true;
+      folder.merge(r);  // committed to SQLite, killed before the files were rewritten
+    }
+    for (const ResultRow& r : folder.rows())
+      if (!in_database.count(r.run_name)) store.add(r);
+  }
+  folder.write();
+  store.add_run(context);
+  write_text(tune_json.string(), nlohmann::json{{"name", spec.name},
+                                                {"status", "running"},
+                                                {"run_id", context.run_id},
+                                                {"spec", spec.document}}
+                                         .dump(1) +
+                                     "\n");
+
+  std::map<std::string, ResultRow> stored;
+  for (const ResultRow& r : folder.rows()) stored[r.run_name] = r;
+  EvaluationSession session(spec.sweep.reference, spec.sweep.timing);
+  std::unique_ptr<EvaluationSession> retime_session;  // 2 x repetitions, made on first need
+  const int repetitions = spec.sweep.timing.repetitions;
+  const bool true_key = spec.objective.rfind("true_", 0) == 0;
+  const std::string key = true_key ? spec.objective.substr(5) : spec.objective;
+  const TuneSpace space = make_tune_space(spec);
+  std::map<std::string, TrialRecord> records;  // by overrides.dump()
+  size_t computed = 0, reused = 0, retimed = 0;
+
+  auto store_row = [&](ResultRow row) {
+    row.run_id = context.run_id;
+    row.machine = context.machine;
+    if (row.device.empty()) row.device = context.device;
+    row.git_commit = context.git_commit;
+    store.add(row);
+    folder.add(row);
+    stored[row.run_name] = row;
+    return row;
+  };
+  Progress progress("tune " + spec.name, static_cast<size_t>(spec.evaluations));
+  const EvaluateFn evaluate = [&](const nlohmann::json& overrides) {
+    SweepSpec one = spec.sweep;
+    one.runs[0].fixed = overrides;
+    const std::vector<SweepPoint> points = expand_sweep(one);
+    std::vector<ResultRow> rows;
+    TrialRecord record;
+    for (const SweepPoint& p : points) {
+      record.run_names.push_back(p.name);
+      if (const auto it = stored.find(p.name); it != stored.end()) {
+        rows.push_back(it->second);
+        ++reused;
+        continue;
+      }
+      if (g_interrupted) throw SearchStopped{};
+      EvaluationRequest req;
+      req.estimator = p.estimator;
+      req.overrides = p.overrides;
+      req.scene = p.scene;
+      req.view = p.view;
+      req.width = p.width;
+      req.height = p.height;
+      rows.push_back(store_row(session.evaluate(req)));
+      ++computed;
+    }
+    Outcome outcome;
+    for (const ResultRow& r : rows)
+      if (r.status != "ok") {
+        outcome.ok = false;
+        record.status = r.status;
+      }
+    if (outcome.ok) {
+      auto samples = [&] {
+        std::vector<std::vector<double>> s;
+        for (const ResultRow& r : rows) s.push_back(r.time_ms_samples);
+        return s;
+      };
+      bool all_retimed = true;
+      for (const ResultRow& r : rows) all_retimed = all_retimed && r.repetitions > repetitions;
+      record.time = judge_time(samples(), spec.budget_ms, all_retimed);
+      if (record.time.verdict == TimeVerdict::borderline) {
+        if (!retime_session)
+          retime_session = std::make_unique<EvaluationSession>(
+              spec.sweep.reference, TimingSpec{spec.sweep.timing.warmup, 2 * repetitions});
+        for (size_t v = 0; v < rows.size(); ++v) {
+          if (rows[v].repetitions > repetitions) continue;  // re-timed before an interruption
+          if (g_interrupted) throw SearchStopped{};
+          const SweepPoint& p = points[v];
+          EvaluationRequest req;
+          req.estimator = p.estimator;
+          req.overrides = p.overrides;
+          req.scene = p.scene;
+          req.view = p.view;
+          req.width = p.width;
+          req.height = p.height;
+          rows[v] = store_row(pooled(rows[v], retime_session->evaluate(req)));
+        }
+        ++retimed;
+        record.time = judge_time(samples(), spec.budget_ms, true);
+      }
+      record.retimed = false;
+      for (const ResultRow& r : rows)
+        record.retimed = record.retimed || r.repetitions > repetitions;
+      double sum = 0.0;
+      for (const ResultRow& r : rows) {
+        const nlohmann::json& m = true_key ? r.true_metrics : r.metrics;
+        if (!m.contains(key))
+          throw InputError(o.spec_path + ": tune.objective: " + spec.objective +
+                           " is absent from " + r.run_name + " (" + spec.estimator->name +
+                           " gives no bent normal)");
+        // psnr is null where the images are identical: as good as psnr gets.
+        sum += m[key].is_null() ? 999.0 : m[key].get<double>();
+      }
+      record.objective = sum / static_cast<double>(rows.size());
+      outcome.objective = spec.maximise ? -record.objective : record.objective;
+      outcome.time_ms = record.time.mean_median;
+      outcome.feasible = record.time.verdict == TimeVerdict::feasible;
+    } else {
+      outcome.feasible = false;
+    }
+    records[overrides.dump()] = record;
+    progress.step(points.empty() ? "" : points.front().name);
+    return outcome;
+  };
+
+  g_interrupted = false;
+  auto previous = std::signal(SIGINT, on_tune_sigint);
+  SearchSettings settings;
+  settings.algorithm = spec.algorithm;
+  settings.evaluations = spec.evaluations;
+  settings.seed = spec.seed;
+  settings.budget_ms = spec.budget_ms;
+  SearchResult result;
+  try {
+    result = search(space, settings, evaluate);
+  } catch (...) {
+    std::signal(SIGINT, previous == SIG_ERR ? SIG_DFL : previous);
+    throw;
+  }
+  std::signal(SIGINT, previous == SIG_ERR ? SIG_DFL : previous);
+
+  // tune.json: written whole, atomically, at the end (and as "interrupted" when stopped).
+  nlohmann::json trials = nlohmann::json::array();
+  for (size_t i = 0; i < result.trials.size(); ++i)
+    trials.push_back(
+        trial_json(spec, result.trials[i], records.at(result.trials[i].overrides.dump()), i));
+  const bool feasible = result.best >= 0;
+  nlohmann::json doc = {
+      {"schema_version", 1},
+      {"name", spec.name},
+      {"status", result.stopped ? "interrupted" : "complete"},
+      {"run_id", context.run_id},
+      {"estimator", spec.estimator->name},
+      {"objective",
+       {{"key", spec.objective},
+        {"direction", spec.maximise ? "maximise" : "minimise"},
+        {"over",
+         "the mean over the spec's views (" +
+             std::to_string(result.trials.empty() ? 0 : records.begin()->second.run_names.size()) +
+             " rows a point)"}}},
+      {"budget_ms", spec.budget_ms > 0.0 ? nlohmann::json(spec.budget_ms) : nlohmann::json()},
+      {"feasible", feasible},
+      {"best", nlohmann::json()},
+      {"evaluations",
+       {{"budget", spec.evaluations},
+        {"used", result.trials.size()},
+        {"rows_computed", computed},
+        {"rows_reused", reused},
+        {"retimed", retimed},
+        {"optimiser_calls", result.calls}}},
+      {"optimiser", result.settings},
+      {"budget_rule",
+       "time = mean over views of the median frame time; feasible when the mean of the slowest "
+       "repetitions <= budget, infeasible when the mean of the fastest > budget; otherwise the "
+       "point is re-timed once (2 x repetitions more frames, pooled) and feasible when the pooled "
+       "mean median <= budget"},
+      {"noise",
+       {{"objective", key == "rmse_excess"
+                          ? "rmse_excess: the reference's own noise (AO_stderr) removed"
+                          : "as the metric reads (the reference's noise not removed)"},
+        {"seed", "every point runs with the same estimator seed (common random numbers): " +
+                     (spec.estimator->find_param("seed")
+                          ? resolve_params(spec.estimator->name, spec.estimator->params, spec.fixed,
+                                           spec.name)
+                                .json()["seed"]
+                                .dump()
+                          : std::string("the estimator has none"))},
+        {"rounding", "reals to 3 significant digits, integers to the nearest"}}},
+      {"trials", trials},
+      {"spec", spec.document}};
+  if (feasible) {
+    const auto b = static_cast<size_t>(result.best);
+    doc["best"] =
+        point_json(spec, result.trials[b], records.at(result.trials[b].overrides.dump()), b);
+  } else {
+    int fastest = -1;
+    for (size_t i = 0; i < result.trials.size(); ++i)
+      if (result.trials[i].outcome.ok &&
+          (fastest < 0 || result.trials[i].outcome.time_ms <
+                              result.trials[static_cast<size_t>(fastest)].outcome.time_ms))
+        fastest = static_cast<int>(i);
+    if (fastest >= 0) {
+      const auto f = static_cast<size_t>(fastest);
+      doc["fastest"] =
+          point_json(spec, result.trials[f], records.at(result.trials[f].overrides.dump()), f);
+    }
+  }
+  write_text(tune_json.string(), doc.dump(1) + "\n");
+  if (o.plot && !result.trials.empty()) {
+    std::vector<TunePlotPoint> plotted;
+    for (size_t i = 0; i < result.trials.size(); ++i) {
+      const Trial& t = result.trials[i];
+      const TrialRecord& r = records.at(t.overrides.dump());
+      if (t.outcome.ok)
+        plotted.push_back({r.objective, r.time.mean_median, r.time.mean_min, r.time.mean_max,
+                           t.outcome.feasible, static_cast<int>(i) == result.best});
+    }
+    render_tune_plot(spec, plotted, (fs::path(out) / "tune.png").string());
+  }
+
+  if (result.stopped) {
+    std::fprintf(stderr,
+                 "tune %s: interrupted after %zu of %d evaluations; run the same command again to "
+                 "continue\n",
+                 spec.name.c_str(), result.trials.size(), spec.evaluations);
+    return 130;
+  }
+  std::fprintf(stderr, "tune %s: %zu evaluations (%zu rows computed, %zu reused, %zu re-timed)\n",
+               spec.name.c_str(), result.trials.size(), computed, reused, retimed);
+  if (!feasible) {
+    std::fprintf(
+        stderr, "tune %s: no feasible point: none of %zu evaluations met the budget of %g ms%s\n",
+        spec.name.c_str(), result.trials.size(), spec.budget_ms,
+        doc.contains("fastest")
+            ? (" (the fastest took " + format_param_value(doc["fastest"]["time_ms"]) + " ms)")
+                  .c_str()
+            : "");
+  } else {
+    const auto& best = doc["best"];
+    std::printf("best %s = %.6g at %.4g ms: %s\n", spec.objective.c_str(),
+                best["objective"].get<double>(), best["time_ms"].get<double>(),
+                best["params"].dump().c_str());
+  }
+  std::printf("%s\n", tune_json.string().c_str());
+  return 0;
+}
+
+}  // namespace aoeval

@@ -1,0 +1,193 @@
+#include "harness/tune/tune_spec.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "errors.h"
+#include "estimators/registry.h"
+#include "harness/scoring/bent_metrics.h"
+#include "harness/scoring/metrics.h"
+#include "json_reader.h"
+
+namespace aoeval {
+
+namespace {
+
+// Keys whose value is not an error of the estimate: a count of pixels, the reference's own noise.
+// `bias` is signed, so its least value is not its best; mae or rmse measure the same thing.
+const std::vector<std::string> kNotObjectives = {"pixels", "ref_stderr_rms", "bias", "bent_pixels",
+                                                 "bent_ref_stderr"};
+const std::vector<std::string> kMaximised = {"ssim", "psnr"};
+
+bool contains(const std::vector<std::string>& list, const std::string& s) {
+  return std::find(list.begin(), list.end(), s) != list.end();
+}
+
+std::string joined(const std::vector<std::string>& list) {
+  std::string out;
+  for (const auto& s : list) out += (out.empty() ? "" : ", ") + s;
+  return out;
+}
+
+// Appended piece by piece: GCC 12 warns (-Wrestrict, a false positive) on "literal" + a temporary.
+std::string range_text(double lo, double hi) {
+  std::string text = "[";
+  text += format_param_value(lo);
+  text += ", ";
+  text += format_param_value(hi);
+  text += "]";
+  return text;
+}
+
+// One entry of tune.params, checked against the declaration `p`.
+TuneParam parse_param(const EstimatorInfo& e, const ParamSpec& p, const nlohmann::json& entry,
+                      const JsonReader& tune) {
+  const std::string key = "params." + p.name;
+  TuneParam t;
+  t.spec = &p;
+  if (p.type == ParamType::real || p.type == ParamType::integer) {
+    if (!entry.is_array() || entry.size() != 2 || !entry[0].is_number() || !entry[1].is_number())
+      tune.fail(key, "expected [lo, hi]");
+    t.lo = entry[0].get<double>();
+    t.hi = entry[1].get<double>();
+    if (!(t.lo < t.hi)) tune.fail(key, "expected lo < hi (a single value belongs in \"fixed\")");
+    if (p.type == ParamType::integer && (t.lo != std::floor(t.lo) || t.hi != std::floor(t.hi)))
+      tune.fail(key, "an integer parameter takes integer bounds");
+    if (t.lo < p.min || t.hi > p.max)
+      tune.fail(key, "range " + range_text(t.lo, t.hi) + " lies outside the declared range " +
+                         range_text(p.min, p.max) + " of " + e.name + "'s " + p.name);
+    t.log_scale = p.log_scale;
+    if (t.log_scale && !(t.lo > 0.0))
+      tune.fail(key, "is declared log-scale; its range needs a positive lower bound");
+    return t;
+  }
+  const bool all = entry.is_string() && entry.get<std::string>() == "all";
+  if (p.type == ParamType::boolean) {
+    if (all) {
+      t.values = {false, true};
+    } else {
+      if (!entry.is_array() || entry.empty()) tune.fail(key, "expected \"all\" or [false, true]");
+      for (const auto& v : entry) {
+        if (!v.is_boolean()) tune.fail(key, "expected booleans");
+        if (std::find(t.values.begin(), t.values.end(), v) == t.values.end()) t.values.push_back(v);
+      }
+    }
+  } else {
+    if (all) {
+      for (const auto& c : p.choices) t.values.push_back(c);
+    } else {
+      if (!entry.is_array() || entry.empty())
+        tune.fail(key, "expected \"all\" or a list of " + joined(p.choices));
+      for (const auto& v : entry) {
+        if (!v.is_string() || !contains(p.choices, v.get<std::string>()))
+          tune.fail(key, std::string(1, '\'') + (v.is_string() ? v.get<std::string>() : v.dump()) +
+                             "' is not one of " + joined(p.choices));
+        if (std::find(t.values.begin(), t.values.end(), v) == t.values.end()) t.values.push_back(v);
+      }
+    }
+  }
+  return t;
+}
+
+}  // namespace
+
+std::vector<std::string> tune_objective_keys() {
+  std::vector<std::string> keys;
+  for (const auto& k : metric_keys())
+    if (!contains(kNotObjectives, k)) keys.push_back(k);
+  for (const auto& k : bent_metric_keys())
+    if (!contains(kNotObjectives, k)) keys.push_back(k);
+  return keys;
+}
+
+TuneSpec parse_tune_spec(const nlohmann::json& doc, const std::string& file,
+                         const EstimatorLookup& lookup) {
+  if (!doc.is_object()) throw InputError(file + ": expected a JSON object");
+  if (doc.contains("runs"))
+    throw InputError(file + ": runs: a tune spec has no runs; it names its estimator in tune");
+  if (!doc.contains("tune")) throw InputError(file + ": tune: missing");
+  TuneSpec spec;
+  spec.document = doc;
+
+  // The sweep fields (name, scenes, views, res, reference, timing) are read by the sweep parser,
+  // with any estimator as its one run: the tune's estimator, which the lookup may know where the
+  // registry does not, replaces it below.
+  nlohmann::json sweep_doc = doc;
+  sweep_doc.erase("tune");
+  sweep_doc["runs"] = nlohmann::json::array({{{"estimator", "constant"}}});
+  spec.sweep = parse_sweep_spec(sweep_doc, file);
+  spec.name = spec.sweep.name;
+
+  JsonReader tune(doc.at("tune"), file, "tune");
+  if (!doc.at("tune").is_object()) throw InputError(file + ": tune: expected an object");
+  const std::string estimator = tune.string("estimator");
+  try {
+    spec.estimator = lookup ? &lookup(estimator) : &find_estimator(estimator);
+  } catch (const InputError& e) {
+    tune.fail("estimator", e.what());
+  }
+  const EstimatorInfo& e = *spec.estimator;
+
+  if (tune.has("fixed")) {
+    const auto& f = tune.raw("fixed");
+    if (!f.is_object()) tune.fail("fixed", "expected an object of parameter values");
+    spec.fixed = f;
+  }
+  resolve_params(e.name, e.params, spec.fixed, file + ": " + tune.where("fixed"));
+
+  const auto& params = tune.raw("params");
+  if (!params.is_object() || params.empty())
+    tune.fail("params", "expected an object of parameter ranges, at least one");
+  std::vector<std::string> known;
+  for (const auto& p : e.params) known.push_back(p.name);
+  for (auto it = params.begin(); it != params.end(); ++it) {
+    if (!e.find_param(it.key()))
+      tune.fail("params." + it.key(),
+                "unknown parameter of " + e.name + " (known: " + joined(known) + ")");
+    if (spec.fixed.contains(it.key()))
+      tune.fail("params." + it.key(), "is in both params and fixed");
+    // Common random numbers: every point runs with the same seed, so that the differences the
+    // optimiser sees come from the parameters, not from a new draw of the estimator's noise.
+    if (it.key() == "seed")
+      tune.fail("params.seed",
+                "the seed is held fixed so that every point sees the same random numbers; set "
+                "it in fixed");
+  }
+  for (const auto& p : e.params)  // declaration order, as run names and grids use
+    if (params.contains(p.name)) spec.params.push_back(parse_param(e, p, params[p.name], tune));
+
+  spec.objective = tune.string("objective", "rmse_excess");
+  const std::string bare =
+      spec.objective.rfind("true_", 0) == 0 ? spec.objective.substr(5) : spec.objective;
+  if (!contains(tune_objective_keys(), bare)) {
+    if (contains(kNotObjectives, bare))
+      tune.fail("objective", "'" + spec.objective + "' is not an error measure; use one of " +
+                                 joined(tune_objective_keys()));
+    tune.fail("objective", "'" + spec.objective + "' is not a metric key; use one of " +
+                               joined(tune_objective_keys()) + " (or true_ before one)");
+  }
+  spec.maximise = contains(kMaximised, bare);
+  spec.budget_ms = tune.has("budget_ms") ? tune.number("budget_ms", 1e-6, 1e9) : 0.0;
+  spec.evaluations = static_cast<int>(tune.integer("evaluations", 60, 1, 100000));
+  if (auto o = tune.optional_object("optimiser")) {
+    spec.algorithm = o->choice(
+        "algorithm", spec.algorithm,
+        {"direct-l+sbplx", "direct-l+cobyla", "direct-l", "sbplx", "bobyqa", "cobyla", "isres"});
+    spec.seed = static_cast<uint64_t>(o->integer("seed", 1, 0, INT64_MAX));
+    o->finish();
+  }
+  tune.finish();
+
+  spec.sweep.runs.clear();
+  SweepSpec::Run run;
+  run.estimator = spec.estimator;
+  run.fixed = spec.fixed;
+  spec.sweep.runs.push_back(run);
+  return spec;
+}
+
+TuneSpec load_tune_spec(const std::string& path, const EstimatorLookup& lookup) {
+  return parse_tune_spec(parse_json_file(path), path, lookup);
+}
+
+}  // namespace aoeval
