@@ -175,7 +175,9 @@ TEST(TreeVolume, OffCentreWithOutwardNormalMatchesAnIndependentQuadrature) {
       const char* w = cosine ? "cosine" : "uniform";
       for (int rings : {4, 16}) {
         const double truncation = std::fabs(gl(rings, x, cosine) - exact);
-        if (rings == 16) EXPECT_LT(truncation, 1e-9);
+        if (rings == 16) {
+          EXPECT_LT(truncation, 1e-9);
+        }
         const float v = estimate(b.scene, g, {{"weighting", w}, {"rings", rings}})[0];
         EXPECT_NEAR(v, exact, truncation + 2e-6) << w << " x/R " << frac << " rings " << rings;
       }
