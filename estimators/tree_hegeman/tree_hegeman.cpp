@@ -27,6 +27,7 @@ struct Shape {
 struct Settings {
   ProxyKind kind;
   double alpha_rho, alpha_scale;
+  bool ambient_only;
   TreeSceneOptions scene;
 };
 
@@ -63,6 +64,10 @@ class HegemanEstimator : public Estimator {
     if (!prepared_) prepare(context);
     EstimateResult r;
     r.ao.assign(context.gbuffer.pixel_count(), 1.0f);
+    if (s_.ambient_only) {
+      shade_ambient(context.gbuffer, r.ao.data());
+      return r;
+    }
     switch (s_.kind) {  // one loop per envelope kind, so the per-pixel code has no kind switch
       case ProxyKind::sphere:
         shade_image<ProxyKind::sphere>(context.gbuffer, r.ao.data());
@@ -89,6 +94,18 @@ class HegemanEstimator : public Estimator {
             for (size_t k = g.index(0, j), end = k + static_cast<size_t>(g.width); k < end; ++k)
               if (g.covered(k))
                 out[k] = scene_.shade(g.position[k], g.normal[k], g.object_id[k], self_term);
+        });
+  }
+
+  // §4's ambient-only shader: the pass below (the same rows, coverage test and writes, after the
+  // same prepare) with the visibility left out, so that its time is the pass's own and what the
+  // AO shader adds is eq. 4-6's work.
+  void shade_ambient(const GBuffer& g, float* out) const {
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, g.height), [&](const tbb::blocked_range<int>& rows) {
+          for (int j = rows.begin(); j < rows.end(); ++j)
+            for (size_t k = g.index(0, j), end = k + static_cast<size_t>(g.width); k < end; ++k)
+              if (g.covered(k)) out[k] = 1.0f;
         });
   }
 
@@ -143,6 +160,16 @@ std::vector<ParamSpec> common_params() {
        true,
        "",
        "multiplies alpha rho: the user-tuned alpha of eq. 6 (§4: chosen by hand per object)",
+       {}},
+      {"ambient_only",
+       ParamType::boolean,
+       false,
+       0,
+       0,
+       false,
+       "",
+       "§4's ambient-only shader (Fig. 12 bottom row): the same per-pixel pass with the "
+       "visibility left out, every covered pixel 1; a throughput baseline",
        {}},
   };
 }
@@ -204,6 +231,7 @@ EstimatorInfo hegeman_info(ProxyKind kind) {
     if (kind == ProxyKind::shells) proxy.shells = static_cast<int>(p.integer("shells"));
     s.alpha_rho = p.real("alpha_rho");
     s.alpha_scale = p.real("alpha_scale");
+    s.ambient_only = p.boolean("ambient_only");
     s.scene = tree_scene_options(p, proxy);
     return std::make_unique<HegemanEstimator>(s);
   };
