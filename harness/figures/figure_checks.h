@@ -1,4 +1,4 @@
-// The checks of the Hegeman, Mendez and GPU Gems fig17-3 figures as functions of their numbers,
+// The checks of the Hegeman, Mendez, Dimitrov and GPU Gems fig17-3 figures as functions of their numbers,
 // so that a test can feed them synthetic numbers and show each figure's checks passing and failing
 // (figure_checks_test.cpp); each figure computes its numbers and calls its function. Timing
 // numbers are the interleaved repetitions themselves, decided by a rank test (figure_timing.h).
@@ -66,5 +66,32 @@ struct Fig17Numbers {
   std::string contrast;  // "2 floor triangles: 0.006, ..." for the caption
 };
 std::vector<Check> gpugems_fig17_checks(const Fig17Numbers& n);
+
+// dimitrov-fig6: mean AO and matched RMSE per R (ascending).
+struct DimitrovFig6Numbers {
+  std::vector<double> mean, rmse;
+};
+std::vector<Check> dimitrov_fig6_checks(const DimitrovFig6Numbers& n);
+
+// dimitrov-fig7: matched RMSE at Nd 1, 4, 10 and the interleaved frame times at Nd 1 and 16.
+struct DimitrovFig7Numbers {
+  double rmse_nd1 = 0.0, rmse_nd4 = 0.0, rmse_nd10 = 0.0;
+  std::vector<double> ms_nd1, ms_nd16;
+};
+std::vector<Check> dimitrov_fig7_checks(const DimitrovFig7Numbers& n);
+
+// dimitrov-fig11: matched RMSE and interleaved frame times of presets (a) to (d).
+struct DimitrovFig11Numbers {
+  std::vector<double> rmse;
+  std::vector<std::vector<double>> ms;
+};
+std::vector<Check> dimitrov_fig11_checks(const DimitrovFig11Numbers& n);
+
+// dimitrov-fig12: matched RMSE of horizon split and ray marching per rays-per-pixel budget.
+struct DimitrovFig12Numbers {
+  std::vector<int> budgets;
+  std::vector<double> horizon_split, ray_marching;
+};
+std::vector<Check> dimitrov_fig12_checks(const DimitrovFig12Numbers& n);
 
 }  // namespace aoeval::figures

@@ -115,5 +115,30 @@ TEST(FigureChecks, GpugemsFig17_3) {
   expect_all(gpugems_fig17_checks(bad), false, "fig17-3 bad");
 }
 
+TEST(FigureChecks, DimitrovFig6) {
+  expect_all(dimitrov_fig6_checks({{0.9, 0.8, 0.7}, {0.01, 0.02, 0.03}}), true, "dfig6 good");
+  expect_all(dimitrov_fig6_checks({{0.7, 0.8, 0.9}, {0.03, 0.02, 0.01}}), false, "dfig6 bad");
+}
+
+TEST(FigureChecks, DimitrovFig7) {
+  expect_all(dimitrov_fig7_checks({0.1, 0.05, 0.03, times(2.0), times(20.0)}), true, "dfig7 good");
+  // Nd 16 only 2x Nd 1 (not proportional) and RMSE rising.
+  expect_all(dimitrov_fig7_checks({0.03, 0.05, 0.1, times(2.0), times(4.0)}), false, "dfig7 bad");
+}
+
+TEST(FigureChecks, DimitrovFig11) {
+  expect_all(dimitrov_fig11_checks({{0.1, 0.08, 0.06, 0.05},
+                                    {times(5.0), times(10.0), times(15.0), times(40.0)}}),
+             true, "dfig11 good");
+  expect_all(dimitrov_fig11_checks({{0.05, 0.06, 0.08, 0.1},
+                                    {times(40.0), times(15.0), times(10.0), times(5.0)}}),
+             false, "dfig11 bad");
+}
+
+TEST(FigureChecks, DimitrovFig12) {
+  expect_all(dimitrov_fig12_checks({{4, 8}, {0.05, 0.03}, {0.1, 0.06}}), true, "dfig12 good");
+  expect_all(dimitrov_fig12_checks({{4, 8}, {0.1, 0.06}, {0.05, 0.03}}), false, "dfig12 bad");
+}
+
 }  // namespace
 }  // namespace aoeval::figures

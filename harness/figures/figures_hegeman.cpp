@@ -81,6 +81,7 @@ FigureResult fig2(FigureContext& ctx) {
   std::vector<std::vector<OIIO::ImageBuf>> rows;
   Fig2Numbers n;
   n.scenes = scenes;
+  std::vector<TileScore> volume_ellipsoid_tiles;  // reported, not checked: not the paper's model
   const int block = ctx.pick(8, 4);
   for (const auto& scene : scenes) {
     const auto [w, h] = view_size(ctx, scene, view, ctx.pick(200, 40));
@@ -94,6 +95,8 @@ FigureResult fig2(FigureContext& ctx) {
         estimate_on(ctx, "tree-sphere", {{"alpha_scale", scale}}, scene, g).ao;
     const std::vector<float> volume =
         estimate_on(ctx, "tree-volume", nlohmann::json::object(), scene, g).ao;
+    const std::vector<float> volume_ellipsoid =
+        estimate_on(ctx, "tree-volume", {{"proxy", "ellipsoid"}}, scene, g).ao;
     const std::string proxies =
         derived.row.params.value("derived", nlohmann::json::object()).dump();
     auto add = [&](const std::string& model, double alpha_scale, const std::vector<float>& est) {
@@ -108,6 +111,7 @@ FigureResult fig2(FigureContext& ctx) {
     n.derived.push_back(add("eq6-derived", 1.0, derived.estimate));
     n.best.push_back(add("eq6-best-scale", scale, best));
     n.volume.push_back(add("tree-volume", 0.0, volume));
+    volume_ellipsoid_tiles.push_back(add("tree-volume-ellipsoid", 0.0, volume_ellipsoid));
     n.best_scale.push_back(scale);
     const float err = nice_ceiling(std::max({abs_error_p99(w, h, ref.ao.data(), best.data(), mask),
                                              abs_error_p99(w, h, ref.ao.data(), volume.data(), mask),
@@ -131,7 +135,9 @@ FigureResult fig2(FigureContext& ctx) {
              fmt(n.derived[i].rmse, 3) + " / r " + fmt(n.derived[i].pearson, 2) +
              ", eq. 6 at best scale (x" + fmt(n.best_scale[i], 3) + ") " + fmt(n.best[i].rmse, 3) +
              " / r " + fmt(n.best[i].pearson, 2) + ", tree-volume " + fmt(n.volume[i].rmse, 3) +
-             " / r " + fmt(n.volume[i].pearson, 2);
+             " / r " + fmt(n.volume[i].pearson, 2) + " (ellipsoid proxy " +
+             fmt(volume_ellipsoid_tiles[i].rmse, 3) + " / r " +
+             fmt(volume_ellipsoid_tiles[i].pearson, 2) + ")";
   r.measured =
       "against the uniform-weighted unbounded reference (eq. 3, " +
       std::to_string(ctx.session->reference_spec().spp) +
@@ -140,7 +146,7 @@ FigureResult fig2(FigureContext& ctx) {
       "the alpha_scale of least tile RMSE (a 1-D search per scene: the paper's model at best, as "
       "the paper tunes alpha rho by hand per object), and tree-volume (ours, beyond the paper: "
       "§3's Poisson argument per direction, exp(-lambda chord) averaged over the hemisphere, same "
-      "lambda, 4 x 8 directions). Tile RMSE / tile Pearson r over " +
+      "lambda, 4 x 8 directions; also with the ellipsoid proxy, row tree-volume-ellipsoid). Tile RMSE / tile Pearson r over " +
       std::to_string(block) + "x" + std::to_string(block) + " pixel tiles: " + lines +
       ". Error maps share a scale per row.";
   r.notes.push_back(
@@ -149,7 +155,10 @@ FigureResult fig2(FigureContext& ctx) {
       "the Poisson (Beer-Lambert) occlusion of each direction grows with the *path length* "
       "through the crown. Points near the surface facing out come out too bright, facing in far "
       "too dark, and the trend across the crown is reversed; rescaling alpha rho removes the bias "
-      "but not that shape. tree-volume keeps §3's argument per direction and follows the truth.");
+      "but not that shape. tree-volume keeps §3's argument per direction and follows the truth "
+      "where its proxy fits the crown; the poplar's bounding sphere is mostly empty (a tall, "
+      "narrow crown), which spreads lambda thin and makes the leaves too bright: its ellipsoid "
+      "(Fig. 8's envelope) fits.");
   r.notes.push_back(
       "dropped: the former check 'apple RMSE >= 1.5 x the spheres'' passed only when the apple "
       "was estimated badly; it measured the estimate's failure, not the claim.");
