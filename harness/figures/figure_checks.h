@@ -94,4 +94,11 @@ struct DimitrovFig12Numbers {
 };
 std::vector<Check> dimitrov_fig12_checks(const DimitrovFig12Numbers& n);
 
+// dimitrov-table1: per resolution row, the interleaved per-pass samples (ms) and the paper's row.
+struct Table1Numbers {
+  std::vector<std::vector<double>> ho, no, blur, geo;  // geo empty where no geometry pass
+  std::vector<double> paper_ho_over_no, paper_ho, pixels, paper_pixels;
+};
+std::vector<Check> dimitrov_table1_checks(const Table1Numbers& n);
+
 }  // namespace aoeval::figures

@@ -96,12 +96,13 @@ TEST(FigureChecks, MendezFig7) {
                   {0.6, 0.7, 0.8, 0.9},
                   {times(20.0), times(16.0), times(12.0), times(10.0)}};
   expect_all(mendez_fig7_checks(bad), false, "fig7 bad");
-  // Noise alone (the same times at every dmax) cannot fail "no step faster by 5 %".
+  // Equal times at every dmax: no evidence that time grows, so the timing check fails; it prints
+  // its p-values.
   Fig7Numbers flat = good;
   flat.ms = {times(20.0), times(20.0), times(20.0), times(20.0)};
   const auto c = mendez_fig7_checks(flat);
   EXPECT_NE(c[1].measured.find("p = "), std::string::npos);
-  EXPECT_FALSE(c[1].passed);  // but "grows by 10 %" then has no evidence
+  EXPECT_FALSE(c[1].passed);
 }
 
 TEST(FigureChecks, GpugemsFig17_3) {
@@ -138,6 +139,26 @@ TEST(FigureChecks, DimitrovFig11) {
 TEST(FigureChecks, DimitrovFig12) {
   expect_all(dimitrov_fig12_checks({{4, 8}, {0.05, 0.03}, {0.1, 0.06}}), true, "dfig12 good");
   expect_all(dimitrov_fig12_checks({{4, 8}, {0.1, 0.06}, {0.05, 0.03}}), false, "dfig12 bad");
+}
+
+TEST(FigureChecks, DimitrovTable1) {
+  // The paper's 640x480 and 1600x1153 rows, as ratios: HO/NO 1.53 and 1.06, HO grows 5.5x.
+  Table1Numbers good;
+  good.ho = {times(7.16), times(39.66)};
+  good.no = {times(4.67), times(37.41)};
+  good.blur = {times(0.71), times(4.35)};
+  good.geo = {times(4.02), times(6.68)};
+  good.paper_ho_over_no = {7.16 / 4.67, 39.66 / 37.41};
+  good.paper_ho = {7.16, 39.66};
+  good.pixels = good.paper_pixels = {640.0 * 480, 1600.0 * 1153};
+  expect_all(dimitrov_table1_checks(good), true, "table1 good");
+  // HO 5x NO, blur the dearest pass, HO flat with resolution while the geometry grows.
+  Table1Numbers bad = good;
+  bad.ho = {times(20.0), times(20.0)};
+  bad.no = {times(4.0), times(4.0)};
+  bad.blur = {times(30.0), times(30.0)};
+  bad.geo = {times(1.0), times(10.0)};
+  expect_all(dimitrov_table1_checks(bad), false, "table1 bad");
 }
 
 }  // namespace

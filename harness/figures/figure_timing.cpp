@@ -37,6 +37,7 @@ InterleavedTimes time_interleaved(FigureContext& ctx, const std::vector<Contende
     p.push_back(std::move(q));
   }
   t.ms.assign(p.size(), {});
+  t.pass_ms.assign(p.size(), {});
   const size_t n = p.size();
   for (int r = 0; r < warmup + rounds; ++r)
     for (size_t i = 0; i < n; ++i) {
@@ -46,9 +47,10 @@ InterleavedTimes time_interleaved(FigureContext& ctx, const std::vector<Contende
       const EstimateResult res = q.estimator->run(in);
       const double wall = std::chrono::duration<double, std::milli>(clock::now() - t0).count();
       if (r < warmup) continue;
+      const size_t which = (static_cast<size_t>(r) + i) % n;
       const auto total = res.pass_ms.find("total_ms");
-      t.ms[(static_cast<size_t>(r) + i) % n].push_back(total != res.pass_ms.end() ? total->second
-                                                                                  : wall);
+      t.ms[which].push_back(total != res.pass_ms.end() ? total->second : wall);
+      for (const auto& [pass, ms] : res.pass_ms) t.pass_ms[which][pass].push_back(ms);
     }
   return t;
 }

@@ -34,6 +34,8 @@ struct InterleavedTimes {
   std::vector<std::vector<double>> ms;  // per contender, per round (the estimator's total_ms when
                                         // it reports one, else wall time around run())
   std::vector<size_t> pixels;           // per contender
+  // Per contender, per pass the estimator reports in pass_ms ("horizon_ms", ...), per round.
+  std::vector<std::map<std::string, std::vector<double>>> pass_ms;
   double median(size_t i) const;
 };
 // Prepares each contender, runs `warmup` interleaved rounds untimed, then `rounds` timed ones.

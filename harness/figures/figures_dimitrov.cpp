@@ -111,7 +111,7 @@ FigureResult fig7(FigureContext& ctx) {
   const auto [w, h] = view_size(ctx, scene, "main", ctx.pick(240, 48));
   const std::vector<int> nds = {1, 2, 4, 7, 10, 16};
   // Interleaved rounds of Nd 1 and Nd 16 decide the timing check by the rank test (figure_timing.h).
-  const int reps = ctx.pick(7, 5);
+  const int reps = ctx.pick(11, 5);
   FigureResult r;
   r.table.columns = {"Nd",           "R",         "scene",   "width",         "height",
                      "rmse_matched", "rmse_true", "mean_ao", "time_ms_median"};
@@ -167,7 +167,7 @@ FigureResult fig11(FigureContext& ctx) {
                                        {"(b) Nd 8 Ns 18 Nn 0", 8, 18, 0},
                                        {"(c) Nd 8 Ns 18 Nn 1", 8, 18, 1},
                                        {"(d) Nd 18 Ns 25 Nn 2", 18, 25, 2}};
-  const int reps = ctx.pick(7, 5);  // interleaved rounds (figure_timing.h)
+  const int reps = ctx.pick(11, 5);  // interleaved rounds (figure_timing.h)
   FigureResult r;
   r.table.columns = {"preset",        "Nd",     "Ns",           "Nn",           "R",
                      "width",         "height", "rmse_matched", "ssim_matched", "rmse_true",
