@@ -87,8 +87,7 @@ const std::vector<TreeEnvelope>& TreeScene::prepare(const Scene& scene,
     const Bounds b = o.mesh.bounds();
     GrassField f;
     f.base = b.lower.y;
-    f.height =
-        options.blade_height > 0.0 ? static_cast<float>(options.blade_height) : b.extent().y;
+    f.height = options.blade_height > 0.0 ? static_cast<float>(options.blade_height) : b.extent().y;
     if (!(f.height > 0.0f)) f.height = std::numeric_limits<float>::min();
     f.x0 = b.lower.x;
     f.x1 = b.upper.x;

@@ -109,8 +109,8 @@ TEST(VolumeModel, SphereChordIsTheClosedForm) {
   const float R = 1.5f;
   const glm::vec3 q(0.3f, 0.4f, -0.2f), w = glm::normalize(glm::vec3(1.0f, 2.0f, -0.5f));
   const float b = glm::dot(q, w);
-  EXPECT_NEAR(vm::sphere_chord(c + q, w, c, R),
-              std::sqrt(R * R - glm::dot(q, q) + b * b) - b, 1e-6);
+  EXPECT_NEAR(vm::sphere_chord(c + q, w, c, R), std::sqrt(R * R - glm::dot(q, q) + b * b) - b,
+              1e-6);
   EXPECT_NEAR(vm::sphere_chord(c, w, c, R), R, 1e-6);
   // From outside: through the whole sphere when aimed at it, nothing when aimed away.
   EXPECT_NEAR(vm::sphere_chord(c - 3.0f * w, w, c, R), 2.0f * R, 1e-5);
@@ -128,8 +128,8 @@ TEST(TreeVolume, CentreOfAUniformSphereIsExpMinusLambdaR) {
   for (const char* weighting : {"uniform", "cosine"})
     for (int rings : {1, 4, 9})
       for (const char* proxy : {"sphere", "ellipsoid"}) {
-        const auto ao = estimate(
-            b.scene, g, {{"weighting", weighting}, {"rings", rings}, {"proxy", proxy}});
+        const auto ao =
+            estimate(b.scene, g, {{"weighting", weighting}, {"rings", rings}, {"proxy", proxy}});
         for (float v : ao)
           EXPECT_NEAR(v, std::exp(-b.lambda * R), 1e-6) << weighting << " " << rings << proxy;
       }
@@ -238,8 +238,9 @@ TEST(TreeVolume, AnyPointMatchesMarchedChordsThroughSphereAndShells) {
       proxy.type = "sphere";
     }
     scene.objects[0].proxy = proxy;
-    const auto ao = estimate(scene, probes(p, n),
-                             {{"proxy", both ? "shells" : "sphere"}, {"rings", 3}, {"azimuths", 6}});
+    const auto ao =
+        estimate(scene, probes(p, n),
+                 {{"proxy", both ? "shells" : "sphere"}, {"rings", 3}, {"azimuths", 6}});
     for (size_t k = 0; k < p.size(); ++k)
       EXPECT_NEAR(ao[k], marched(p[k], n[k], both), tol) << (both ? "shells " : "sphere ") << k;
   }
@@ -257,10 +258,10 @@ TEST(TreeVolume, DeterministicDeclaredAndOpenOutsideTheCrown) {
   const ParamSet p = resolve_params(info.name, info.params, nlohmann::json::object(), "test");
   EXPECT_EQ(info.definition(p).weighting, Weighting::uniform);
   EXPECT_FALSE(info.definition(p).bounded());
-  EXPECT_EQ(info.definition(resolve_params(info.name, info.params, {{"weighting", "cosine"}},
-                                           "test"))
-                .weighting,
-            Weighting::cosine);
+  EXPECT_EQ(
+      info.definition(resolve_params(info.name, info.params, {{"weighting", "cosine"}}, "test"))
+          .weighting,
+      Weighting::cosine);
   EXPECT_THROW(resolve_params(info.name, info.params, {{"alpha_rho", 1}}, "test"), InputError);
 }
 

@@ -1,11 +1,12 @@
 // The per-direction Poisson (Beer-Lambert) visibility behind tree-volume, inline and
 // allocation-free: the estimator calls it once per pixel, the tests call it directly.
 //
-// Hegeman et al. 2006 §3 argue that, for occluders scattered at random in the crown, the chance that
-// a direction from x escapes is the chance of finding zero occluders in a Poisson process. Along
-// one direction w that process counts the leaves the ray x + t w meets: with lambda leaves met per
-// unit length (lambda = G A_leaf / V, G = 1/2 for randomly oriented flat leaves: tree_proxy.h), the
-// count is Poisson with mean lambda * chord(x, w), the length of the ray inside the crown, so
+// Hegeman et al. 2006 §3 argue that, for occluders scattered at random in the crown, the chance
+// that a direction from x escapes is the chance of finding zero occluders in a Poisson process.
+// Along one direction w that process counts the leaves the ray x + t w meets: with lambda leaves
+// met per unit length (lambda = G A_leaf / V, G = 1/2 for randomly oriented flat leaves:
+// tree_proxy.h), the count is Poisson with mean lambda * chord(x, w), the length of the ray inside
+// the crown, so
 //     P(escape | w) = exp(-lambda chord(x, w))
 // and ambient visibility is its hemisphere average (eq. 3 with V_x(w) replaced by its expectation):
 //     V(x, n) = Int_{H(n)} exp(-lambda chord(x, w)) W(w) dw,  W = 1/(2 pi) (uniform) or

@@ -1,6 +1,6 @@
-// The checks of the Hegeman, Mendez, Dimitrov and GPU Gems fig17-3 figures as functions of their numbers,
-// so that a test can feed them synthetic numbers and show each figure's checks passing and failing
-// (figure_checks_test.cpp); each figure computes its numbers and calls its function. Timing
+// The checks of the Hegeman, Mendez, Dimitrov and GPU Gems fig17-3 figures as functions of their
+// numbers, so that a test can feed them synthetic numbers and show each figure's checks passing and
+// failing (figure_checks_test.cpp); each figure computes its numbers and calls its function. Timing
 // numbers are the interleaved repetitions themselves, decided by a rank test (figure_timing.h).
 #pragma once
 

@@ -13,7 +13,8 @@ namespace {
 
 void expect_all(const std::vector<Check>& checks, bool passed, const char* what) {
   ASSERT_FALSE(checks.empty()) << what;
-  for (const Check& c : checks) EXPECT_EQ(c.passed, passed) << what << ": " << c.rule << " -> " << c.measured;
+  for (const Check& c : checks)
+    EXPECT_EQ(c.passed, passed) << what << ": " << c.rule << " -> " << c.measured;
 }
 
 // n repetitions around `ms` with a small deterministic spread (+-1 %).
@@ -59,10 +60,12 @@ TEST(FigureChecks, HegemanFig8) {
 }
 
 TEST(FigureChecks, HegemanFig12) {
-  Fig12Numbers good{{"overview", "meadow"}, {{0.1, 0.2, 0.3}, {0.1, 0.2, 0.3}},
+  Fig12Numbers good{{"overview", "meadow"},
+                    {{0.1, 0.2, 0.3}, {0.1, 0.2, 0.3}},
                     {{0.6, 0.3, 0.0}, {0.6, 0.3, 0.0}}};
   expect_all(hegeman_fig12_checks(good), true, "fig12 good");
-  Fig12Numbers bad{{"overview", "meadow"}, {{0.4, 0.2, 0.3}, {0.4, 0.2, 0.3}},
+  Fig12Numbers bad{{"overview", "meadow"},
+                   {{0.4, 0.2, 0.3}, {0.4, 0.2, 0.3}},
                    {{0.1, 0.3, 0.0}, {0.1, 0.3, 0.0}}};
   expect_all(hegeman_fig12_checks(bad), false, "fig12 bad");
 }
@@ -77,11 +80,17 @@ TEST(FigureChecks, HegemanThroughput) {
 }
 
 TEST(FigureChecks, MendezFig6) {
-  Fig6Numbers good{{4, 16, 64}, {0.2, 0.1, 0.05}, {0.001, 0.001, 0.001},
-                   {0.1, 0.05, 0.02},  {0.001, 0.001, 0.001}};
+  Fig6Numbers good{{4, 16, 64},
+                   {0.2, 0.1, 0.05},
+                   {0.001, 0.001, 0.001},
+                   {0.1, 0.05, 0.02},
+                   {0.001, 0.001, 0.001}};
   expect_all(mendez_fig6_checks(good), true, "fig6 good");
-  Fig6Numbers bad{{4, 16, 64}, {0.1, 0.05, 0.02}, {0.001, 0.001, 0.001},
-                  {0.2, 0.1, 0.05},  {0.001, 0.001, 0.001}};
+  Fig6Numbers bad{{4, 16, 64},
+                  {0.1, 0.05, 0.02},
+                  {0.001, 0.001, 0.001},
+                  {0.2, 0.1, 0.05},
+                  {0.001, 0.001, 0.001}};
   expect_all(mendez_fig6_checks(bad), false, "fig6 bad");
 }
 
@@ -128,11 +137,11 @@ TEST(FigureChecks, DimitrovFig7) {
 }
 
 TEST(FigureChecks, DimitrovFig11) {
-  expect_all(dimitrov_fig11_checks({{0.1, 0.08, 0.06, 0.05},
-                                    {times(5.0), times(10.0), times(15.0), times(40.0)}}),
+  expect_all(dimitrov_fig11_checks(
+                 {{0.1, 0.08, 0.06, 0.05}, {times(5.0), times(10.0), times(15.0), times(40.0)}}),
              true, "dfig11 good");
-  expect_all(dimitrov_fig11_checks({{0.05, 0.06, 0.08, 0.1},
-                                    {times(40.0), times(15.0), times(10.0), times(5.0)}}),
+  expect_all(dimitrov_fig11_checks(
+                 {{0.05, 0.06, 0.08, 0.1}, {times(40.0), times(15.0), times(10.0), times(5.0)}}),
              false, "dfig11 bad");
 }
 

@@ -110,7 +110,8 @@ FigureResult fig7(FigureContext& ctx) {
   const std::string scene = densest_scanned(ctx);
   const auto [w, h] = view_size(ctx, scene, "main", ctx.pick(240, 48));
   const std::vector<int> nds = {1, 2, 4, 7, 10, 16};
-  // Interleaved rounds of Nd 1 and Nd 16 decide the timing check by the rank test (figure_timing.h).
+  // Interleaved rounds of Nd 1 and Nd 16 decide the timing check by the rank test
+  // (figure_timing.h).
   const int reps = ctx.pick(11, 5);
   FigureResult r;
   r.table.columns = {"Nd",           "R",         "scene",   "width",         "height",
@@ -301,9 +302,8 @@ std::vector<Check> dimitrov_fig7_checks(const DimitrovFig7Numbers& n) {
           {"time grows with Nd ('the total number of traced rays is proportional to this "
            "parameter'): t(Nd 16) slower than 4 x t(Nd 1) by the rank test at p < 0.01",
            p < kTimingAlpha,
-           "t(Nd 16) / t(Nd 1) = " + fmt(median(n.ms_nd16) / median(n.ms_nd1), 3) +
-               " (median ms " + fmt(median(n.ms_nd1), 4) + ", " + fmt(median(n.ms_nd16), 4) +
-               "); " + p_text(p)}};
+           "t(Nd 16) / t(Nd 1) = " + fmt(median(n.ms_nd16) / median(n.ms_nd1), 3) + " (median ms " +
+               fmt(median(n.ms_nd1), 4) + ", " + fmt(median(n.ms_nd16), 4) + "); " + p_text(p)}};
 }
 
 std::vector<Check> dimitrov_fig11_checks(const DimitrovFig11Numbers& n) {
@@ -344,7 +344,6 @@ std::vector<Check> dimitrov_fig12_checks(const DimitrovFig12Numbers& n) {
            std::to_string(wins) + " of " + std::to_string(k) + "; horizon split " +
                join(n.horizon_split) + "; ray marching " + join(n.ray_marching)}};
 }
-
 
 FigureResult dimitrov_table1(FigureContext& ctx);  // figures_dimitrov_table1.cpp
 

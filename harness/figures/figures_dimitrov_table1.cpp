@@ -63,36 +63,38 @@ std::vector<Check> dimitrov_table1_checks(const Table1Numbers& n) {
     blur_ok = blur_ok && pb < kTimingAlpha;
     blur_text += std::string(i ? ", " : "") + fmt(med(n.blur[i]) / med(n.ho[i]), 3);
   }
-  c.push_back({"HO / NO within a factor 1.5 of the paper's at every resolution ('the horizon "
-               "occlusion takes almost the same time as the normal occlusion with one ray'; fails "
-               "only where the rank test puts it outside at p < 0.01)",
-               ratio_ok, ratios});
-  c.push_back({"blur is the cheapest AO pass (blur faster than HO and than NO by the rank test at "
-               "p < 0.01) at every resolution",
-               blur_ok,
-               "blur / HO " + blur_text + " (paper 0.10-0.11); largest p = " + fmt(blur_worst, 2)});
+  c.push_back(
+      {"HO / NO within a factor 1.5 of the paper's at every resolution ('the horizon "
+       "occlusion takes almost the same time as the normal occlusion with one ray'; fails "
+       "only where the rank test puts it outside at p < 0.01)",
+       ratio_ok, ratios});
+  c.push_back(
+      {"blur is the cheapest AO pass (blur faster than HO and than NO by the rank test at "
+       "p < 0.01) at every resolution",
+       blur_ok,
+       "blur / HO " + blur_text + " (paper 0.10-0.11); largest p = " + fmt(blur_worst, 2)});
   const size_t last = rows - 1;
   const double paper_growth = n.paper_ho[last] / n.paper_ho[0];
   const double pf = p_faster(n.ho[last], n.ho[0], paper_growth / 1.5),
                ps = p_slower(n.ho[last], n.ho[0], paper_growth * 1.5);
-  c.push_back({"HO grows with the pixel count like the paper's: HO(largest)/HO(smallest) within a "
-               "factor 1.5 of the paper's over the same rows (fails only where the rank test puts "
-               "it outside at p < 0.01)",
-               pf >= kTimingAlpha && ps >= kTimingAlpha,
-               fmt(med(n.ho[last]) / med(n.ho[0]), 3) + " for " +
-                   fmt(n.pixels[last] / n.pixels[0], 3) + "x the pixels (paper " +
-                   fmt(paper_growth, 3) + " for " +
-                   fmt(n.paper_pixels[last] / n.paper_pixels[0], 3) + "x); " +
-                   p_text(std::min(pf, ps))});
+  c.push_back(
+      {"HO grows with the pixel count like the paper's: HO(largest)/HO(smallest) within a "
+       "factor 1.5 of the paper's over the same rows (fails only where the rank test puts "
+       "it outside at p < 0.01)",
+       pf >= kTimingAlpha && ps >= kTimingAlpha,
+       fmt(med(n.ho[last]) / med(n.ho[0]), 3) + " for " + fmt(n.pixels[last] / n.pixels[0], 3) +
+           "x the pixels (paper " + fmt(paper_growth, 3) + " for " +
+           fmt(n.paper_pixels[last] / n.paper_pixels[0], 3) + "x); " + p_text(std::min(pf, ps))});
   if (n.geo.size() == rows && !n.geo[0].empty() && !n.geo[last].empty()) {
     // Claimed: HO(largest) is slower than HO(smallest) times the geometry pass's median growth.
     const double g = med(n.geo[last]) / med(n.geo[0]);
     const double p = p_slower(n.ho[last], n.ho[0], g);
-    c.push_back({"the geometry pass grows less than HO with resolution (paper 1.66x vs 5.54x over "
-                 "all five rows): HO(largest) slower than HO(smallest) x the geometry's growth by "
-                 "the rank test at p < 0.01",
-                 p < kTimingAlpha,
-                 fmt(g, 3) + "x vs " + fmt(med(n.ho[last]) / med(n.ho[0]), 3) + "x; " + p_text(p)});
+    c.push_back(
+        {"the geometry pass grows less than HO with resolution (paper 1.66x vs 5.54x over "
+         "all five rows): HO(largest) slower than HO(smallest) x the geometry's growth by "
+         "the rank test at p < 0.01",
+         p < kTimingAlpha,
+         fmt(g, 3) + "x vs " + fmt(med(n.ho[last]) / med(n.ho[0]), 3) + "x; " + p_text(p)});
   }
   return c;
 }
@@ -139,8 +141,8 @@ FigureResult dimitrov_table1(FigureContext& ctx) {
   std::vector<Contender> contenders;
   for (size_t i = 0; i < rows; ++i) {
     const PaperRow& p = kPaper[i];
-    contenders.push_back({estimator, o, scene, "main", ctx.quick ? p.w / 10 : p.w,
-                          ctx.quick ? p.h / 10 : p.h});
+    contenders.push_back(
+        {estimator, o, scene, "main", ctx.quick ? p.w / 10 : p.w, ctx.quick ? p.h / 10 : p.h});
   }
   // Interleaved rounds over the resolutions (figure_timing.h), per-pass samples for the checks.
   const InterleavedTimes t = time_interleaved(ctx, contenders, warmup, reps);

@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "estimators/registry.h"
 #include "drawing/error_maps.h"
+#include "estimators/registry.h"
 #include "harness/figures/figure_checks.h"
 #include "harness/figures/figure_util.h"
 #include "harness/figures/figures_gpugems.h"
@@ -240,14 +240,16 @@ FigureResult fig17_3(FigureContext& ctx) {
 
 std::vector<Check> gpugems_fig17_checks(const Fig17Numbers& n) {
   std::vector<Check> c;
-  c.push_back({"on the model, per-vertex accessibility follows the per-pixel reference: "
-               "Pearson r >= 0.8 ('crevices ... darker than exposed regions')",
-               n.have_fine && n.fine_model_r >= 0.8,
-               n.have_fine ? "r = " + fmt(n.fine_model_r, 3) : "not run"});
-  c.push_back({"the soft shadow on the ground plane: the baked map's open-ground minus "
-               "shadowed-ground accessibility >= half the reference's, on the finest floor",
-               n.have_fine && n.fine_shadow >= 0.5 * n.ref_shadow,
-               "vertex-baked " + n.contrast + "; reference " + fmt(n.ref_shadow, 3)});
+  c.push_back(
+      {"on the model, per-vertex accessibility follows the per-pixel reference: "
+       "Pearson r >= 0.8 ('crevices ... darker than exposed regions')",
+       n.have_fine && n.fine_model_r >= 0.8,
+       n.have_fine ? "r = " + fmt(n.fine_model_r, 3) : "not run"});
+  c.push_back(
+      {"the soft shadow on the ground plane: the baked map's open-ground minus "
+       "shadowed-ground accessibility >= half the reference's, on the finest floor",
+       n.have_fine && n.fine_shadow >= 0.5 * n.ref_shadow,
+       "vertex-baked " + n.contrast + "; reference " + fmt(n.ref_shadow, 3)});
   c.push_back(
       {"a finely tessellated floor is what carries it (§17.2 assumes a finely tessellated model): "
        "the finest floor's contrast exceeds the one-quad floor's by at least a quarter of the "

@@ -124,7 +124,8 @@ FigureResult fig7(FigureContext& ctx) {
   const InterleavedTimes t = time_interleaved(ctx, contenders, warmup, reps);
   for (size_t i = 0; i < dmaxes.size(); ++i) {
     const double dmax = dmaxes[i];
-    const ScoredRun run = run_scored(ctx, "obscurances", contenders[i].overrides, scene, view, w, h);
+    const ScoredRun run =
+        run_scored(ctx, "obscurances", contenders[i].overrides, scene, view, w, h);
     const auto mask = compared_mask(ctx, scene, view, w, h, true_ao_definition());
     mean.push_back(masked_mean(run.estimate, mask));
     time.push_back(t.median(i));
@@ -177,17 +178,19 @@ std::vector<Check> mendez_fig6_checks(const Fig6Numbers& n) {
   const bool have = k > 0 && n.random_mean.size() == k && n.random_se.size() == k &&
                     n.systematic_mean.size() == k && n.systematic_se.size() == k;
   const auto it = std::find(n.rays.begin(), n.rays.end(), 16);
-  if (!have || it == n.rays.end()) return {{"random and systematic RMSE at 16 rays", false, "not run"}};
+  if (!have || it == n.rays.end())
+    return {{"random and systematic RMSE at 16 rays", false, "not run"}};
   const auto i16 = static_cast<size_t>(it - n.rays.begin());
   const double rnd = n.random_mean[i16], sys = n.systematic_mean[i16];
-  const double margin =
-      2.0 * std::sqrt(n.random_se[i16] * n.random_se[i16] + n.systematic_se[i16] * n.systematic_se[i16]);
+  const double margin = 2.0 * std::sqrt(n.random_se[i16] * n.random_se[i16] +
+                                        n.systematic_se[i16] * n.systematic_se[i16]);
   std::vector<Check> c;
-  c.push_back({"16 rays: systematic RMSE below random RMSE by more than 2 standard errors "
-               "of the difference (over seeds)",
-               rnd - sys > margin,
-               "random " + fmt(rnd, 4) + " +- " + fmt(n.random_se[i16], 2) + ", systematic " +
-                   fmt(sys, 4) + " +- " + fmt(n.systematic_se[i16], 2)});
+  c.push_back(
+      {"16 rays: systematic RMSE below random RMSE by more than 2 standard errors "
+       "of the difference (over seeds)",
+       rnd - sys > margin,
+       "random " + fmt(rnd, 4) + " +- " + fmt(n.random_se[i16], 2) + ", systematic " + fmt(sys, 4) +
+           " +- " + fmt(n.systematic_se[i16], 2)});
   bool every = true;
   std::string all;
   for (size_t i = 0; i < k; ++i) {
@@ -195,8 +198,8 @@ std::vector<Check> mendez_fig6_checks(const Fig6Numbers& n) {
     all += std::string(i ? ", " : "") + std::to_string(n.rays[i]) +
            " rays: " + fmt(n.random_mean[i] / n.systematic_mean[i], 3) + "x";
   }
-  c.push_back({"systematic RMSE < random RMSE at every ray count", every,
-               "random/systematic RMSE " + all});
+  c.push_back(
+      {"systematic RMSE < random RMSE at every ray count", every, "random/systematic RMSE " + all});
   return c;
 }
 
@@ -214,9 +217,10 @@ std::vector<Check> mendez_fig7_checks(const Fig7Numbers& n) {
   bool darker = true;
   for (size_t i = 1; i < k; ++i) darker = darker && n.mean[i] < n.mean[i - 1];
   std::vector<Check> c;
-  c.push_back({"mean obscurance falls strictly as dmax grows ('a longer one will take into "
-               "account more darkening')",
-               darker, "mean obscurance " + list(n.mean)});
+  c.push_back(
+      {"mean obscurance falls strictly as dmax grows ('a longer one will take into "
+       "account more darkening')",
+       darker, "mean obscurance " + list(n.mean)});
   // Time grows ("a small dmax computes faster"): the largest dmax is slower than the smallest
   // (claimed, so it must be significant), and no step is faster than 0.95 x the one before (fails
   // only when significant).
@@ -240,12 +244,13 @@ std::vector<Check> mendez_fig7_checks(const Fig7Numbers& n) {
   const double paper = 314.0 / 219.0, lo = paper / 1.25, hi = paper * 1.25;
   const double pf = p_faster(n.ms.back(), n.ms.front(), lo),
                ps = p_slower(n.ms.back(), n.ms.front(), hi);
-  c.push_back({"t(2.0)/t(0.2) within a factor 1.25 of the paper's 314/219 = 1.43 (fails only where "
-               "the rank test puts it outside [" +
-                   fmt(lo, 3) + ", " + fmt(hi, 3) + "] at p < 0.01)",
-               pf >= kTimingAlpha && ps >= kTimingAlpha,
-               fmt(medians.back() / medians.front(), 3) + "; below " + p_text(pf) + ", above " +
-                   p_text(ps)});
+  c.push_back(
+      {"t(2.0)/t(0.2) within a factor 1.25 of the paper's 314/219 = 1.43 (fails only where "
+       "the rank test puts it outside [" +
+           fmt(lo, 3) + ", " + fmt(hi, 3) + "] at p < 0.01)",
+       pf >= kTimingAlpha && ps >= kTimingAlpha,
+       fmt(medians.back() / medians.front(), 3) + "; below " + p_text(pf) + ", above " +
+           p_text(ps)});
   return c;
 }
 
