@@ -100,9 +100,10 @@ FigureResult fig7(FigureContext& ctx) {
   const std::vector<double> dmaxes = {0.2, 0.5, 1.0, 2.0};
   const std::vector<double> paper_s = {219.0, 241.0, 264.0, 314.0};  // Fig. 7 (a)-(d)
   const int rays = 40;  // §5: 40 obscurance rays per pixel (8 per pixel x 5 per hit point)
-  // Interleaved rounds (figure_timing.h): 15 a side, so that a 10 % step stands out of this
-  // shared machine's noise (9 gave p = 0.02 for a 1.5x ratio while a build ran beside it).
-  const int warmup = 1, reps = ctx.pick(15, 7);
+  // Interleaved rounds (figure_timing.h): 25 a side, so that the growth stands out of this
+  // shared machine's noise (9 gave p = 0.02 for a 1.5x ratio while a build ran beside it, 15 once
+  // p = 0.002 for 1.24x).
+  const int warmup = 1, reps = ctx.pick(25, 7);
   FigureResult r;
   r.table.columns = {"dmax",
                      "rays",
