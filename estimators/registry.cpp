@@ -12,6 +12,7 @@
 #include "estimators/reeves_blau/reeves_blau.h"
 #include "estimators/shadowmap_ao/shadowmap_ao.h"
 #include "estimators/tree_hegeman/tree_hegeman.h"
+#include "estimators/tree_volume/tree_volume.h"
 #include "estimators/vertex_baked/vertex_baked.h"
 #include "estimators/vulkan/vk_context.h"
 
@@ -35,6 +36,7 @@ Registry& registry_storage() {
       obscurances_estimator(),
       vertex_baked_estimator(),
       tree_sphere_estimator(), tree_ellipsoid_estimator(), tree_shells_estimator(),
+      tree_volume_estimator(),
       reeves_blau_estimator(),
       hbao_split_estimator(),
       hbao_split_cpu_estimator(),

@@ -9,6 +9,8 @@
 #include "corpus.h"
 #include "drawing/error_maps.h"
 #include "estimators/registry.h"
+#include "harness/figures/figure_checks.h"
+#include "harness/figures/figure_timing.h"
 #include "harness/figures/figure_util.h"
 #include "scenes/exr_io.h"
 
@@ -94,16 +96,7 @@ FigureResult fig6(FigureContext& ctx) {
               panel_grid({panels}, "Dimitrov et al. 2008 Fig. 6: effect of R (" + scene + ")"));
   render_plot(plot, ctx.path("dimitrov-fig6-plot.png"));
   r.images = {"dimitrov-fig6.png", "dimitrov-fig6-plot.png"};
-  bool stronger = true;
-  for (size_t i = 1; i < mean.size(); ++i) stronger = stronger && mean[i] < mean[i - 1];
-  r.checks.push_back(
-      {"mean AO falls strictly as R grows ('stronger ambient occlusion values due "
-       "to the existence of more occluders')",
-       stronger, "mean AO " + join(mean)});
-  r.checks.push_back(
-      {"matched RMSE at the largest R > at the smallest, at fixed Nd, Ns, Nn "
-       "('occluder undersampling ... requiring more sampling rays')",
-       rmse.back() > rmse.front(), "RMSE " + join(rmse)});
+  r.checks = dimitrov_fig6_checks({mean, rmse});
   r.measured = std::string(kHbaoCpu) + " (Nd 8, Ns 18, Nn 1, attenuation, jitter, blur) on " +
                scene + "/main at " + std::to_string(w) + "x" + std::to_string(h) +
                "; each R scored against its own matched reference (cosine, dmax = R, linear) at " +
@@ -117,11 +110,17 @@ FigureResult fig7(FigureContext& ctx) {
   const std::string scene = densest_scanned(ctx);
   const auto [w, h] = view_size(ctx, scene, "main", ctx.pick(240, 48));
   const std::vector<int> nds = {1, 2, 4, 7, 10, 16};
-  const int reps = ctx.pick(3, 1);
+  // Interleaved rounds of Nd 1 and Nd 16 decide the timing check by the rank test
+  // (figure_timing.h); 11 once gave p = 0.003 under load.
+  const int reps = ctx.pick(21, 5);
   FigureResult r;
   r.table.columns = {"Nd",           "R",         "scene",   "width",         "height",
                      "rmse_matched", "rmse_true", "mean_ao", "time_ms_median"};
-  std::vector<double> rmse, time;
+  std::vector<double> rmse;
+  std::vector<Contender> contenders;
+  for (int nd : nds)
+    contenders.push_back({kHbaoCpu, {{"R", 0.2}, {"Nd", nd}}, scene, "main", w, h});
+  const InterleavedTimes t = time_interleaved(ctx, contenders, 1, reps);
   std::vector<OIIO::ImageBuf> panels;
   const auto mask = compared_mask(ctx, scene, "main", w, h, true_ao_definition());
   PlotSpec plot;
@@ -130,14 +129,12 @@ FigureResult fig7(FigureContext& ctx) {
   plot.y_label = "RMSE vs matched reference";
   plot.log_x = true;
   PlotSeries e = make_series("RMSE (matched)");
-  for (int nd : nds) {
-    const nlohmann::json o = {{"R", 0.2}, {"Nd", nd}};
-    const Point p = score_point(ctx, kHbaoCpu, o, scene, w, h);
-    const TimedRun t = time_estimator(ctx, kHbaoCpu, o, scene, "main", w, h, 1, reps);
+  for (size_t i = 0; i < nds.size(); ++i) {
+    const int nd = nds[i];
+    const Point p = score_point(ctx, kHbaoCpu, contenders[i].overrides, scene, w, h);
     rmse.push_back(p.rmse);
-    time.push_back(t.median_ms);
     r.table.add({std::to_string(nd), "0.2", scene, std::to_string(w), std::to_string(h),
-                 fmt(p.rmse), fmt(p.true_rmse), fmt(p.mean_ao), fmt(t.median_ms)});
+                 fmt(p.rmse), fmt(p.true_rmse), fmt(p.mean_ao), fmt(t.median(i))});
     if (nd == 1 || nd == 4 || nd == 10)  // the paper's three panels
       panels.push_back(ao_image(w, h, p.estimate.data(), mask, "Nd = " + std::to_string(nd)));
     e.x.push_back(nd), e.y.push_back(p.rmse);
@@ -147,21 +144,13 @@ FigureResult fig7(FigureContext& ctx) {
               panel_grid({panels}, "Dimitrov et al. 2008 Fig. 7: effect of Nd (" + scene + ")"));
   render_plot(plot, ctx.path("dimitrov-fig7-plot.png"));
   r.images = {"dimitrov-fig7.png", "dimitrov-fig7-plot.png"};
-  const size_t i1 = 0, i4 = 2, i10 = 4;
-  r.checks.push_back(
-      {"matched RMSE falls across the paper's panels: RMSE(Nd 1) > RMSE(Nd 4) > "
-       "RMSE(Nd 10)",
-       rmse[i1] > rmse[i4] && rmse[i4] > rmse[i10],
-       fmt(rmse[i1], 4) + " > " + fmt(rmse[i4], 4) + " > " + fmt(rmse[i10], 4)});
-  const double ratio = time.back() / time.front();
-  r.checks.push_back(
-      {"time grows with Nd ('the total number of traced rays is proportional to "
-       "this parameter'): t(Nd 16) / t(Nd 1) >= 4",
-       ratio >= 4.0, fmt(ratio, 3) + " (median ms " + join(time) + ")"});
+  r.checks = dimitrov_fig7_checks({rmse[0], rmse[2], rmse[4], t.ms.front(), t.ms.back()});
   r.measured = std::string(kHbaoCpu) + " (R 0.2, Ns 18, Nn 1, blur) on " + scene + "/main at " +
                std::to_string(w) + "x" + std::to_string(h) +
                ", against the matched reference (cosine, dmax 0.2, linear); time = median of " +
-               std::to_string(reps) + " runs.";
+               std::to_string(reps) +
+               " interleaved rounds (every Nd once per round, rotating order), the timing check "
+               "decided by the one-sided Mann-Whitney rank test at alpha 0.01.";
   return r;
 }
 
@@ -179,26 +168,30 @@ FigureResult fig11(FigureContext& ctx) {
                                        {"(b) Nd 8 Ns 18 Nn 0", 8, 18, 0},
                                        {"(c) Nd 8 Ns 18 Nn 1", 8, 18, 1},
                                        {"(d) Nd 18 Ns 25 Nn 2", 18, 25, 2}};
-  const int reps = ctx.pick(3, 1);
+  // Interleaved rounds (figure_timing.h); 11 once left the b -> c step at p = 0.008.
+  const int reps = ctx.pick(21, 5);
   FigureResult r;
   r.table.columns = {"preset",        "Nd",     "Ns",           "Nn",           "R",
                      "width",         "height", "rmse_matched", "ssim_matched", "rmse_true",
                      "time_ms_median"};
-  std::vector<double> rmse, time;
+  std::vector<double> rmse;
   std::vector<std::vector<float>> estimates;
   std::vector<OIIO::ImageBuf> top, bottom;
   AoDefinition definition;
-  for (const auto& p : presets) {
-    const nlohmann::json o = {{"R", 0.3}, {"Nd", p.nd}, {"Ns", p.ns}, {"Nn", p.nn}};
-    const ScoredRun run = run_scored(ctx, kHbaoCpu, o, scene, "main", w, h);
+  std::vector<Contender> contenders;
+  for (const auto& p : presets)
+    contenders.push_back(
+        {kHbaoCpu, {{"R", 0.3}, {"Nd", p.nd}, {"Ns", p.ns}, {"Nn", p.nn}}, scene, "main", w, h});
+  const InterleavedTimes t = time_interleaved(ctx, contenders, 1, reps);
+  for (size_t i = 0; i < presets.size(); ++i) {
+    const auto& p = presets[i];
+    const ScoredRun run = run_scored(ctx, kHbaoCpu, contenders[i].overrides, scene, "main", w, h);
     definition = find_estimator(kHbaoCpu).definition(ParamSet(run.row.params));
-    const TimedRun t = time_estimator(ctx, kHbaoCpu, o, scene, "main", w, h, 1, reps);
     rmse.push_back(run.row.metrics["rmse"].get<double>());
-    time.push_back(t.median_ms);
     r.table.add({p.label.substr(0, 3), std::to_string(p.nd), std::to_string(p.ns),
                  std::to_string(p.nn), param_text(run.row.params, "R"), std::to_string(w),
                  std::to_string(h), fmt(rmse.back()), fmt(run.row.metrics["ssim"].get<double>()),
-                 fmt(run.row.true_metrics["rmse"].get<double>()), fmt(t.median_ms)});
+                 fmt(run.row.true_metrics["rmse"].get<double>()), fmt(t.median(i))});
     estimates.push_back(run.estimate);
   }
   const ReferenceImage& ref = reference_of(ctx, scene, "main", w, h, definition);
@@ -213,21 +206,16 @@ FigureResult fig11(FigureContext& ctx) {
   write_image(ctx.path("dimitrov-fig11.png"),
               panel_grid({top, bottom}, "Dimitrov et al. 2008 Fig. 11: presets at R = 0.3"));
   r.images = {"dimitrov-fig11.png"};
-  r.checks.push_back(
-      {"the quality preset (d) is closer to the ray tracer than the performance "
-       "preset (a): RMSE(d) < RMSE(a)",
-       rmse[3] < rmse[0], fmt(rmse[3], 4) + " vs " + fmt(rmse[0], 4)});
-  r.checks.push_back({"adding normal occlusion improves proximity occlusion: RMSE(c) < RMSE(b)",
-                      rmse[2] < rmse[1], fmt(rmse[2], 4) + " vs " + fmt(rmse[1], 4)});
-  r.checks.push_back({"cost rises from performance to quality: t(a) < t(b) < t(c) < t(d)",
-                      time[0] < time[1] && time[1] < time[2] && time[2] < time[3],
-                      "median ms " + join(time)});
+  r.checks = dimitrov_fig11_checks({rmse, t.ms});
   r.measured = std::string(kHbaoCpu) +
                " with the four presets of the Fig. 11 caption (R 0.3, "
                "linear attenuation, blur) on " +
                scene + "/main at " + std::to_string(w) + "x" + std::to_string(h) +
                "; (e) is the matched Embree reference (cosine, dmax 0.3, "
-               "linear) instead of Mental Ray; error maps share the scale [0, 0.2].";
+               "linear) instead of Mental Ray; error maps share the scale [0, 0.2]; times from " +
+               std::to_string(reps) +
+               " interleaved rounds, the cost check decided by the one-sided Mann-Whitney rank "
+               "test at alpha 0.01.";
   return r;
 }
 
@@ -280,18 +268,7 @@ FigureResult fig12(FigureContext& ctx) {
               panel_grid({panels}, "Dimitrov et al. 2008 Fig. 12: equal rays per pixel"));
   render_plot(plot, ctx.path("dimitrov-fig12-plot.png"));
   r.images = {"dimitrov-fig12.png", "dimitrov-fig12-plot.png"};
-  size_t wins = 0;
-  for (size_t i = 0; i < budgets.size(); ++i) wins += e_hs[i] < e_rm[i] ? 1 : 0;
-  r.checks.push_back({"at the fewest rays (" + std::to_string(budgets.front()) +
-                          " per pixel) horizon split has the lower matched RMSE",
-                      e_hs.front() < e_rm.front(),
-                      fmt(e_hs.front(), 4) + " vs " + fmt(e_rm.front(), 4)});
-  r.checks.push_back(
-      {"horizon split has the lower matched RMSE at every ray count ('ray marching "
-       "requires more rays than horizon occlusion')",
-       wins == budgets.size(),
-       std::to_string(wins) + " of " + std::to_string(budgets.size()) + "; horizon split " +
-           join(e_hs) + "; ray marching " + join(e_rm)});
+  r.checks = dimitrov_fig12_checks({budgets, e_hs, e_rm});
   r.measured =
       "equal rays per pixel b: hbao-split-cpu with Nd = b/2, Nn = 1 (b rays: Nd horizon "
       "+ Nd Nn normal) and raymarch-ssao with b rays, both R 0.3, Ns 18, linear "
@@ -303,6 +280,71 @@ FigureResult fig12(FigureContext& ctx) {
 }
 
 }  // namespace
+
+std::vector<Check> dimitrov_fig6_checks(const DimitrovFig6Numbers& n) {
+  if (n.mean.size() < 2 || n.rmse.size() < 2)
+    return {{"mean AO and RMSE at two radii or more", false, "not run"}};
+  bool stronger = true;
+  for (size_t i = 1; i < n.mean.size(); ++i) stronger = stronger && n.mean[i] < n.mean[i - 1];
+  return {{"mean AO falls strictly as R grows ('stronger ambient occlusion values due to the "
+           "existence of more occluders')",
+           stronger, "mean AO " + join(n.mean)},
+          {"matched RMSE at the largest R > at the smallest, at fixed Nd, Ns, Nn ('occluder "
+           "undersampling ... requiring more sampling rays')",
+           n.rmse.back() > n.rmse.front(), "RMSE " + join(n.rmse)}};
+}
+
+std::vector<Check> dimitrov_fig7_checks(const DimitrovFig7Numbers& n) {
+  // Time proportional to Nd: Nd 16 is slower than 4 x Nd 1 (claimed, so it must be significant).
+  const double p = p_slower(n.ms_nd16, n.ms_nd1, 4.0);
+  return {{"matched RMSE falls across the paper's panels: RMSE(Nd 1) > RMSE(Nd 4) > RMSE(Nd 10)",
+           n.rmse_nd1 > n.rmse_nd4 && n.rmse_nd4 > n.rmse_nd10,
+           fmt(n.rmse_nd1, 4) + " > " + fmt(n.rmse_nd4, 4) + " > " + fmt(n.rmse_nd10, 4)},
+          {"time grows with Nd ('the total number of traced rays is proportional to this "
+           "parameter'): t(Nd 16) slower than 4 x t(Nd 1) by the rank test at p < 0.01",
+           p < kTimingAlpha,
+           "t(Nd 16) / t(Nd 1) = " + fmt(median(n.ms_nd16) / median(n.ms_nd1), 3) + " (median ms " +
+               fmt(median(n.ms_nd1), 4) + ", " + fmt(median(n.ms_nd16), 4) + "); " + p_text(p)}};
+}
+
+std::vector<Check> dimitrov_fig11_checks(const DimitrovFig11Numbers& n) {
+  if (n.rmse.size() != 4 || n.ms.size() != 4)
+    return {{"the four presets scored and timed", false, "not run"}};
+  double worst = 0.0;  // the largest p of the three steps: each must be significant
+  std::string ps, medians;
+  for (size_t i = 0; i < 4; ++i) {
+    medians += std::string(i ? ", " : "") + fmt(median(n.ms[i]), 4);
+    if (i == 0) continue;
+    const double p = p_slower(n.ms[i], n.ms[i - 1]);
+    worst = std::max(worst, p);
+    ps += std::string(i > 1 ? ", " : "") + fmt(p, 2);
+  }
+  return {{"the quality preset (d) is closer to the ray tracer than the performance preset (a): "
+           "RMSE(d) < RMSE(a)",
+           n.rmse[3] < n.rmse[0], fmt(n.rmse[3], 4) + " vs " + fmt(n.rmse[0], 4)},
+          {"adding normal occlusion improves proximity occlusion: RMSE(c) < RMSE(b)",
+           n.rmse[2] < n.rmse[1], fmt(n.rmse[2], 4) + " vs " + fmt(n.rmse[1], 4)},
+          {"cost rises from performance to quality: t(a) < t(b) < t(c) < t(d), each step slower "
+           "by the rank test at p < 0.01",
+           worst < kTimingAlpha, "median ms " + medians + "; per step p = " + ps}};
+}
+
+std::vector<Check> dimitrov_fig12_checks(const DimitrovFig12Numbers& n) {
+  const size_t k = n.budgets.size();
+  if (k == 0 || n.horizon_split.size() != k || n.ray_marching.size() != k)
+    return {{"both estimators at every ray count", false, "not run"}};
+  size_t wins = 0;
+  for (size_t i = 0; i < k; ++i) wins += n.horizon_split[i] < n.ray_marching[i] ? 1 : 0;
+  return {{"at the fewest rays (" + std::to_string(n.budgets.front()) +
+               " per pixel) horizon split has the lower matched RMSE",
+           n.horizon_split.front() < n.ray_marching.front(),
+           fmt(n.horizon_split.front(), 4) + " vs " + fmt(n.ray_marching.front(), 4)},
+          {"horizon split has the lower matched RMSE at every ray count ('ray marching requires "
+           "more rays than horizon occlusion')",
+           wins == k,
+           std::to_string(wins) + " of " + std::to_string(k) + "; horizon split " +
+               join(n.horizon_split) + "; ray marching " + join(n.ray_marching)}};
+}
 
 FigureResult dimitrov_table1(FigureContext& ctx);  // figures_dimitrov_table1.cpp
 

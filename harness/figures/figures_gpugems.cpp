@@ -7,8 +7,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "estimators/registry.h"
 #include "drawing/error_maps.h"
+#include "estimators/registry.h"
+#include "harness/figures/figure_checks.h"
 #include "harness/figures/figure_util.h"
 #include "harness/figures/figures_gpugems.h"
 #include "scenes/corpus.h"
@@ -194,30 +195,26 @@ FigureResult fig17_3(FigureContext& ctx) {
     if (const Fig17Row* row = find("vertex-baked", "vertex", floor))
       contrast += (contrast.empty() ? "" : ", ") + std::to_string(row->floor_triangles) +
                   " floor triangles: " + fmt(row->shadow, 3);
-  r.checks.push_back(
-      {"on the model, per-vertex accessibility follows the per-pixel reference: "
-       "Pearson r >= 0.8 ('crevices ... darker than exposed regions')",
-       fine && fine->model_r >= 0.8, fine ? "r = " + fmt(fine->model_r, 3) : "not run"});
-  r.checks.push_back(
-      {"the soft shadow on the ground plane: the baked map's open-ground minus "
-       "shadowed-ground accessibility >= half the reference's, on the finest floor",
-       fine && fine->shadow >= 0.5 * ref_shadow,
-       "vertex-baked " + contrast + "; reference " + fmt(ref_shadow, 3)});
-  r.checks.push_back(
-      {"a finely tessellated floor is what carries it (§17.2 assumes a finely tessellated model): "
-       "the finest floor's contrast exceeds the one-quad floor's by at least a quarter of the "
-       "reference's",
-       fine && coarse && fine->shadow - coarse->shadow >= 0.25 * ref_shadow,
-       fine && coarse ? fmt(coarse->shadow, 3) + " -> " + fmt(fine->shadow, 3) : "not run"});
-  if (const Fig17Row* sm = find("shadowmap-ao", "vertex", floors.back())) {
-    r.checks.push_back(
-        {"§17.3's shadow-mapped lights bake the same picture: shadowmap-ao per vertex on the "
-         "finest floor has model r >= 0.8 and ground shadow >= half the reference's",
-         sm->model_r >= 0.8 && sm->shadow >= 0.5 * ref_shadow,
-         "r = " + fmt(sm->model_r, 3) + ", shadow " + fmt(sm->shadow, 3) + " (vertex-baked " +
-             (fine ? fmt(fine->shadow, 3) : "not run") + "), rmse " + fmt(sm->rmse, 3) +
-             " vs vertex-baked " + (fine ? fmt(fine->rmse, 3) : "not run")});
+  Fig17Numbers n;
+  n.ref_shadow = ref_shadow;
+  n.contrast = contrast;
+  if (fine) {
+    n.have_fine = true;
+    n.fine_model_r = fine->model_r;
+    n.fine_shadow = fine->shadow;
+    n.fine_rmse = fine->rmse;
   }
+  if (coarse) {
+    n.have_coarse = true;
+    n.coarse_shadow = coarse->shadow;
+  }
+  if (const Fig17Row* sm = find("shadowmap-ao", "vertex", floors.back())) {
+    n.have_shadowmap = true;
+    n.shadowmap_model_r = sm->model_r;
+    n.shadowmap_shadow = sm->shadow;
+    n.shadowmap_rmse = sm->rmse;
+  }
+  r.checks = gpugems_fig17_checks(n);
   r.measured = "vertex-baked (" + std::to_string(rays) +
                " rays per triangle centre and side; the chapter used 512) and shadowmap-ao (" +
                std::to_string(lights) + " uniform lights on the sphere, about " +
@@ -240,6 +237,37 @@ FigureResult fig17_3(FigureContext& ctx) {
 }
 
 }  // namespace
+
+std::vector<Check> gpugems_fig17_checks(const Fig17Numbers& n) {
+  std::vector<Check> c;
+  c.push_back(
+      {"on the model, per-vertex accessibility follows the per-pixel reference: "
+       "Pearson r >= 0.8 ('crevices ... darker than exposed regions')",
+       n.have_fine && n.fine_model_r >= 0.8,
+       n.have_fine ? "r = " + fmt(n.fine_model_r, 3) : "not run"});
+  c.push_back(
+      {"the soft shadow on the ground plane: the baked map's open-ground minus "
+       "shadowed-ground accessibility >= half the reference's, on the finest floor",
+       n.have_fine && n.fine_shadow >= 0.5 * n.ref_shadow,
+       "vertex-baked " + n.contrast + "; reference " + fmt(n.ref_shadow, 3)});
+  c.push_back(
+      {"a finely tessellated floor is what carries it (§17.2 assumes a finely tessellated model): "
+       "the finest floor's contrast exceeds the one-quad floor's by at least a quarter of the "
+       "reference's",
+       n.have_fine && n.have_coarse && n.fine_shadow - n.coarse_shadow >= 0.25 * n.ref_shadow,
+       n.have_fine && n.have_coarse ? fmt(n.coarse_shadow, 3) + " -> " + fmt(n.fine_shadow, 3)
+                                    : "not run"});
+  if (n.have_shadowmap)
+    c.push_back(
+        {"§17.3's shadow-mapped lights bake the same picture: shadowmap-ao per vertex on the "
+         "finest floor has model r >= 0.8 and ground shadow >= half the reference's",
+         n.shadowmap_model_r >= 0.8 && n.shadowmap_shadow >= 0.5 * n.ref_shadow,
+         "r = " + fmt(n.shadowmap_model_r, 3) + ", shadow " + fmt(n.shadowmap_shadow, 3) +
+             " (vertex-baked " + (n.have_fine ? fmt(n.fine_shadow, 3) : "not run") + "), rmse " +
+             fmt(n.shadowmap_rmse, 3) + " vs vertex-baked " +
+             (n.have_fine ? fmt(n.fine_rmse, 3) : "not run")});
+  return c;
+}
 
 std::vector<Figure> gpugems_figures() {
   return {

@@ -1,0 +1,102 @@
+#include "estimators/tree_proxies/tree_scene.h"
+
+namespace aoeval {
+
+std::vector<ParamSpec> tree_scene_params() {
+  return {
+      {"proxy_source",
+       ParamType::choice,
+       "auto",
+       0,
+       0,
+       false,
+       "",
+       "auto: the scene file's proxy when it has one of this kind, else derived; derived: always "
+       "derive from the leaves (§3 bounding sphere, ellipsoid, §5 k-means shells)",
+       {"auto", "derived"}},
+      {"ground_horizon",
+       ParamType::boolean,
+       true,
+       0,
+       0,
+       false,
+       "",
+       "eq. 7-8: count only the part of a tree's silhouette above the shaded point's tangent plane "
+       "(false: eq. 8 verbatim)",
+       {}},
+      {"grass_ground",
+       ParamType::boolean,
+       true,
+       0,
+       0,
+       false,
+       "",
+       "ground pixels inside a grass field's footprint and below its tips use eq. 9 at their "
+       "height",
+       {}},
+      {"blade_height",
+       ParamType::real,
+       0.0,
+       0.0,
+       1e6,
+       false,
+       "scene units",
+       "h of eq. 9; 0 = each grass object's height (its world-space vertical extent)",
+       {}},
+  };
+}
+
+TreeSceneOptions tree_scene_options(const ParamSet& p, const ProxyOptions& proxy) {
+  TreeSceneOptions o;
+  o.proxy = proxy;
+  o.prefer_scene = p.choice("proxy_source") == "auto";
+  o.horizon = p.boolean("ground_horizon");
+  o.grass_ground = p.boolean("grass_ground");
+  o.blade_height = p.real("blade_height");
+  return o;
+}
+
+const std::vector<TreeEnvelope>& TreeScene::prepare(const Scene& scene,
+                                                    const TreeSceneOptions& options) {
+  options_ = options;
+  rules_.assign(scene.objects.size(), {});
+  outer_.clear();
+  fields_.clear();
+  derived_ = {{"proxies", nlohmann::json::array()}};
+  envelopes_ = tree_envelopes(scene, options.proxy, options.prefer_scene);
+  for (const TreeEnvelope& e : envelopes_) {
+    derived_["proxies"].push_back(envelope_to_json(scene, e));
+    // Eq. 7-8's occluder is one convex shape: the envelope itself, or for shells (which overlap
+    // and so cannot be added) the bounding sphere of the leaves.
+    if (options.proxy.kind == ProxyKind::shells) {
+      ProxyOptions sphere;
+      sphere.kind = ProxyKind::sphere;
+      outer_.push_back(
+          hegeman::make_unit_map(derive_proxy(scene.objects[e.object], sphere).shapes.front()));
+    } else {
+      outer_.push_back(hegeman::make_unit_map(e.proxy.shapes.front()));
+    }
+    rules_[e.object] = {Rule::tree, static_cast<int>(outer_.size() - 1)};
+  }
+  for (size_t i = 0; i < scene.objects.size(); ++i) {
+    const SceneObject& o = scene.objects[i];
+    if (o.role == Role::ground) rules_[i].rule = Rule::ground;
+    if (o.role != Role::grass) continue;
+    // Eq. 9's h: the blade height. From the world-space mesh (facts.blade_height is in the
+    // generator's own space, so it is wrong for a scaled field) unless given as a parameter.
+    const Bounds b = o.mesh.bounds();
+    GrassField f;
+    f.base = b.lower.y;
+    f.height = options.blade_height > 0.0 ? static_cast<float>(options.blade_height) : b.extent().y;
+    if (!(f.height > 0.0f)) f.height = std::numeric_limits<float>::min();
+    f.x0 = b.lower.x;
+    f.x1 = b.upper.x;
+    f.z0 = b.lower.z;
+    f.z1 = b.upper.z;
+    rules_[i] = {Rule::grass, static_cast<int>(fields_.size())};
+    fields_.push_back(f);
+  }
+  return envelopes_;
+}
+
+}  // namespace aoeval

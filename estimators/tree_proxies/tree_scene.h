@@ -1,0 +1,106 @@
+// What every Hegeman et al. 2006 tree estimator (tree-sphere/-ellipsoid/-shells, tree-volume)
+// shares besides a tree's own term: the per-object rule (tree, grass, ground, solid), eq. 7-8 for
+// the trees as large occluders of everything else, eq. 9 for grass, and the parameters that control
+// them (declared here once, listed by each estimator). The estimator supplies only its self term,
+// V_self(tree, x, n), for pixels of a tree's own leaves.
+//
+//   tree    self term of its own tree, times eq. 7-8 for every other tree;
+//   ground, solid
+//           eq. 7-8 for every tree, multiplied (independent occluders); a ground pixel inside a
+//           grass field's footprint and below its blade tips is a grass pixel at its height
+//           (parameter grass_ground);
+//   grass   eq. 9 (see hegeman_model.h), times eq. 7-8 for the trees.
+#pragma once
+
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "estimators/estimator.h"
+#include "estimators/tree_proxies/hegeman_model.h"
+#include "estimators/tree_proxies/tree_proxy.h"
+
+namespace aoeval {
+
+struct TreeSceneOptions {
+  ProxyOptions proxy;
+  bool prefer_scene;  // proxy_source = auto
+  bool horizon;       // ground_horizon
+  bool grass_ground;
+  double blade_height;
+};
+
+// proxy_source, ground_horizon, grass_ground, blade_height: declared once for every tree estimator.
+std::vector<ParamSpec> tree_scene_params();
+// Reads those four; `proxy` says which envelope the estimator wants.
+TreeSceneOptions tree_scene_options(const ParamSet& p, const ProxyOptions& proxy);
+
+class TreeScene {
+ public:
+  // Derives (or takes from the scene) one envelope per tree; returns them in the order the
+  // self term is indexed by (tree index = position in the returned vector).
+  const std::vector<TreeEnvelope>& prepare(const Scene& scene, const TreeSceneOptions& options);
+  const std::vector<TreeEnvelope>& envelopes() const { return envelopes_; }
+  // {"proxies": [envelope_to_json ...]}: what the harness records beside each result.
+  const nlohmann::json& derived() const { return derived_; }
+
+  // The ambient visibility of pixel (x, n) of object `object_id` (the G-buffer's float id).
+  // `self(tree, x, n)` is the estimator's term for a pixel of tree `tree`'s own leaves.
+  template <class Self>
+  float shade(const glm::vec3& x, const glm::vec3& n, float object_id, const Self& self) const {
+    const auto id = static_cast<int>(object_id);
+    if (id < 0 || static_cast<size_t>(id) >= rules_.size()) return 1.0f;
+    const ObjectRule& rule = rules_[static_cast<size_t>(id)];
+    switch (rule.rule) {
+      case Rule::tree: {
+        const float v = self(static_cast<size_t>(rule.index), x, n);
+        return outer_.size() > 1 ? v * others(x, n, rule.index) : v;
+      }
+      case Rule::grass:
+        return grass(fields_[static_cast<size_t>(rule.index)], x, n) * others(x, n, -1);
+      case Rule::ground:
+        if (options_.grass_ground)
+          for (const GrassField& f : fields_)
+            if (x.x >= f.x0 && x.x <= f.x1 && x.z >= f.z0 && x.z <= f.z1 &&
+                x.y <= f.base + f.height)
+              return grass(f, x, n) * others(x, n, -1);
+        return others(x, n, -1);
+      case Rule::solid:
+        return others(x, n, -1);
+    }
+    return 1.0f;
+  }
+
+  // Eq. 7-8 for every tree but `skip`, as independent occluders.
+  float others(const glm::vec3& x, const glm::vec3& n, int skip) const {
+    float v = 1.0f;
+    for (size_t t = 0; t < outer_.size(); ++t)
+      if (static_cast<int>(t) != skip)
+        v *= hegeman::large_occluder_visibility(x, n, outer_[t], options_.horizon);
+    return v;
+  }
+
+ private:
+  struct GrassField {
+    float base = 0.0f, height = 1.0f;                  // lowest vertex, blade height (eq. 9's h)
+    float x0 = 0.0f, x1 = 0.0f, z0 = 0.0f, z1 = 0.0f;  // footprint
+  };
+  enum class Rule : uint8_t { solid, ground, tree, grass };
+  struct ObjectRule {
+    Rule rule = Rule::solid;
+    int index = -1;  // into outer_ (trees) or fields_
+  };
+
+  static float grass(const GrassField& f, const glm::vec3& x, const glm::vec3& n) {
+    return hegeman::grass_visibility(x.y - f.base, f.height, n.y);  // eq. 9, cos theta = n . +Y
+  }
+
+  TreeSceneOptions options_{};
+  std::vector<TreeEnvelope> envelopes_;
+  nlohmann::json derived_ = nlohmann::json::object();
+  std::vector<ObjectRule> rules_;
+  std::vector<hegeman::UnitMap> outer_;  // per tree: the large occluder of eq. 7-8
+  std::vector<GrassField> fields_;
+};
+
+}  // namespace aoeval
