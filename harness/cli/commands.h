@@ -20,6 +20,7 @@ void add_sweep_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
 void add_figures_command(CLI::App& app);
 void add_dashboard_command(CLI::App& app);
+void add_merge_command(CLI::App& app);
 
 // "640x480" -> {640, 480}; {0, 0} for "". InputError naming `option` otherwise.
 std::pair<int, int> parse_resolution(const std::string& text, const std::string& option = "--res");
