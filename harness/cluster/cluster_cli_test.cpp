@@ -46,8 +46,8 @@ std::string write_spec(const fs::path& d) {
 
 std::vector<std::string> run_names(const fs::path& results_json) {
   std::vector<std::string> names;
-  for (const auto& r : nlohmann::json::parse(slurp(results_json))["rows"])
-    names.push_back(r["run_name"].get<std::string>());
+  const nlohmann::json doc = nlohmann::json::parse(slurp(results_json));
+  for (const auto& r : doc["rows"]) names.push_back(r["run_name"].get<std::string>());
   return names;
 }
 
@@ -150,7 +150,8 @@ TEST(Merge, EveryRowOnceDuplicatesKeptOnceConflictsNamed) {
   ASSERT_EQ(m.code, 0) << m.err;
   auto rows = [](const fs::path& f) {
     std::map<std::string, std::string> out;
-    for (const auto& r : nlohmann::json::parse(slurp(f))["rows"]) {
+    const nlohmann::json doc = nlohmann::json::parse(slurp(f));
+    for (const auto& r : doc["rows"]) {
       nlohmann::json keep = r;
       for (const char* k : {"run_id", "timestamp", "time_ms_median", "time_ms_min", "time_ms_max",
                             "time_ms_samples", "estimate_file", "precompute_ms"})
@@ -179,15 +180,17 @@ TEST(Merge, EveryRowOnceDuplicatesKeptOnceConflictsNamed) {
   EXPECT_FALSE(fs::exists(d / "bad" / "results.json"));
 }
 
-// LPT on costs with a known optimum: {5, 4, 3, 3, 3} over 2 shards is 9 / 9.
-TEST(ShardPlan, LargestFirstBalancesAKnownCase) {
+// LPT on Graham's (1969) example: {5, 4, 3, 3, 3} over 2 shards. Largest first gives 5+3 and
+// 4+3+3 (8 and 10; ties go to the lower shard), 10/9 of the optimum 9, within LPT's 4/3 bound.
+TEST(ShardPlan, LargestFirstOnGrahamsExample) {
   std::vector<aoeval::PointCost> points;
   int i = 0;
   for (double ms : {3.0, 5.0, 3.0, 4.0, 3.0})
     points.push_back({"p" + std::to_string(i++), ms, "default"});
   const aoeval::ShardPlan plan = aoeval::plan_shards(points, 2);
-  EXPECT_EQ(plan.shard_ms, (std::vector<double>{9.0, 9.0}));
-  EXPECT_DOUBLE_EQ(plan.planned_ratio(), 1.0);
+  EXPECT_EQ(plan.shard_ms, (std::vector<double>{8.0, 10.0}));
+  EXPECT_EQ(plan.shard_of, (std::vector<int>{1, 0, 0, 1, 1}));
+  EXPECT_DOUBLE_EQ(plan.planned_ratio(), 10.0 / 9.0);
   const fs::path d = aoeval::testutil::test_temp_dir("cluster");
   fs::create_directories(d);
   aoeval::write_shard_plan((d / "plan.json").string(), plan);
