@@ -34,6 +34,7 @@
 // Not modelled: an estimator's own randomness across seeds (rows do not carry it; deterministic
 // estimators repeat bit for bit, CONTRACT "same seed, same bits").
 #include "reports/regression.h"
+#include "harness/results/machine_class.h"
 #include "harness/results/summary.h"
 
 #include <algorithm>
@@ -301,8 +302,10 @@ std::vector<Check> compare_rows(const ResultRow& before, const ResultRow& after,
   const auto& xa = after.time_ms_samples;
   if (xb.empty() || xa.empty()) {
     time.detail = "no timed repetitions stored";
-  } else if (before.device != after.device) {
-    time.detail = "different devices (" + before.device + " vs " + after.device + ")";
+  } else if (machine_class(before) != machine_class(after)) {
+    // Rows merged from several nodes (issue 19): times compare only within a machine class.
+    time.detail = "different machine classes (" + machine_class(before) + " vs " +
+                  machine_class(after) + "): times compare only within a class";
   } else {
     const RankTest r = mann_whitney(xb, xa);
     const double ratio = median(xa) / median(xb);

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "exr_io.h"
+#include "harness/results/machine_class.h"
 #include "reports/html.h"
 #include "reports/suite_report_charts.h"
 
@@ -121,7 +122,26 @@ void summary(std::ostringstream& h, const SuiteReport& r, const std::vector<std:
   row("started", html_escape(r.context.started));
   row("git commit", html_escape(r.context.git_commit));
   row("aoeval version", html_escape(r.context.aoeval_version));
-  row("machine", html_escape(r.context.machine));
+  std::vector<ResultRow> all_rows;
+  std::set<std::string> nodes;
+  for (const auto& e : r.entries) {
+    all_rows.push_back(e.row);
+    if (!e.row.machine.empty()) nodes.insert(e.row.machine);
+  }
+  const std::vector<std::string> classes = machine_classes(all_rows);
+  if (nodes.size() <= 1) {
+    row("machine", html_escape(r.context.machine));
+  } else {  // merged from several nodes (aoeval merge, CONTRACT §9)
+    std::string node_list, class_list;
+    for (const auto& n : nodes) append_listed(node_list, "; ", n);
+    for (const auto& c : classes) append_listed(class_list, "; ", c);
+    row("machines", std::to_string(nodes.size()) + " nodes: " + html_escape(node_list));
+    row("machine classes",
+        html_escape(class_list) + (classes.size() > 1
+                                       ? ". Times are compared only within a machine class "
+                                         "(CPU model, cores, device): see each timing table."
+                                       : ". One class: the times compare across nodes."));
+  }
   row("Embree", html_escape(r.context.embree_version));
   row("wall time", num(r.wall_s, "%.1f") + " s (before the report)");
   row("files", link("results.csv", "results.csv") + " " + link("results.json", "results.json") +
@@ -171,18 +191,29 @@ void scene_section(std::ostringstream& h, const std::string& scene,
   }
   h << "</table>\n";
   std::set<std::string> passes;
-  for (const auto* e : rows)
+  std::vector<ResultRow> timed;
+  for (const auto* e : rows) {
     for (const auto& [pass, ms] : e->row.pass_ms) passes.insert(pass);
-  h << "<h3>Timing (ms)</h3>\n<table class=\"timing\"><tr><th class=\"l\">estimator</th><th "
-       "class=\"l\">parameters</th><th class=\"l\">view</th><th>median</th><th>min</th>"
-       "<th>max</th><th>reps</th><th>precompute</th>";
+    if (e->row.status == "ok") timed.push_back(e->row);
+  }
+  // Rows merged from different kinds of machine (issue 19): times compare within a class only.
+  const bool classes = machine_classes(timed).size() > 1;
+  h << "<h3>Timing (ms)</h3>\n";
+  if (classes)
+    h << "<p class=\"note\">These rows were measured on more than one machine class; compare "
+         "times only between rows of the same class.</p>\n";
+  h << "<table class=\"timing\"><tr><th class=\"l\">estimator</th><th "
+       "class=\"l\">parameters</th><th class=\"l\">view</th>"
+    << (classes ? "<th class=\"l\">machine class</th>" : "")
+    << "<th>median</th><th>min</th><th>max</th><th>reps</th><th>precompute</th>";
   for (const auto& p : passes) h << "<th>" << html_escape(p) << "</th>";
   h << "</tr>\n";
   for (const auto* e : rows) {
     const ResultRow& r = e->row;
     if (r.status != "ok") continue;
     h << "<tr><td class=\"l\">" << html_escape(r.estimator) << "</td><td class=\"l\">"
-      << html_escape(params_of(r)) << "</td><td class=\"l\">" << view_of(r) << "</td><td>"
+      << html_escape(params_of(r)) << "</td><td class=\"l\">" << view_of(r) << "</td>"
+      << (classes ? "<td class=\"l\">" + html_escape(machine_class(r)) + "</td>" : "") << "<td>"
       << num(r.time_ms_median) << "</td><td>" << num(r.time_ms_min) << "</td><td>"
       << num(r.time_ms_max) << "</td><td>" << r.repetitions << "</td><td>" << num(r.precompute_ms)
       << "</td>";

@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -67,6 +68,31 @@ std::string data_cache_dir() {
   if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::string(x) + "/aoeval";
   if (const char* h = std::getenv("HOME"); h && *h) return std::string(h) + "/.cache/aoeval";
   return ".aoeval-cache";
+}
+
+std::vector<std::string> mesh_data_dirs() {
+  std::vector<std::string> dirs;
+  auto add = [&dirs](const std::string& d) {
+    if (!d.empty() && std::find(dirs.begin(), dirs.end(), d) == dirs.end()) dirs.push_back(d);
+  };
+  if (const char* d = std::getenv("AOEVAL_DATA"); d && *d) add(d);
+  if (const char* c = std::getenv("AOEVAL_CACHE"); c && *c) add(c);
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x)
+    add(std::string(x) + "/aoeval");
+  else if (const char* h = std::getenv("HOME"); h && *h)
+    add(std::string(h) + "/.cache/aoeval");
+  if (dirs.empty()) add(".aoeval-cache");
+  return dirs;
+}
+
+std::string resolve_cache_mesh(const std::string& rel) {
+  const std::vector<std::string> dirs = mesh_data_dirs();
+  for (const auto& d : dirs) {
+    std::error_code ec;
+    const fs::path p = fs::path(d) / rel;
+    if (fs::exists(p, ec)) return p.string();
+  }
+  return (fs::path(dirs.front()) / rel).string();
 }
 
 namespace {
@@ -173,7 +199,7 @@ SceneObject load_object(JsonReader reader, const fs::path& scene_dir) {
   if (has_mesh) {
     std::string rel = reader.string("mesh");
     fs::path path =
-        rel.rfind("cache:", 0) == 0 ? fs::path(data_cache_dir()) / rel.substr(6) : scene_dir / rel;
+        rel.rfind("cache:", 0) == 0 ? fs::path(resolve_cache_mesh(rel.substr(6))) : scene_dir / rel;
     obj.source = "mesh " + path.string();
     try {
       obj.mesh = load_mesh(path.string());

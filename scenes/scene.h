@@ -76,8 +76,18 @@ Scene load_scene_file(const std::string& path);
 // The views of a scene file alone, without loading its geometry (for planning sweeps).
 std::vector<View> load_scene_views(const std::string& path);
 
-// Where extracted third-party meshes live: $AOEVAL_CACHE, else $XDG_CACHE_HOME/aoeval, else
-// ~/.cache/aoeval.
+// The cache of computed files (references, compiled shaders): $AOEVAL_CACHE, else
+// $XDG_CACHE_HOME/aoeval, else ~/.cache/aoeval.
 std::string data_cache_dir();
+
+// Where "cache:REL" mesh paths (the scanned meshes tools/bootstrap.sh extracts from Debian
+// packages) are looked for, in order: $AOEVAL_DATA, $AOEVAL_CACHE, then $XDG_CACHE_HOME/aoeval or
+// ~/.cache/aoeval. The meshes are set-up data, not computed results: a cluster node given a fresh
+// shared AOEVAL_CACHE for its references (issue 19) still finds the meshes its own set-up
+// extracted.
+std::vector<std::string> mesh_data_dirs();
+// The first <dir>/REL of mesh_data_dirs() that exists, else the first candidate (whose loading
+// error then names where the mesh was expected).
+std::string resolve_cache_mesh(const std::string& rel);
 
 }  // namespace aoeval

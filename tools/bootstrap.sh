@@ -22,7 +22,8 @@ packages=(
 # from the machine, or Debian's nodejs + npm where it has none).
 # The sanitizer stage (tools/sanitize.sh) builds with clang, its sanitizers and libFuzzer.
 if [ "${1:-}" = "--test" ]; then
-  packages+=(chromium clang libclang-rt-14-dev)
+  # slurmctld, slurmd, slurm-client and munge: the one-node Slurm cluster of the --slurm test (issue 19).
+  packages+=(chromium clang libclang-rt-14-dev slurmctld slurmd slurm-client munge)
   command -v node >/dev/null && command -v npm >/dev/null || packages+=(nodejs npm)
 fi
 
@@ -41,9 +42,10 @@ if ((${#missing[@]})); then
     "${missing[@]}" >&2
 fi
 
-# Scanned meshes (CONTRACT §6): extracted once from libcgal-demo's data tarball into the cache that
-# scene files address as "cache:meshes/...".
-cache_dir="${AOEVAL_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/aoeval}"
+# Scanned meshes (CONTRACT §6): extracted once from libcgal-demo's data tarball into the data folder
+# that scene files address as "cache:meshes/..." (scenes/scene.h mesh_data_dirs: $AOEVAL_DATA, else
+# $AOEVAL_CACHE, else the user's cache), so a fresh shared AOEVAL_CACHE still finds them.
+cache_dir="${AOEVAL_DATA:-${AOEVAL_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/aoeval}}"
 meshes=(bunny00.off ChineseDragon-10kv.off armadillo.off elephant.off)
 need_extract=0
 for m in "${meshes[@]}"; do [ -s "$cache_dir/meshes/$m" ] || need_extract=1; done

@@ -4,11 +4,13 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "corpus.h"
 #include "errors.h"
 #include "gbuffer.h"
 #include "harness/cli/commands.h"
+#include "references/cache_lock.h"
 #include "references/reference_cache.h"
 #include "version.h"
 
@@ -55,22 +57,38 @@ void run_reference(const Options& o) {
   const Camera camera = make_camera(view, w, h);
   const std::string key = reference_cache_key(scene, camera, s);
   const std::string cached = reference_cache_path(key);
-  if (!o.no_cache && usable_cache_entry(cached, key)) {
-    copy_atomically(cached, o.output);
+  auto served = [&] {
     std::fprintf(stderr, "reference: served from cache %s (%.2f s)\n", cached.c_str(),
                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  };
+  if (!o.no_cache && usable_cache_entry(cached, key)) {
+    copy_atomically(cached, o.output);
+    served();
     return;
   }
-  EmbreeScene es(scene);
-  const GBuffer g = render_gbuffer(es, camera);
-  const ReferenceImage r = compute_reference(es, g, s);
-  const OIIO::ImageBuf image = reference_to_image(r, s.target_stderr > 0.0);
-  Attributes attributes = reference_attributes(scene, view, camera, s);
-  add_cache_attributes(attributes, key, image);
-  // Written once and copied, so the output and the cached file are the same bytes (the EXR
-  // header's capDate included) and a later cache hit serves exactly this file.
-  write_exr(o.output, image, attributes);
-  if (!o.no_cache) copy_atomically(o.output, cached);
+  std::optional<ReferenceImage> computed;
+  auto compute = [&] {
+    EmbreeScene es(scene);
+    const GBuffer g = render_gbuffer(es, camera);
+    computed = compute_reference(es, g, s);
+    const OIIO::ImageBuf image = reference_to_image(*computed, s.target_stderr > 0.0);
+    Attributes attributes = reference_attributes(scene, view, camera, s);
+    add_cache_attributes(attributes, key, image);
+    // Written once and copied, so the output and the cached file are the same bytes (the EXR
+    // header's capDate included) and a later cache hit serves exactly this file.
+    write_exr(o.output, image, attributes);
+    if (!o.no_cache) copy_atomically(o.output, cached);
+  };
+  if (o.no_cache) {
+    compute();
+  } else if (!fill_cache_entry_once(
+                 cached, [&] { return usable_cache_entry(cached, key); }, compute)) {
+    // Another process computed it while this one waited on the entry's lock (cache_lock.h).
+    copy_atomically(cached, o.output);
+    served();
+    return;
+  }
+  const ReferenceImage& r = *computed;
   double se2 = 0.0;
   size_t covered = 0;
   for (size_t k = 0; k < r.ao.size(); ++k) {

@@ -6,8 +6,12 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "errors.h"
+#include "harness/cli/cluster_options.h"
 #include "harness/cli/commands.h"
 #include "harness/plugins/plugin_options.h"
+#include "harness/results/suite_record_io.h"
+#include "harness/sweep/suite.h"
 #include "harness/sweep/suite_runner.h"
 #include "reports/gbuffer_gallery.h"
 #include "reports/suite_report.h"
@@ -28,6 +32,8 @@ RunOutcome run_suite_with_report(const SuiteRunOptions& o) {
   RunOutcome outcome;
   {
     const auto timer = run.stages.time("report (page, plots)");
+    // Kept so that `aoeval merge` writes this same page for a suite run in shards.
+    write_suite_record(run.out_dir, run.report, run.gallery);
     outcome.page = write_suite_report(run.out_dir, run.report);
   }
   outcome.wall_ms =
@@ -56,7 +62,48 @@ void add_run_command(CLI::App& app) {
   cmd->add_option(
       "--set", o.sets,
       "ESTIMATOR:KEY=VALUE: replaces KEY's value in every run of ESTIMATOR (repeatable)");
-  cmd->callback([] {
+  cmd->add_option("--shard", o.shard,
+                  "run shard I of N (0-based) of the suite's points; auto: SLURM_ARRAY_TASK_ID of "
+                  "SLURM_ARRAY_TASK_COUNT (merge the shards with `aoeval merge`)");
+  cmd->add_option("--shard-plan", o.shard_plan,
+                  "with --shard: the cost-balanced plan's shard (written by --slurm)");
+  static ClusterOptions c;
+  add_cluster_options(cmd, c);
+  cmd->add_flag("--resume", c.resume,
+                "with --slurm: resubmit only the shards of --out that did not finish, then merge");
+  cmd->callback([cmd] {
+    if (c.resume && !c.slurm)
+      throw InputError(
+          "--resume: `aoeval run` resumes only with --slurm (a single-machine run "
+          "is one pass; use `aoeval sweep --resume` for an interruptible one)");
+    if (c.slurm || c.references_only) {
+      Suite suite = load_suite(o.suite);
+      std::vector<SuiteOverride> overrides;
+      for (const auto& s : o.sets) overrides.push_back(parse_suite_override(s));
+      apply_suite_overrides(suite, overrides);
+      const std::vector<SuitePoint> points = expand_suite(suite);
+      std::vector<StagePoint> stage;
+      for (const auto& p : points) stage.push_back({&p.point, &suite.specs[p.spec]});
+      if (c.references_only) return run_reference_stage(stage, o.shard);
+      SlurmSubmission s;
+      s.command = "run";
+      const bool is_file = o.suite.find('/') != std::string::npos ||
+                           (o.suite.size() > 5 && o.suite.ends_with(".json"));
+      s.input_args = {"--suite", is_file ? std::filesystem::absolute(o.suite).string() : o.suite};
+      for (const auto& set : o.sets) {
+        s.input_args.push_back("--set");
+        s.input_args.push_back(set);
+      }
+      add_plugin_args(cmd, s.input_args);
+      s.name = suite.name;
+      s.out = o.out_dir;
+      s.database = o.database;
+      s.resume = c.resume;
+      s.suite = true;
+      s.points = stage;
+      s.cluster = c;
+      return submit_to_slurm(s);
+    }
     const RunOutcome run = run_suite_with_report(o);
     std::fprintf(stderr, "run %s: time by stage\n%s", run.suite.c_str(),
                  run.stages.table(run.wall_ms).c_str());

@@ -24,6 +24,7 @@ void add_bench_command(CLI::App& app);
 void add_bench_harness_command(CLI::App& bench);  // `bench harness`, inside add_bench_command
 void add_figures_command(CLI::App& app);
 void add_dashboard_command(CLI::App& app);
+void add_merge_command(CLI::App& app);
 void add_tune_command(CLI::App& app);
 
 // `aoeval run`'s work: the suite, its pages, and the stage breakdown stored in the run's context.

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   aoeval::add_figures_command(app);
   aoeval::add_dashboard_command(app);
   aoeval::add_tune_command(app);
+  aoeval::add_merge_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

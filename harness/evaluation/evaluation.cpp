@@ -10,6 +10,7 @@
 #include "harness/scoring/bent_metrics.h"
 #include "harness/scoring/metrics.h"
 #include "harness/results/summary.h"
+#include "references/cache_lock.h"
 #include "references/reference_cache.h"
 #include "version.h"
 
@@ -110,24 +111,33 @@ const ReferenceImage& EvaluationSession::reference(const std::string& scene_name
   const Camera camera = make_camera(view, w, h);
   const std::string cache_key = reference_cache_key(s.scene, camera, settings);
   const std::string path = reference_cache_path(cache_key);
-  if (disk_cache_) {
-    const auto timer = stages_.time("reference read (cache)");
-    if (usable_cache_entry(path, cache_key)) return references_[key] = read_reference_image(path);
-  }
   const GBuffer& g = gbuffer(scene_name, view, w, h);
-  ReferenceImage r;
-  {
+  if (!disk_cache_) {
     const auto timer = stages_.time("reference compute");
-    r = compute_reference(*s.embree, g, settings);
+    return references_[key] = compute_reference(*s.embree, g, settings);
   }
-  if (disk_cache_) {
-    const auto timer = stages_.time("reference write (cache)");
-    const OIIO::ImageBuf image = reference_to_image(r, false);
-    Attributes attributes = reference_attributes(s.scene, view, camera, settings);
-    add_cache_attributes(attributes, cache_key, image);
-    write_exr(path, image, attributes);
-  }
-  return references_[key] = std::move(r);
+  // Shards on other nodes may need the same entry at the same moment: computed once under the
+  // entry's lock (references/cache_lock.h), then read back like any hit.
+  fill_cache_entry_once(
+      path,
+      [&] {
+        const auto timer = stages_.time("reference read (cache)");
+        return usable_cache_entry(path, cache_key);
+      },
+      [&] {
+        ReferenceImage r;
+        {
+          const auto timer = stages_.time("reference compute");
+          r = compute_reference(*s.embree, g, settings);
+        }
+        const auto timer = stages_.time("reference write (cache)");
+        const OIIO::ImageBuf image = reference_to_image(r, false);
+        Attributes attributes = reference_attributes(s.scene, view, camera, settings);
+        add_cache_attributes(attributes, cache_key, image);
+        write_exr(path, image, attributes);
+      });
+  const auto timer = stages_.time("reference read (cache)");
+  return references_[key] = read_reference_image(path);
 }
 
 namespace {

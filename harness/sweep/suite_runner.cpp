@@ -12,12 +12,13 @@
 #include "errors.h"
 #include "exr_io.h"
 #include "harness/evaluation/evaluation.h"
-#include "harness/results/output_lock.h"
 #include "harness/evaluation/progress.h"
+#include "harness/results/output_lock.h"
 #include "harness/results/results_store.h"
+#include "harness/results/suite_record.h"
+#include "harness/sweep/shard_plan.h"
 #include "harness/sweep/suite.h"
 #include "harness/sweep/sweep_runner.h"
-#include "harness/results/suite_record.h"
 #include "references/reference_cache.h"
 
 namespace aoeval {
@@ -186,7 +187,14 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
   std::vector<SuiteOverride> overrides;
   for (const auto& s : o.sets) overrides.push_back(parse_suite_override(s));
   apply_suite_overrides(suite, overrides);
-  const std::vector<SuitePoint> points = expand_suite(suite);
+  std::vector<SuitePoint> points = expand_suite(suite);
+  if (!o.shard.empty() || !o.shard_plan.empty()) {  // a shard of a --slurm run (CONTRACT §9)
+    std::vector<std::string> names;
+    for (const auto& p : points) names.push_back(p.point.name);
+    std::vector<SuitePoint> selected;
+    for (size_t i : shard_indices(names, o.shard, o.shard_plan)) selected.push_back(points[i]);
+    points = std::move(selected);
+  }
 
   const std::string out = o.out_dir.empty() ? "out/" + suite.name : o.out_dir;
   // Database first (an unwritable --db leaves no folder), then one writer per folder (see
@@ -196,6 +204,7 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
   remove_stale_temporaries(out);
   std::string command = "run " + suite.name;
   for (const auto& s : o.sets) command += " --set " + s;
+  if (!o.shard.empty()) command += " --shard " + o.shard;
   RunContext context = make_run_context(command);
   context.output_dir = fs::weakly_canonical(fs::absolute(out)).string();
   const std::string run_dir = "runs/" + context.run_id;

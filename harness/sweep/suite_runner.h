@@ -23,6 +23,8 @@ struct SuiteRunOptions {
   std::string out_dir;            // default out/<suite name>
   std::string database = "out/results.sqlite";
   std::vector<std::string> sets;  // "ESTIMATOR:KEY=VALUE"
+  std::string shard;              // "I/N", "auto" or "": this shard's points only (CONTRACT §9)
+  std::string shard_plan;         // with shard: the cost-balanced plan (shard_plan.h)
 };
 
 // What a run leaves for its report (cli/cmd_run.cpp writes the page with reports/).

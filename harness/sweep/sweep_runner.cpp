@@ -8,10 +8,11 @@
 #include <set>
 
 #include "errors.h"
-#include "harness/results/output_lock.h"
 #include "harness/evaluation/progress.h"
+#include "harness/results/output_lock.h"
 #include "harness/results/results_store.h"
 #include "harness/results/stage_times.h"
+#include "harness/sweep/shard_plan.h"
 #include "harness/sweep/sweep_spec.h"
 
 namespace aoeval {
@@ -35,9 +36,12 @@ int run_sweep(const SweepOptions& o) {
   const SweepSpec spec = load_sweep_spec(o.spec_path);
   std::vector<SweepPoint> points = expand_sweep(spec, o.max_points);
   const size_t total = points.size();
-  if (!o.shard.empty()) {
-    const auto [index, count] = parse_shard(o.shard);
-    points = select_shard(points, index, count);
+  {
+    std::vector<std::string> names;
+    for (const auto& p : points) names.push_back(p.name);
+    std::vector<SweepPoint> selected;
+    for (size_t i : shard_indices(names, o.shard, o.shard_plan)) selected.push_back(points[i]);
+    points = std::move(selected);
   }
   // Shards default to a folder each, so that concurrent shards never rewrite each other's files.
   std::string out = o.out_dir;

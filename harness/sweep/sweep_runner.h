@@ -12,7 +12,9 @@ struct SweepOptions {
   std::string spec_path;
   std::string out_dir;  // default out/<spec name>
   bool resume = false;
-  std::string shard;  // "I/N" or ""
+  std::string shard;  // "I/N", "auto" or ""
+  std::string
+      shard_plan;  // with shard: the plan's shard instead of every N-th point (shard_plan.h)
   std::string database = "out/results.sqlite";
   bool keep_estimates = true;  // write each estimate's EXR under <out>/estimates/
   size_t max_points = 100000;  // kDefaultMaxSweepPoints (sweep_spec.h); --max-points

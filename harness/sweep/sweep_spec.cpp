@@ -1,5 +1,7 @@
 #include "harness/sweep/sweep_spec.h"
 
+#include <cstdlib>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -249,6 +251,24 @@ std::vector<SweepPoint> select_shard(const std::vector<SweepPoint>& points, int 
 }
 
 std::pair<int, int> parse_shard(const std::string& text) {
+  if (text == "auto") {
+    // A Slurm job array's task (CONTRACT §9): the same binary runs under GNU parallel or a
+    // Kubernetes indexed job with an explicit I/N.
+    const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
+    const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
+    if (!id || !*id || !count || !*count)
+      throw InputError(
+          "--shard auto: SLURM_ARRAY_TASK_ID and SLURM_ARRAY_TASK_COUNT are not set (not inside a "
+          "Slurm job array); pass --shard I/N");
+    try {
+      return parse_shard(std::string(id) + "/" + count);
+    } catch (const InputError&) {
+      throw InputError(std::string("--shard auto: SLURM_ARRAY_TASK_ID=") + id +
+                       " and SLURM_ARRAY_TASK_COUNT=" + count +
+                       " do not make a shard I/N with 0 <= I < N (submit the array as --array=0-" +
+                       "(N-1))");
+    }
+  }
   const auto slash = text.find('/');
   auto bad = [&]() -> std::pair<int, int> {
     throw InputError("--shard: expected I/N with 0 <= I < N, got '" + text + "'");

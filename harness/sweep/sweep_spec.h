@@ -59,7 +59,8 @@ std::vector<SweepPoint> expand_sweep(const SweepSpec& spec,
 // Shard I of N (0-based): every N-th point starting at I. The shards' union is the whole sweep and
 // they are disjoint.
 std::vector<SweepPoint> select_shard(const std::vector<SweepPoint>& points, int index, int count);
-// "I/N" -> {I, N}; InputError for anything else.
+// "I/N" -> {I, N}; "auto" reads SLURM_ARRAY_TASK_ID / SLURM_ARRAY_TASK_COUNT (CONTRACT §9);
+// InputError for anything else, or for "auto" outside a Slurm job array.
 std::pair<int, int> parse_shard(const std::string& text);
 
 }  // namespace aoeval
