@@ -125,6 +125,20 @@ TEST(FigureChecks, GpugemsFig17_3) {
   expect_all(gpugems_fig17_checks(bad), false, "fig17-3 bad");
 }
 
+TEST(FigureChecks, EqualTime) {
+  EqualTimeNumbers good;
+  good.scenes = 4;
+  good.winners = {"bunny: gtao", "dragon: gtao", "room: gtao", "cornell-box: hbao-split"};
+  good.gtao_bent_excess = {4.0, 6.5, 3.2, 9.9};
+  expect_all(equal_time_checks(good), true, "equal-time good");
+  EqualTimeNumbers bad = good;
+  bad.timing_misses = {"raymarch-ssao on bunny 9.1 ms vs 3.0"};
+  bad.winners = {"bunny: gtao", "dragon: raymarch-ssao", "room: hbao-split",
+                 "cornell-box: hbao-split"};
+  bad.gtao_bent_excess = {4.0, 16.0, 3.2, 9.9};
+  expect_all(equal_time_checks(bad), false, "equal-time bad");
+}
+
 TEST(FigureChecks, DimitrovFig6) {
   expect_all(dimitrov_fig6_checks({{0.9, 0.8, 0.7}, {0.01, 0.02, 0.03}}), true, "dfig6 good");
   expect_all(dimitrov_fig6_checks({{0.7, 0.8, 0.9}, {0.03, 0.02, 0.01}}), false, "dfig6 bad");
