@@ -119,15 +119,15 @@ void submit_to_slurm(const SlurmSubmission& s) {
   auto shard_dir = [&](int i) {
     return out / "shards" / ("shard-" + std::to_string(i) + "-of-" + std::to_string(n));
   };
-  std::vector<int> todo;
+  std::vector<int> unfinished_shards;
   for (int i = 0; i < n; ++i)
-    if (!fs::exists(shard_dir(i) / "shard.json")) todo.push_back(i);
+    if (!fs::exists(shard_dir(i) / "shard.json")) unfinished_shards.push_back(i);
 
   const std::string exe = self_exe();
   const std::string common = join_quoted(s.input_args);
   const std::vector<std::string>& extra = s.cluster.slurm_args;
   std::string references_job, shards_job;
-  if (!todo.empty()) {
+  if (!unfinished_shards.empty()) {
     const size_t refs = distinct_references(s.points).size();
     if (refs > 0) {
       const int tasks = static_cast<int>(std::min<size_t>(refs, static_cast<size_t>(n)));
@@ -164,7 +164,7 @@ void submit_to_slurm(const SlurmSubmission& s) {
             "> \"$dir/.shard.json.tmp\" && mv \"$dir/.shard.json.tmp\" \"$dir/shard.json\"\n"
             "fi\nexit $rc\n");
     std::vector<std::string> args = {"--job-name=aoeval-" + s.name + "-shards",
-                                     "--array=" + array_spec(todo),
+                                     "--array=" + array_spec(unfinished_shards),
                                      "--output=" + (logs / "shard-%a.log").string()};
     if (!references_job.empty()) {
       args.push_back("--dependency=afterok:" + references_job);
@@ -174,7 +174,7 @@ void submit_to_slurm(const SlurmSubmission& s) {
     args.push_back((slurm_dir / "shard.sh").string());
     shards_job = sbatch(args, logs);
     std::printf("shards: job %s (array %s of %d, planned slowest/mean %.3f)\n", shards_job.c_str(),
-                array_spec(todo).c_str(), n, plan.planned_ratio());
+                array_spec(unfinished_shards).c_str(), n, plan.planned_ratio());
   }
   std::string dirs;
   for (int i = 0; i < n; ++i) dirs.append(" ").append(shell_quote(shard_dir(i).string()));
