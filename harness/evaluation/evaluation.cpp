@@ -1,5 +1,7 @@
 #include "harness/evaluation/evaluation.h"
 
+#include "harness/evaluation/background_lane.h"
+
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -7,9 +9,9 @@
 #include "corpus.h"
 #include "errors.h"
 #include "estimators/registry.h"
+#include "harness/results/summary.h"
 #include "harness/scoring/bent_metrics.h"
 #include "harness/scoring/metrics.h"
-#include "harness/results/summary.h"
 #include "references/cache_lock.h"
 #include "references/reference_cache.h"
 #include "version.h"
@@ -70,6 +72,7 @@ EvaluationSession::EvaluationSession(ReferenceSpec reference, TimingSpec timing,
 EvaluationSession::~EvaluationSession() = default;
 
 const EvaluationSession::SceneData& EvaluationSession::scene(const std::string& name) {
+  std::lock_guard<std::recursive_mutex> lock(cache_mutex_);
   auto it = scenes_.find(name);
   if (it != scenes_.end()) return it->second;
   const auto timer = stages_.time("scene load + BVH");
@@ -89,6 +92,7 @@ std::string view_key(const std::string& scene, const View& v, int w, int h) {
 
 const GBuffer& EvaluationSession::gbuffer(const std::string& scene_name, const View& view, int w,
                                           int h) {
+  std::lock_guard<std::recursive_mutex> lock(cache_mutex_);
   const std::string key = view_key(scene_name, view, w, h);
   auto it = gbuffers_.find(key);
   if (it != gbuffers_.end()) return it->second;
@@ -97,8 +101,30 @@ const GBuffer& EvaluationSession::gbuffer(const std::string& scene_name, const V
   return gbuffers_[key] = render_gbuffer(*s.embree, make_camera(view, w, h));
 }
 
+void EvaluationSession::compute_missing_reference(const std::string& scene_name, const View& view,
+                                                  int w, int h, const AoDefinition& definition) {
+  {
+    std::lock_guard<std::recursive_mutex> lock(cache_mutex_);
+    const std::string key = view_key(scene_name, view, w, h) + "|" + definition.to_json().dump();
+    if (references_.count(key)) return;
+    if (disk_cache_) {
+      const SceneData& s = scene(scene_name);
+      ReferenceSettings settings;
+      settings.spp = reference_spec_.spp;
+      settings.sampler = reference_spec_.sampler;
+      settings.seed = reference_spec_.seed;
+      settings.definition = definition;
+      const std::string path =
+          reference_cache_path(reference_cache_key(s.scene, make_camera(view, w, h), settings));
+      if (fs::exists(path)) return;  // read when scored (a damaged entry is recomputed then)
+    }
+  }
+  reference(scene_name, view, w, h, definition);
+}
+
 const ReferenceImage& EvaluationSession::reference(const std::string& scene_name, const View& view,
                                                    int w, int h, const AoDefinition& definition) {
+  std::lock_guard<std::recursive_mutex> lock(cache_mutex_);
   const std::string key = view_key(scene_name, view, w, h) + "|" + definition.to_json().dump();
   auto it = references_.find(key);
   if (it != references_.end()) return it->second;
@@ -152,9 +178,10 @@ std::vector<uint8_t> compared_pixels(const GBuffer& g, const ReferenceImage& ref
   return mask;
 }
 
-nlohmann::json score(const GBuffer& g, const ReferenceImage& ref, const std::vector<float>& est,
-                     const std::optional<std::vector<glm::vec3>>& bent, const std::string& prefix,
-                     const flip::ReferenceSide& flip_reference) {
+nlohmann::json score_against(const GBuffer& g, const ReferenceImage& ref,
+                             const std::vector<float>& est,
+                             const std::optional<std::vector<glm::vec3>>& bent,
+                             const std::string& prefix, const flip::ReferenceSide& flip_reference) {
   const std::vector<uint8_t> mask = compared_pixels(g, ref);
   const Metrics m =
       compare_images({g.width, g.height, ref.ao.data()}, {g.width, g.height, est.data()}, mask,
@@ -176,6 +203,7 @@ const std::vector<float>* channel(const EstimateResult& r, const std::string& na
 
 const flip::ReferenceSide& EvaluationSession::flip_reference(const GBuffer& g,
                                                              const ReferenceImage& reference) {
+  std::lock_guard<std::recursive_mutex> lock(cache_mutex_);
   // References live in references_ (a std::map: stable addresses) for the session's lifetime, and
   // each belongs to one G-buffer, so the address names the (reference, mask) pair.
   auto it = flip_references_.find(&reference);
@@ -192,16 +220,28 @@ const flip::ReferenceSide& EvaluationSession::flip_reference(const GBuffer& g,
 
 ResultRow EvaluationSession::evaluate(const EvaluationRequest& req,
                                       const std::string& estimate_path) {
+  Measurement m = measure(req);
+  return score(m, estimate_path);
+}
+
+Measurement EvaluationSession::measure(const EvaluationRequest& req) {
   const EstimatorInfo& e = *req.estimator;
-  const ParamSet params = resolve_params(e.name, e.params, req.overrides, "estimator " + e.name);
+  Measurement m;
+  m.estimator = &e;
+  m.params = resolve_params(e.name, e.params, req.overrides, "estimator " + e.name);
+  const ParamSet& params = m.params;
   const SceneData& s = scene(req.scene);
   const View& view = s.scene.view(req.view);
   const int w = req.width > 0 ? req.width : view.width;
   const int h = req.height > 0 ? req.height : view.height;
+  m.scene = req.scene;
+  m.view = &view;
+  m.width = w;
+  m.height = h;
   const GBuffer& g = gbuffer(req.scene, view, w, h);
   const AoDefinition definition = e.definition(params);
 
-  ResultRow row;
+  ResultRow& row = m.row;
   row.run_name = run_name(e, params, req.overrides, s.scene.name, view.name, w, h);
   row.estimator = e.name;
   row.params = params.json();
@@ -221,8 +261,8 @@ ResultRow EvaluationSession::evaluate(const EvaluationRequest& req,
     const auto timer = stages_.time("estimator set-up");
     estimator = e.create(params);
   }
-  nlohmann::json derived;
-  EstimateResult result;
+  nlohmann::json& derived = m.derived;
+  EstimateResult& result = m.result;
   std::vector<double> times;
   std::map<std::string, std::vector<double>> passes;
   try {
@@ -236,6 +276,21 @@ ResultRow EvaluationSession::evaluate(const EvaluationRequest& req,
       const auto timer = stages_.time(StageTimes::kEstimatorWarmup);
       for (int i = 0; i < timing_.warmup; ++i) result = estimator->run(context);
     }
+    // A reference missing from the cache is computed here, on the caller's thread, not by score()
+    // on a background lane, where it would run for seconds beside the estimators' frames (after
+    // the warm-up, so that an estimator without its backend computes none).
+    compute_missing_reference(req.scene, view, w, h, definition);
+    compute_missing_reference(req.scene, view, w, h, true_ao_definition());
+    if (before_timed_frames_) {
+      const auto timer = stages_.time(StageTimes::kWaitingForBackground);
+      before_timed_frames_();
+    }
+    struct AfterFrames {  // resumes the background work however the frames end
+      const std::function<void()>& after;
+      ~AfterFrames() {
+        if (after) after();
+      }
+    } after_frames{after_timed_frames_};
     const auto timer = stages_.time(StageTimes::kEstimatorFrames);
     for (int i = 0; i < std::max(1, timing_.repetitions); ++i) {
       const auto t0 = std::chrono::steady_clock::now();
@@ -250,8 +305,8 @@ ResultRow EvaluationSession::evaluate(const EvaluationRequest& req,
     // metrics or timings, and sweeps and runs carry on with the other estimators.
     row.status = std::string("skipped: ") + unavailable.what();
     row.timestamp = utc_now();
-    last_estimate_.clear();
-    return row;
+    result = EstimateResult{};
+    return m;
   }
   if (result.ao.size() != g.pixel_count())
     throw std::runtime_error("estimator " + e.name + " returned " +
@@ -268,26 +323,51 @@ ResultRow EvaluationSession::evaluate(const EvaluationRequest& req,
                       : result.pass_ms.count("total_ms") != 0 ? "gpu-timestamps"
                                                               : "wall";
   row.timestamp = utc_now();
+  return m;
+}
 
+ResultRow EvaluationSession::score(Measurement& m, const std::string& estimate_path) {
+  ResultRow row = std::move(m.row);
+  if (row.status != "ok") {
+    last_estimate_.clear();
+    return row;
+  }
+  const EstimatorInfo& e = *m.estimator;
+  const ParamSet& params = m.params;
+  const EstimateResult& result = m.result;
+  const View& view = *m.view;
+  const int w = m.width, h = m.height;
+  const SceneData& s = scene(m.scene);
+  const GBuffer& g = gbuffer(m.scene, view, w, h);
+  const AoDefinition definition = e.definition(params);
   const auto bent = bent_of_channels(channel(result, "bent.X"), channel(result, "bent.Y"),
                                      channel(result, "bent.Z"));
-  const ReferenceImage& matched = reference(req.scene, view, w, h, definition);
-  const ReferenceImage& truth = reference(req.scene, view, w, h, true_ao_definition());
+  // Between the steps a background lane may hold this thread while an estimator's frames are
+  // timed (BackgroundLane::checkpoint; a no-op on the runner's own thread).
+  const ReferenceImage& matched = reference(m.scene, view, w, h, definition);
+  BackgroundLane::checkpoint();
+  const ReferenceImage& truth = reference(m.scene, view, w, h, true_ao_definition());
+  BackgroundLane::checkpoint();
   {
     const auto timer = stages_.time("scoring");
-    row.metrics = score(g, matched, result.ao, bent, "", flip_reference(g, matched));
+    row.metrics = score_against(g, matched, result.ao, bent, "", flip_reference(g, matched));
+  }
+  BackgroundLane::checkpoint();
+  {
     // An estimator whose declared definition is true AO is scored against one reference twice:
     // the same inputs give the same numbers, so the second scoring is the first's copy.
+    const auto timer = stages_.time("scoring");
     row.true_metrics = &truth == &matched
                            ? row.metrics
-                           : score(g, truth, result.ao, bent, "", flip_reference(g, truth));
+                           : score_against(g, truth, result.ao, bent, "", flip_reference(g, truth));
   }
+  BackgroundLane::checkpoint();
   if (!estimate_path.empty()) {
     const auto timer = stages_.time("estimate EXR");
     write_exr(estimate_path, estimate_to_image(g, result),
-              estimate_attributes(s.scene, view, make_camera(view, w, h), e, params, derived));
+              estimate_attributes(s.scene, view, make_camera(view, w, h), e, params, m.derived));
   }
-  last_estimate_ = std::move(result.ao);
+  last_estimate_ = std::move(m.result.ao);
   return row;
 }
 

@@ -4,8 +4,10 @@
 // scenes, Embree scenes, G-buffers and references (in memory, and references on disk too).
 #pragma once
 
+#include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -44,6 +46,22 @@ std::string run_name(const EstimatorInfo& e, const ParamSet& params,
                      const nlohmann::json& overrides, const std::string& scene,
                      const std::string& view, int width, int height);
 
+// What an evaluation measured before it is scored: the row so far (identity, timings, status),
+// the last frame's estimate and what scoring needs to find its references.
+struct Measurement {
+  ResultRow row;
+  EstimateResult result;
+  const EstimatorInfo* estimator = nullptr;
+  ParamSet params;
+  nlohmann::json derived;
+  std::string scene;
+  const View* view = nullptr;
+  int width = 0, height = 0;
+};
+
+// Thread-safety: measure() on one thread may run while score() of an earlier measurement runs on
+// another (the runners' background lane); the session's caches are guarded for that. Two
+// concurrent measure() calls, or two concurrent score() calls, are not supported.
 class EvaluationSession {
  public:
   EvaluationSession(ReferenceSpec reference, TimingSpec timing, bool disk_cache = true);
@@ -58,11 +76,24 @@ class EvaluationSession {
   const ReferenceImage& reference(const std::string& scene, const View& view, int width, int height,
                                   const AoDefinition& definition);
 
-  // Runs and scores one request. When `estimate_path` is not empty the estimate EXR is written
-  // there.
+  // Runs and scores one request: measure() then score(). When `estimate_path` is not empty the
+  // estimate EXR is written there.
   ResultRow evaluate(const EvaluationRequest& request, const std::string& estimate_path = "");
-  // The estimate of the last evaluate() call (for error maps).
+  // Runs the estimator: set-up, precompute, warm-up, then the timed frames inside the timed
+  // frames' guard (if set). A missing backend gives a measurement whose row is "skipped: ...".
+  Measurement measure(const EvaluationRequest& request);
+  // References, metrics and (when `estimate_path` is not empty) the estimate EXR of a measurement;
+  // returns the finished row. Leaves the estimate in last_estimate().
+  ResultRow score(Measurement& measurement, const std::string& estimate_path = "");
+  // The estimate of the last score() call (for error maps).
   const std::vector<float>& last_estimate() const { return last_estimate_; }
+  // `before` is called right before every estimator's timed frames and `after` right after them
+  // (also when they throw), so that the frames run alone on the machine: the runners pause and
+  // resume their background lane (background_lane.h). Empty functions remove the guard.
+  void set_timed_frames_guard(std::function<void()> before, std::function<void()> after) {
+    before_timed_frames_ = std::move(before);
+    after_timed_frames_ = std::move(after);
+  }
 
   const ReferenceSpec& reference_spec() const { return reference_spec_; }
   // Where this session's time went (scenes, G-buffers, references, the estimators' stages,
@@ -73,6 +104,10 @@ class EvaluationSession {
   ReferenceSpec reference_spec_;
   TimingSpec timing_;
   bool disk_cache_;
+  std::function<void()> before_timed_frames_, after_timed_frames_;
+  // Guards the caches below (std::map: entries never move or vanish, except FLIP's, which only
+  // score() uses) against measure() and score() on two threads.
+  std::recursive_mutex cache_mutex_;
   std::map<std::string, SceneData> scenes_;
   std::map<std::string, GBuffer> gbuffers_;
   std::map<std::string, ReferenceImage> references_;
@@ -81,6 +116,9 @@ class EvaluationSession {
   // FLIP's reference side of each reference scored against (flip::prepare_reference).
   std::map<const ReferenceImage*, flip::ReferenceSide> flip_references_;
   const flip::ReferenceSide& flip_reference(const GBuffer& g, const ReferenceImage& reference);
+  // reference() when the reference is neither in memory nor in the disk cache.
+  void compute_missing_reference(const std::string& scene, const View& view, int w, int h,
+                                 const AoDefinition& definition);
 };
 
 // Header attributes of an estimate EXR.

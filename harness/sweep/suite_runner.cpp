@@ -11,6 +11,7 @@
 #include "drawing/error_maps.h"
 #include "errors.h"
 #include "exr_io.h"
+#include "harness/evaluation/background_lane.h"
 #include "harness/evaluation/evaluation.h"
 #include "harness/evaluation/progress.h"
 #include "harness/results/output_lock.h"
@@ -71,8 +72,8 @@ class RunImages {
     return rel;
   }
 
-  std::string mosaic(EvaluationSession& session, const SweepPoint& p, const ResultRow& row,
-                     const AoDefinition& definition) {
+  OIIO::ImageBuf mosaic(EvaluationSession& session, const SweepPoint& p, const ResultRow& row,
+                        const AoDefinition& definition) {
     const View& view = session.scene(p.scene).scene.view(p.view);
     const GBuffer& g = session.gbuffer(p.scene, view, p.width, p.height);
     const ReferenceImage& ref = session.reference(p.scene, view, p.width, p.height, definition);
@@ -83,10 +84,13 @@ class RunImages {
     std::snprintf(numbers, sizeof numbers, "   rmse %.4f   ssim %.3f   flip %.3f",
                   row.metrics.value("rmse", 0.0), row.metrics.value("ssim", 0.0),
                   row.metrics.value("flip_mean", 0.0));
+    return error_mosaic(g.width, g.height, ref.ao.data(), est.data(), mask,
+                        std::string(p.name) + numbers);
+  }
+  // Writes a mosaic; returns its path relative to the output.
+  std::string write_mosaic(const SweepPoint& p, const OIIO::ImageBuf& mosaic) {
     const std::string rel = run_dir_ + "/mosaics/" + file_stem_for(p.name) + ".png";
-    write_image((fs::path(out_) / rel).string(),
-                error_mosaic(g.width, g.height, ref.ao.data(), est.data(), mask,
-                             std::string(p.name) + numbers));
+    write_image((fs::path(out_) / rel).string(), mosaic);
     return rel;
   }
 
@@ -131,11 +135,8 @@ class RunImages {
   std::vector<ViewUse> views_;
 };
 
-// Evaluates one point, keeps its estimate (and, when featured, its mosaic) and the references it
-// was scored against.
-SuiteReportEntry run_point(const SuitePoint& sp, EvaluationSession& session, RunImages& images,
-                           const RunContext& context, const std::string& out,
-                           const std::string& run_dir, StageTimes& stages) {
+// Runs one point's estimator (on the runner's thread; the timed frames alone on the machine).
+Measurement measure_point(const SuitePoint& sp, EvaluationSession& session) {
   const SweepPoint& p = sp.point;
   EvaluationRequest req;
   req.estimator = p.estimator;
@@ -144,11 +145,27 @@ SuiteReportEntry run_point(const SuitePoint& sp, EvaluationSession& session, Run
   req.view = p.view;
   req.width = p.width;
   req.height = p.height;
+  try {  // a missing backend (no Vulkan device) gives a "skipped: ..." row, not an exception
+    return session.measure(req);
+  } catch (const InputError& e) {
+    throw InputError(p.name + ": " + e.what());
+  } catch (const std::exception& e) {
+    throw std::runtime_error(p.name + ": " + e.what());
+  }
+}
+
+// Scores a measured point, keeps its estimate (and, when featured, its mosaic) and the references
+// it was scored against (on the background lane, while the next point's estimator gets ready).
+SuiteReportEntry finish_point(const SuitePoint& sp, Measurement& measured,
+                              EvaluationSession& session, RunImages& images,
+                              const RunContext& context, const std::string& out,
+                              const std::string& run_dir, StageTimes& stages) {
+  const SweepPoint& p = sp.point;
   const std::string estimate_rel = run_dir + "/estimates/" + file_stem_for(p.name) + ".exr";
   SuiteReportEntry entry;
   entry.featured = sp.featured;
-  try {  // a missing backend (no Vulkan device) gives a "skipped: ..." row, not an exception
-    entry.row = session.evaluate(req, (fs::path(out) / estimate_rel).string());
+  try {
+    entry.row = session.score(measured, (fs::path(out) / estimate_rel).string());
   } catch (const InputError& e) {
     throw InputError(p.name + ": " + e.what());
   } catch (const std::exception& e) {
@@ -165,17 +182,26 @@ SuiteReportEntry run_point(const SuitePoint& sp, EvaluationSession& session, Run
       resolve_params(p.estimator->name, p.estimator->params, p.overrides, p.name);
   const AoDefinition definition = p.estimator->definition(params);
   const View& view = session.scene(p.scene).scene.view(p.view);
+  BackgroundLane::checkpoint();
   {
     const auto timer = stages.time("references copied");
     entry.reference_exr = images.reference(session, p.scene, view, p.width, p.height, definition);
     entry.true_reference_exr =
         images.reference(session, p.scene, view, p.width, p.height, true_ao_definition());
   }
+  BackgroundLane::checkpoint();
   if (sp.featured) {
+    OIIO::ImageBuf mosaic;
+    {
+      const auto timer = stages.time("mosaics");
+      mosaic = images.mosaic(session, p, row, definition);
+    }
+    BackgroundLane::checkpoint();
     const auto timer = stages.time("mosaics");
-    entry.mosaic_png = images.mosaic(session, p, row, definition);
+    entry.mosaic_png = images.write_mosaic(p, mosaic);
   }
   images.note_view(p.scene, p.view, p.width, p.height);
+  BackgroundLane::checkpoint();
   return entry;
 }
 
@@ -240,28 +266,43 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
   std::map<std::string, double> load_ms;  // scene -> load + BVH time of its first use
   size_t skipped = 0;
   {
+    // Declared after everything its jobs use, so it finishes them before those go away.
+    BackgroundLane lane;
     Progress progress("run " + suite.name, points.size());
     for (const SuitePoint& sp : points) {
       EvaluationSession& session = session_for(suite.specs[sp.spec]);
+      session.set_timed_frames_guard([&lane] { lane.pause(); }, [&lane] { lane.resume(); });
       if (!load_ms.count(sp.point.scene)) {
         const auto t0 = std::chrono::steady_clock::now();
         session.scene(sp.point.scene);
         load_ms[sp.point.scene] = seconds_since(t0) * 1000.0;
       }
-      SuiteReportEntry entry =
-          run_point(sp, session, images, context, out, run_dir, result.stages);
-      skipped += entry.row.status != "ok";
+      auto measured = std::make_shared<Measurement>(measure_point(sp, session));
+      auto finish = [&, measured, sp_ptr = &sp, session_ptr = &session] {
+        SuiteReportEntry entry = finish_point(*sp_ptr, *measured, *session_ptr, images, context,
+                                              out, run_dir, result.stages);
+        skipped += entry.row.status != "ok";
+        {
+          const auto timer = result.stages.time("results SQLite");
+          store.add(entry.row);
+        }
+        {
+          const auto timer = result.stages.time("results CSV + JSON");
+          folder.add(entry.row);
+        }
+        report.entries.push_back(std::move(entry));
+      };
       {
-        const auto timer = result.stages.time("results SQLite");
-        store.add(entry.row);
+        const auto timer = result.stages.time(StageTimes::kWaitingForBackground);  // a full queue
+        lane.post(std::move(finish));
       }
-      {
-        const auto timer = result.stages.time("results CSV + JSON");
-        folder.add(entry.row);
-      }
-      report.entries.push_back(std::move(entry));
       progress.step(sp.point.name);
     }
+    {
+      const auto timer = result.stages.time(StageTimes::kBackgroundLeftAtEnd);
+      lane.drain();
+    }
+    for (auto& [key, session] : sessions) session->set_timed_frames_guard(nullptr, nullptr);
   }
   write_text((fs::path(out) / run_dir / "results.json").string(),
              results_json(folder.rows(), context));

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "errors.h"
+#include "harness/evaluation/background_lane.h"
 #include "harness/evaluation/progress.h"
 #include "harness/results/output_lock.h"
 #include "harness/results/results_store.h"
@@ -108,33 +109,50 @@ int run_sweep(const SweepOptions& o) {
   EvaluationSession session(spec.reference, spec.timing);
   Progress progress("sweep " + spec.name, pending.size());
   size_t finished = 0;
-  for (const SweepPoint* p : pending) {
-    if (g_interrupted) break;
-    EvaluationRequest req;
-    req.estimator = p->estimator;
-    req.overrides = p->overrides;
-    req.scene = p->scene;
-    req.view = p->view;
-    req.width = p->width;
-    req.height = p->height;
-    const std::string estimate_rel = "estimates/" + file_stem_for(p->name) + ".exr";
-    ResultRow row =
-        session.evaluate(req, o.keep_estimates ? (fs::path(out) / estimate_rel).string() : "");
-    row.run_id = context.run_id;
-    row.machine = context.machine;
-    if (row.device.empty()) row.device = context.device;
-    row.git_commit = context.git_commit;
-    if (o.keep_estimates && row.status == "ok") row.estimate_file = estimate_rel;
-    {
-      const auto timer = runner_stages.time("results SQLite");
-      store.add(row);
+  {
+    // Scoring and the row's writes run here while the next points' estimators get ready; the
+    // session pauses the lane during every timed frame loop (background_lane.h).
+    BackgroundLane lane;
+    session.set_timed_frames_guard([&lane] { lane.pause(); }, [&lane] { lane.resume(); });
+    for (const SweepPoint* p : pending) {
+      if (g_interrupted) break;
+      EvaluationRequest req;
+      req.estimator = p->estimator;
+      req.overrides = p->overrides;
+      req.scene = p->scene;
+      req.view = p->view;
+      req.width = p->width;
+      req.height = p->height;
+      auto measured = std::make_shared<Measurement>(session.measure(req));
+      auto finish = [&, p, measured] {
+        const std::string estimate_rel = "estimates/" + file_stem_for(p->name) + ".exr";
+        ResultRow row = session.score(
+            *measured, o.keep_estimates ? (fs::path(out) / estimate_rel).string() : "");
+        row.run_id = context.run_id;
+        row.machine = context.machine;
+        if (row.device.empty()) row.device = context.device;
+        row.git_commit = context.git_commit;
+        if (o.keep_estimates && row.status == "ok") row.estimate_file = estimate_rel;
+        {
+          const auto timer = runner_stages.time("results SQLite");
+          store.add(row);
+        }
+        {
+          const auto timer = runner_stages.time("results CSV + JSON");
+          folder.add(row);
+        }
+        ++finished;
+      };
+      {
+        const auto timer = runner_stages.time(StageTimes::kWaitingForBackground);  // a full queue
+        lane.post(std::move(finish));
+      }
+      progress.step(p->name);
     }
-    {
-      const auto timer = runner_stages.time("results CSV + JSON");
-      folder.add(row);
-    }
-    ++finished;
-    progress.step(p->name);
+    // An interrupted sweep still keeps the row of every point it measured.
+    const auto timer = runner_stages.time(StageTimes::kBackgroundLeftAtEnd);
+    lane.drain();
+    session.set_timed_frames_guard(nullptr, nullptr);
   }
   std::signal(SIGINT, previous == SIG_ERR ? SIG_DFL : previous);
   // The breakdown of this invocation (a resumed sweep reports the part it ran), on stderr and in
