@@ -3,7 +3,9 @@
 #   - reports/ (aoeval_reports) and the code it draws and reads with (aoeval_drawing,
 #     aoeval_results) never reach, directly or through another target, an estimator, the Vulkan
 #     layer, a reference, or a runner (evaluation, sweep, bench, figures);
-#   - only the `aoeval` binary (cli/), aoeval_figures and the reports' own tests link aoeval_reports.
+#   - only the `aoeval` binary (cli/), aoeval_figures and the reports' own tests link aoeval_reports;
+#   - estimators/ (the registry, every estimator folder, the Vulkan layer) never reach references/:
+#     an estimator that traces rays shares sampling/'s tracer with the ground truth instead.
 # The closure of every checked target is written to <build>/rooms_links.txt (the evidence, no ldd).
 
 # The aoeval targets `target` reaches through LINK_LIBRARIES and INTERFACE_LINK_LIBRARIES.
@@ -61,6 +63,10 @@ function(aoeval_check_rooms)
           list(APPEND errors "${t} links ${lib}: reports/, drawing/ and results/ may not reach an estimator, a reference or a runner")
         endif()
       endforeach()
+    endif()
+    if(t MATCHES "^(aoeval_estimators|aoeval_estimator_.*|aoeval_vulkan)$"
+       AND "aoeval_references" IN_LIST closure)
+      list(APPEND errors "${t} links aoeval_references: estimators/ may not depend on the ground truth (share sampling/ instead)")
     endif()
     get_target_property(direct ${t} LINK_LIBRARIES)
     get_target_property(dir ${t} SOURCE_DIR)

@@ -1,12 +1,7 @@
 // The Embree reference generator: per-pixel ground-truth AO at the shared G-buffer's surface
 // points, with its own per-pixel standard error, so that comparisons can tell noise from error (in
-// the spirit of Mitsuba 3's statistical render tests).
-//
-// Estimator (CONTRACT §3): AO(P) = E[value(w)] with w drawn with pdf cos(theta)/pi (cosine
-// weighting) or 1/(2 pi) (uniform weighting) around the normal, and value(w) = 1 - the weight of
-// the first occluder along w (AoDefinition::ray_value). Directions below the geometric surface (w .
-// Ng <= 0) are occluded at distance 0. The bent normal is the value-weighted mean direction (GPU
-// Gems ch. 17, "bent normals").
+// the spirit of Mitsuba 3's statistical render tests). The tracing is sampling/ao_tracer.h's; this
+// is the reference's image files, options and parameters.
 #pragma once
 
 #include <cstdint>
@@ -16,49 +11,20 @@
 #include "ao_definition.h"
 #include "embree_scene.h"
 #include "gbuffer.h"
-#include "sampling/ray_offset.h"
-#include "sampling/samplers.h"
+#include "sampling/ao_tracer.h"
 
 namespace aoeval {
 
-enum class NormalMode { shading, geometric };
+// The reference's types are the tracer's (sampling/ao_tracer.h): the settings with their
+// defaults, and the traced image, also read back from reference EXRs.
+using ReferenceSettings = AoTraceSettings;
+using ReferenceImage = TracedAo;
 
-// The reference's settings and, declared once here, its defaults: `aoeval reference`, sweep specs'
-// "reference" block (harness ReferenceSpec), figures and benches all start from these.
-struct ReferenceSettings {
-  int spp = 256;  // rays per pixel (the minimum, when target_stderr is set)
-  AoDefinition definition;
-  SamplerKind sampler = SamplerKind::sobol;  // Owen-scrambled Sobol: the least error per ray
-  uint64_t seed = 1;
-  NormalMode normal = NormalMode::shading;  // which normal orients the hemisphere
-  double target_stderr = 0.0;               // > 0: keep sampling until stderr <= this ...
-  int max_spp = 16384;                      // ... or this many rays
-};
-
-// Independent replicates used for the standard error of the stratified and sobol samplers (their
-// sample variance overestimates the error, so it is measured across independent randomisations).
-int replicate_count(SamplerKind sampler, int spp);
-
-struct ReferenceImage {
-  int width = 0, height = 0;
-  std::vector<float> ao;         // AO, in [0, 1]; 0 where not covered
-  std::vector<float> stderr_ao;  // standard error of the per-pixel mean
-  std::vector<glm::vec3> bent;   // unit mean unoccluded direction; zero if fully occluded
-  // The bent normal's own noise: rms angle, degrees, between `bent` and its expectation, from the
-  // covariance of the mean vector over the same units as stderr_ao (samples, or replicates for
-  // stratified and sobol). Empty when read from a reference file written without it.
-  std::vector<float> bent_stderr;
-  std::vector<float> coverage;   // A, copied from the G-buffer
-  std::vector<float> spp;        // rays actually used per pixel
-  uint64_t rays_traced = 0;      // rays sent to Embree (below-surface directions are not traced)
-  uint64_t samples = 0;          // directions evaluated, traced or not
-  double seconds = 0.0;
-};
-
-// Deterministic: the same settings give the same bits whatever the thread count (each pixel draws
-// from its own stream and sums in a fixed order).
-ReferenceImage compute_reference(const EmbreeScene& scene, const GBuffer& gbuffer,
-                                 const ReferenceSettings& settings);
+// The ground truth: trace_ao with the reference's settings.
+inline ReferenceImage compute_reference(const EmbreeScene& scene, const GBuffer& gbuffer,
+                                        const ReferenceSettings& settings) {
+  return trace_ao(scene, gbuffer, settings);
+}
 
 // origin_offset (sampling/ray_offset.h): where the reference's rays start.
 
@@ -71,18 +37,12 @@ void parse_reference_options(ReferenceSettings& s, const std::string& weighting,
                              const std::string& dmax, const std::string& falloff,
                              const std::string& sampler, const std::string& normal);
 
-// Fills `rays` with every traced occlusion ray of the reference (same directions, same origins),
-// for the throughput benchmark's bare Embree loop. Random sampler only.
-struct BareRay {
-  glm::vec3 origin, direction;
-  float tfar;
-  // The packet the reference traces this ray in: rays of one pixel's replicate share an origin and
-  // go out in packets of 16 in sample order, so consecutive rays with the same packet number form
-  // the reference's RTCRay16 (the bench's bare rtcOccluded16 loop replays exactly those packets).
-  uint32_t packet;
-};
-std::vector<BareRay> generate_reference_rays(const GBuffer& gbuffer, const ReferenceSettings& s,
-                                             float scene_extent);
+// The reference's traced rays (generate_traced_rays), for the throughput benchmark's bare loops.
+inline std::vector<BareRay> generate_reference_rays(const GBuffer& gbuffer,
+                                                    const ReferenceSettings& s,
+                                                    float scene_extent) {
+  return generate_traced_rays(gbuffer, s, scene_extent);
+}
 
 }  // namespace aoeval
 

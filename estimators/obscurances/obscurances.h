@@ -23,7 +23,7 @@
 // through the concentric cosine map: sampling/samplers.h, SamplerKind::stratified). A direction
 // below the geometric surface counts as a hit at distance 0 (grey value rho(0) = 0, colour 0), as
 // the reference does. With the random sampler and the same seed the grey output equals the Embree
-// reference (references/reference.h) with spp = rays bit for bit: same directions, origins, values.
+// reference (sampling/ao_tracer.h) with spp = rays bit for bit: same directions, origins, values.
 #pragma once
 
 #include <cstdint>

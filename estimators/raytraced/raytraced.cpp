@@ -1,6 +1,6 @@
 #include "estimators/raytraced/raytraced.h"
 
-#include "references/reference.h"
+#include "sampling/ao_tracer.h"
 
 namespace aoeval {
 
@@ -25,7 +25,7 @@ class RaytracedEstimator : public Estimator {
     settings_.seed = static_cast<uint64_t>(p.integer("seed"));
   }
   EstimateResult run(const EstimateContext& context) override {
-    ReferenceImage image = compute_reference(context.embree, context.gbuffer, settings_);
+    TracedAo image = trace_ao(context.embree, context.gbuffer, settings_);
     EstimateResult r;
     r.ao = std::move(image.ao);
     r.extra_channels["AO_stderr"] = std::move(image.stderr_ao);
@@ -33,7 +33,7 @@ class RaytracedEstimator : public Estimator {
   }
 
  private:
-  ReferenceSettings settings_;
+  AoTraceSettings settings_;
 };
 
 }  // namespace

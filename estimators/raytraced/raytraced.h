@@ -1,4 +1,4 @@
-// raytraced: the reference algorithm itself (references/reference.h) with `rays` rays per pixel:
+// raytraced: the reference algorithm itself (sampling/ao_tracer.h, the ground truth's tracer)
 // the cost/accuracy yardstick every approximation must beat. Its parameters choose the AO
 // definition it estimates (weighting, dmax, falloff), so it can be matched to any other estimator.
 #pragma once
