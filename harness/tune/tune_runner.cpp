@@ -239,6 +239,18 @@ int run_tune(const TuneOptions& o) {
   SearchResult result;
   try {
     result = search(space, settings, evaluate);
+  } catch (const std::exception& e) {
+    // A tune that fails says so in tune.json instead of staying "running"; its rows are kept, and
+    // the same command resumes from them once the cause is fixed.
+    std::signal(SIGINT, previous == SIG_ERR ? SIG_DFL : previous);
+    write_text(tune_json.string(), nlohmann::json{{"name", spec.name},
+                                                  {"status", "failed"},
+                                                  {"error", e.what()},
+                                                  {"run_id", context.run_id},
+                                                  {"spec", spec.document}}
+                                           .dump(1) +
+                                       "\n");
+    throw;
   } catch (...) {
     std::signal(SIGINT, previous == SIG_ERR ? SIG_DFL : previous);
     throw;
