@@ -11,57 +11,16 @@
 #include "drawing/error_maps.h"
 #include "errors.h"
 #include "exr_io.h"
+#include "harness/cli/commands.h"
 #include "harness/scoring/bent_metrics.h"
 #include "harness/scoring/metrics.h"
 #include "json_reader.h"
-#include "harness/cli/commands.h"
 
 namespace aoeval {
 
 namespace {
 
-struct AoFile {
-  std::string path;
-  int width = 0, height = 0;
-  std::vector<float> ao, coverage, stderr_ao;
-  std::vector<glm::vec3> bent;     // empty without bent.X/Y/Z
-  std::vector<float> bent_stderr;  // the reference's, empty without it
-  std::string scene, view, definition;
-};
-
-AoFile read_ao_file(const std::string& path) {
-  const OIIO::ImageBuf image = read_image(path);
-  AoFile f;
-  f.path = path;
-  f.width = image.spec().width;
-  f.height = image.spec().height;
-  const int ao = channel_index(image, "AO", path), a = channel_index(image, "A", path);
-  const int se = image.spec().channelindex("AO_stderr");
-  const int bx = image.spec().channelindex("bent.X"), by = image.spec().channelindex("bent.Y"),
-            bz = image.spec().channelindex("bent.Z"), bs = image.spec().channelindex("bent_stderr");
-  const bool has_bent = bx >= 0 && by >= 0 && bz >= 0;
-  const size_t n = static_cast<size_t>(f.width) * f.height;
-  const auto* px = static_cast<const float*>(image.localpixels());
-  const int nc = image.spec().nchannels;
-  f.ao.resize(n);
-  f.coverage.resize(n);
-  if (se >= 0) f.stderr_ao.resize(n);
-  if (has_bent) f.bent.resize(n);
-  if (bs >= 0) f.bent_stderr.resize(n);
-  for (size_t k = 0; k < n; ++k) {
-    f.ao[k] = px[k * nc + ao];
-    f.coverage[k] = px[k * nc + a];
-    if (se >= 0) f.stderr_ao[k] = px[k * nc + se];
-    if (has_bent) f.bent[k] = {px[k * nc + bx], px[k * nc + by], px[k * nc + bz]};
-    if (bs >= 0) f.bent_stderr[k] = px[k * nc + bs];
-  }
-  f.scene = string_attribute(image, "aoeval:scene");
-  f.view = string_attribute(image, "aoeval:view");
-  f.definition = string_attribute(image, "aoeval:definition");
-  return f;
-}
-
-void check_same_view(const AoFile& a, const AoFile& b) {
+void check_same_view(const AoExr& a, const AoExr& b) {
   if (a.width != b.width || a.height != b.height)
     throw InputError(b.path + ": size " + std::to_string(b.width) + "x" + std::to_string(b.height) +
                      " differs from " + a.path + " (" + std::to_string(a.width) + "x" +
@@ -71,7 +30,7 @@ void check_same_view(const AoFile& a, const AoFile& b) {
                      a.path + " (" + a.scene + "/" + a.view + ")");
 }
 
-std::vector<uint8_t> joint_mask(const AoFile& a, const AoFile& b) {
+std::vector<uint8_t> joint_mask(const AoExr& a, const AoExr& b) {
   std::vector<uint8_t> m(a.ao.size());
   for (size_t k = 0; k < m.size(); ++k) m[k] = a.coverage[k] > 0.5f && b.coverage[k] > 0.5f;
   return m;
@@ -125,7 +84,7 @@ void add_compare_command(CLI::App& app) {
     check_image_output(o.errmap, "--errmap");
     check_image_output(o.signed_map, "--signed");
     check_image_output(o.mosaic, "--mosaic");
-    const AoFile ref = read_ao_file(o.ref), est = read_ao_file(o.est);
+    const AoExr ref = read_ao_exr(o.ref), est = read_ao_exr(o.est);
     check_same_view(ref, est);
     if (!ref.definition.empty() && !est.definition.empty() &&
         parse_json_text(ref.definition, o.ref + ": aoeval:definition") !=
@@ -137,7 +96,7 @@ void add_compare_command(CLI::App& app) {
                                      {est.width, est.height, est.ao.data()}, mask, ref.stderr_ao);
     nlohmann::json out = to_json(m);
     // Bent-normal metrics (bent_metrics.h) where both images carry bent.X/Y/Z.
-    auto add_bent = [&](const AoFile& r, const std::vector<uint8_t>& joint,
+    auto add_bent = [&](const AoExr& r, const std::vector<uint8_t>& joint,
                         const std::string& prefix) {
       if (r.bent.empty() || est.bent.empty()) return;
       if (const auto b = compare_bent(r.width, r.height, r.bent, est.bent, joint, r.bent_stderr))
@@ -145,7 +104,7 @@ void add_compare_command(CLI::App& app) {
     };
     add_bent(ref, mask, "");
     if (!o.true_ref.empty()) {
-      const AoFile truth = read_ao_file(o.true_ref);
+      const AoExr truth = read_ao_exr(o.true_ref);
       check_same_view(truth, est);
       const std::vector<uint8_t> joint = joint_mask(truth, est);
       const Metrics t =
