@@ -24,6 +24,15 @@ nlohmann::json ReferenceSpec::to_json() const {
   return {{"spp", spp}, {"sampler", sampler_name(sampler)}, {"seed", seed}};
 }
 
+ReferenceSettings ReferenceSpec::settings(const AoDefinition& definition) const {
+  ReferenceSettings s;
+  s.spp = spp;
+  s.sampler = sampler;
+  s.seed = seed;
+  s.definition = definition;
+  return s;
+}
+
 std::string run_name(const EstimatorInfo& e, const ParamSet& params,
                      const nlohmann::json& overrides, const std::string& scene,
                      const std::string& view, int width, int height) {
@@ -109,13 +118,8 @@ void EvaluationSession::compute_missing_reference(const std::string& scene_name,
     if (references_.count(key)) return;
     if (disk_cache_) {
       const SceneData& s = scene(scene_name);
-      ReferenceSettings settings;
-      settings.spp = reference_spec_.spp;
-      settings.sampler = reference_spec_.sampler;
-      settings.seed = reference_spec_.seed;
-      settings.definition = definition;
-      const std::string path =
-          reference_cache_path(reference_cache_key(s.scene, make_camera(view, w, h), settings));
+      const std::string path = reference_cache_path(reference_cache_key(
+          s.scene, make_camera(view, w, h), reference_spec_.settings(definition)));
       if (fs::exists(path)) return;  // read when scored (a damaged entry is recomputed then)
     }
   }
@@ -129,11 +133,7 @@ const ReferenceImage& EvaluationSession::reference(const std::string& scene_name
   auto it = references_.find(key);
   if (it != references_.end()) return it->second;
   const SceneData& s = scene(scene_name);
-  ReferenceSettings settings;
-  settings.spp = reference_spec_.spp;
-  settings.sampler = reference_spec_.sampler;
-  settings.seed = reference_spec_.seed;
-  settings.definition = definition;
+  const ReferenceSettings settings = reference_spec_.settings(definition);
   const Camera camera = make_camera(view, w, h);
   const std::string cache_key = reference_cache_key(s.scene, camera, settings);
   const std::string path = reference_cache_path(cache_key);

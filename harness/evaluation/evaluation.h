@@ -26,6 +26,8 @@ struct ReferenceSpec {
   SamplerKind sampler = ReferenceSettings{}.sampler;
   uint64_t seed = ReferenceSettings{}.seed;
   nlohmann::json to_json() const;
+  // The reference's settings for one AO definition.
+  ReferenceSettings settings(const AoDefinition& definition) const;
 };
 
 struct TimingSpec {

@@ -57,13 +57,8 @@ class RunImages {
         ".exr";
     if (!written_.insert(rel).second) return rel;
     session.reference(scene_name, view, w, h, definition);  // computes or reads the cache
-    ReferenceSettings settings;
-    settings.spp = spec.spp;
-    settings.sampler = spec.sampler;
-    settings.seed = spec.seed;
-    settings.definition = definition;
-    const std::string cached =
-        reference_cache_path(reference_cache_key(scene, make_camera(view, w, h), settings));
+    const std::string cached = reference_cache_path(
+        reference_cache_key(scene, make_camera(view, w, h), spec.settings(definition)));
     const fs::path target = fs::path(out_) / rel;
     fs::create_directories(target.parent_path());
     const fs::path temp = target.string() + ".tmp";
@@ -138,13 +133,7 @@ class RunImages {
 // Runs one point's estimator (on the runner's thread; the timed frames alone on the machine).
 Measurement measure_point(const SuitePoint& sp, EvaluationSession& session) {
   const SweepPoint& p = sp.point;
-  EvaluationRequest req;
-  req.estimator = p.estimator;
-  req.overrides = p.overrides;
-  req.scene = p.scene;
-  req.view = p.view;
-  req.width = p.width;
-  req.height = p.height;
+  const EvaluationRequest req = evaluation_request(p);
   try {  // a missing backend (no Vulkan device) gives a "skipped: ..." row, not an exception
     return session.measure(req);
   } catch (const InputError& e) {
@@ -178,9 +167,7 @@ SuiteReportEntry finish_point(const SuitePoint& sp, Measurement& measured,
   row.git_commit = context.git_commit;
   if (row.status != "ok") return entry;
   row.estimate_file = estimate_rel;
-  const ParamSet params =
-      resolve_params(p.estimator->name, p.estimator->params, p.overrides, p.name);
-  const AoDefinition definition = p.estimator->definition(params);
+  const AoDefinition definition = p.estimator->definition(measured.params);
   const View& view = session.scene(p.scene).scene.view(p.view);
   BackgroundLane::checkpoint();
   {

@@ -116,14 +116,7 @@ int run_sweep(const SweepOptions& o) {
     session.set_timed_frames_guard([&lane] { lane.pause(); }, [&lane] { lane.resume(); });
     for (const SweepPoint* p : pending) {
       if (g_interrupted) break;
-      EvaluationRequest req;
-      req.estimator = p->estimator;
-      req.overrides = p->overrides;
-      req.scene = p->scene;
-      req.view = p->view;
-      req.width = p->width;
-      req.height = p->height;
-      auto measured = std::make_shared<Measurement>(session.measure(req));
+      auto measured = std::make_shared<Measurement>(session.measure(evaluation_request(*p)));
       auto finish = [&, p, measured] {
         const std::string estimate_rel = "estimates/" + file_stem_for(p->name) + ".exr";
         ResultRow row = session.score(

@@ -16,6 +16,17 @@
 
 namespace aoeval {
 
+EvaluationRequest evaluation_request(const SweepPoint& p) {
+  EvaluationRequest req;
+  req.estimator = p.estimator;
+  req.overrides = p.overrides;
+  req.scene = p.scene;
+  req.view = p.view;
+  req.width = p.width;
+  req.height = p.height;
+  return req;
+}
+
 namespace fs = std::filesystem;
 
 std::vector<nlohmann::json> expand_grid_values(const ParamSpec& param, const nlohmann::json& entry,

@@ -18,6 +18,9 @@ struct SweepPoint {
   std::string name;  // the row's run name
 };
 
+// What the evaluation session runs for a point.
+EvaluationRequest evaluation_request(const SweepPoint& p);
+
 struct SweepSpec {
   std::string name;
   std::vector<std::string> scenes;

@@ -159,14 +159,7 @@ int run_tune(const TuneOptions& o) {
         continue;
       }
       if (g_interrupted) throw SearchStopped{};
-      EvaluationRequest req;
-      req.estimator = p.estimator;
-      req.overrides = p.overrides;
-      req.scene = p.scene;
-      req.view = p.view;
-      req.width = p.width;
-      req.height = p.height;
-      rows.push_back(store_row(session.evaluate(req)));
+      rows.push_back(store_row(session.evaluate(evaluation_request(p))));
       ++computed;
     }
     Outcome outcome;
@@ -192,14 +185,7 @@ int run_tune(const TuneOptions& o) {
           if (rows[v].repetitions > repetitions) continue;  // re-timed before an interruption
           if (g_interrupted) throw SearchStopped{};
           const SweepPoint& p = points[v];
-          EvaluationRequest req;
-          req.estimator = p.estimator;
-          req.overrides = p.overrides;
-          req.scene = p.scene;
-          req.view = p.view;
-          req.width = p.width;
-          req.height = p.height;
-          rows[v] = store_row(pooled(rows[v], retime_session->evaluate(req)));
+          rows[v] = store_row(pooled(rows[v], retime_session->evaluate(evaluation_request(p))));
         }
         ++retimed;
         record.time = judge_time(samples(), spec.budget_ms, true);
