@@ -43,9 +43,11 @@ class PassTimer {
   std::map<std::string, double> read() const;
 
  private:
+  void write_timestamp(VkCommandBuffer cmd, uint32_t query);
+
   Context& context_;
   VkQueryPool pool_ = VK_NULL_HANDLE;
-  uint32_t capacity_ = 0;  // queries (two per pass)
+  uint32_t capacity_ = 0;  // timestamps read (two per pass); the pool holds twice as many
   std::vector<std::string> passes_;
   bool open_ = false;
 };
