@@ -71,10 +71,10 @@ std::vector<Check> gpugems_fig17_checks(const Fig17Numbers& n);
 // factor 1.5, as "estimator on scene t ms vs budget"), the scene's winner by matched rmse_excess,
 // and gtao's bent_angle_excess where it has one.
 struct EqualTimeNumbers {
-  size_t scenes = 0;                      // scenes in the figure
+  size_t scenes = 0;  // scenes in the figure
   std::vector<std::string> timing_misses;
-  std::vector<std::string> winners;       // "scene: estimator", one per scene scored
-  std::vector<double> gtao_bent_excess;   // degrees, one per scene where gtao had bent normals
+  std::vector<std::string> winners;      // "scene: estimator", one per scene scored
+  std::vector<double> gtao_bent_excess;  // degrees, one per scene where gtao had bent normals
 };
 std::vector<Check> equal_time_checks(const EqualTimeNumbers& n);
 

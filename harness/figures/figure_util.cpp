@@ -93,7 +93,7 @@ TimedRun time_estimator(FigureContext& ctx, const std::string& estimator,
   auto est = e.create(params);
   est->prepare(in);
   for (int i = 0; i < warmup; ++i) est->run(in);
-  std::vector<double> times;
+  std::vector<double> times, ao_times;
   std::map<std::string, std::vector<double>> passes;
   for (int i = 0; i < std::max(1, repetitions); ++i) {
     const auto t0 = clock::now();
@@ -101,10 +101,13 @@ TimedRun time_estimator(FigureContext& ctx, const std::string& estimator,
     const double wall = std::chrono::duration<double, std::milli>(clock::now() - t0).count();
     const auto total = r.pass_ms.find("total_ms");
     times.push_back(total != r.pass_ms.end() ? total->second : wall);
+    const auto geometry = r.pass_ms.find("geometry_ms");
+    ao_times.push_back(times.back() - (geometry != r.pass_ms.end() ? geometry->second : 0.0));
     for (const auto& [pass, ms] : r.pass_ms) passes[pass].push_back(ms);
   }
   TimedRun t;
   t.median_ms = median(times);
+  t.ao_median_ms = median(ao_times);
   t.min_ms = *std::min_element(times.begin(), times.end());
   t.max_ms = *std::max_element(times.begin(), times.end());
   for (auto& [pass, values] : passes) t.pass_ms[pass] = median(values);

@@ -53,6 +53,10 @@ const ReferenceImage& reference_of(FigureContext& ctx, const std::string& scene,
 struct TimedRun {
   double median_ms = 0.0, min_ms = 0.0, max_ms = 0.0;
   std::map<std::string, double> pass_ms;  // median per pass over the repetitions
+  // Median over the repetitions of the time less the "geometry" pass (the raster G-buffer that
+  // gtao, hbao-split and raymarch-ssao draw every frame; plug-ins get the G-buffer ready-made):
+  // the AO passes' own time. Equals median_ms for an estimator without that pass.
+  double ao_median_ms = 0.0;
   size_t pixels = 0;
   double mpixel_per_s() const { return median_ms > 0 ? pixels / (median_ms * 1e3) : 0.0; }
 };

@@ -73,8 +73,11 @@ TEST(FiguresCli, EqualTimeQuickWritesRowsChecksAndBentScores) {
   EXPECT_EQ(csv.substr(0, csv.find('\n')),
             "scene,view,estimator,knob,value,budget_ms,time_ms,rmse_excess,true_rmse,"
             "bent_angle_mean,bent_angle_excess,bent_ref_stderr");
-  // 4 scenes x 3 contenders (a contender without a device still fills no row: lavapipe has one)
-  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 13);
+  // 4 scenes x 6 contenders: gtao, hbao-split, raymarch-ssao and the shipped plug-ins that fit
+  // (alchemy, crytek-ssao, sao; constant-copy has no quality knob and is named in the notes)
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 25);
+  for (const char* plugin : {",alchemy,samples,", ",crytek-ssao,samples,", ",sao,samples,"})
+    EXPECT_NE(csv.find(plugin), std::string::npos) << plugin;
   std::istringstream lines(csv);
   std::string line;
   size_t gtao_rows = 0;
@@ -88,6 +91,7 @@ TEST(FiguresCli, EqualTimeQuickWritesRowsChecksAndBentScores) {
   EXPECT_NE(caption.find("Verdict: "), std::string::npos);
   EXPECT_NE(caption.find("equal time holds"), std::string::npos);
   EXPECT_NE(caption.find("Winners per scene"), std::string::npos);
+  EXPECT_NE(caption.find("plug-in constant-copy: not a contender"), std::string::npos);
 }
 
 TEST(FiguresCli, UnknownNameExits2ListingTheNames) {

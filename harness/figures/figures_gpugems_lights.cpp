@@ -8,10 +8,10 @@
 #include <cmath>
 #include <numbers>
 
+#include "drawing/plot.h"
 #include "estimators/shadowmap_ao/shadowmap_ao.h"
 #include "harness/figures/figure_util.h"
 #include "harness/figures/figures_gpugems.h"
-#include "drawing/plot.h"
 
 namespace aoeval::figures {
 
