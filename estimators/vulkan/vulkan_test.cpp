@@ -93,22 +93,37 @@ TEST(VulkanLayer, ImageUploadDownloadRoundTrip) {
   }
 }
 
+// The round-trip shader over a w x h image with no buffer work: a dispatch whose cost grows with
+// the image, for the timestamp tests.
+struct ImageFill {
+  Buffer input, output;
+  Image2D image;
+  ComputePipeline pipeline;
+  VkDescriptorSet set;
+  ImageFill(Context& vk, int w, int h)
+      : input(vk, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
+        output(vk, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT),
+        image(vk, w, h, VK_FORMAT_R32_SFLOAT),
+        pipeline(vk, "roundtrip", vk_test_roundtrip_comp_spv, kRoundtripBindings,
+                 sizeof(RoundtripPush)),
+        set(pipeline.make_set({input, output, image})) {}
+  void record(VkCommandBuffer cmd) const {
+    pipeline.dispatch(cmd, set, RoundtripPush{1.0f, 0}, group_count(image.width(), 8),
+                      group_count(image.height(), 8));
+  }
+};
+
 TEST(VulkanLayer, TimestampsArePositiveAndMonotone) {
   REQUIRE_CONTEXT(vk);
   if (!vk->timestamps_supported()) GTEST_SKIP() << vk->device_name() << " has no timestamps";
   const int w = 512, h = 512;
-  Buffer input(*vk, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  Buffer output(*vk, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  Image2D image(*vk, w, h, VK_FORMAT_R32_SFLOAT);
-  ComputePipeline pipeline(*vk, "roundtrip", vk_test_roundtrip_comp_spv, kRoundtripBindings,
-                           sizeof(RoundtripPush));
-  VkDescriptorSet set = pipeline.make_set({input, output, image});
+  ImageFill fill(*vk, w, h);
   PassTimer timer(*vk);
   vk->submit([&](VkCommandBuffer cmd) {
     timer.reset(cmd);
     for (const char* pass : {"first", "second"}) {
       timer.begin(cmd, pass);
-      pipeline.dispatch(cmd, set, RoundtripPush{1.0f, 0}, group_count(w, 8), group_count(h, 8));
+      fill.record(cmd);
       pass_barrier(cmd);
       timer.end(cmd);
     }
@@ -137,19 +152,14 @@ TEST(VulkanLayer, TimestampsBracketAComputePassAfterARasterPass) {
   RasterGBuffer raster_pass(*vk, scene);
   (void)raster_pass.render(make_camera(scene.view(""), 64, 48));
   const int w = 2048, h = 2048;
-  Buffer input(*vk, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  Buffer output(*vk, 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  Image2D image(*vk, w, h, VK_FORMAT_R32_SFLOAT);
-  ComputePipeline pipeline(*vk, "roundtrip", vk_test_roundtrip_comp_spv, kRoundtripBindings,
-                           sizeof(RoundtripPush));
-  VkDescriptorSet set = pipeline.make_set({input, output, image});
+  ImageFill fill(*vk, w, h);
   PassTimer timer(*vk);
   for (int frame = 0; frame < 3; ++frame) {
     const auto start = std::chrono::steady_clock::now();
     vk->submit([&](VkCommandBuffer cmd) {
       timer.reset(cmd);
       timer.begin(cmd, "fill");
-      pipeline.dispatch(cmd, set, RoundtripPush{1.0f, 0}, group_count(w, 8), group_count(h, 8));
+      fill.record(cmd);
       timer.end(cmd);
     });
     const double wall_ms =
