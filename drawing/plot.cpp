@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "drawing/plot_workers.h"
 #include "exr_io.h"
 
 namespace aoeval {
@@ -55,38 +56,19 @@ void check_lengths(const PlotSpec& p) {
   }
 }
 
-std::string script_path() {
-  if (const char* env = std::getenv("AOEVAL_PLOT_SCRIPT")) return env;
-  return std::string(AOEVAL_SOURCE_DIR) + "/drawing/plot.py";
-}
-
-}  // namespace
-
-std::string plot_python() {
-  if (const char* env = std::getenv("AOEVAL_PYTHON"); env && *env) return env;
-  if (access("/usr/bin/python3", X_OK) == 0) return "/usr/bin/python3";
-  return "python3";
-}
-
-void render_plot(const PlotSpec& spec, const std::string& out_path) {
-  render_plots({{spec, out_path}});
-}
-
-void render_plots(const std::vector<std::pair<PlotSpec, std::string>>& plots) {
-  if (plots.empty()) return;
-  std::vector<std::string> args = {plot_python(), script_path()};
-  for (const auto& [spec, out_path] : plots) {
-    check_lengths(spec);
-    const std::string spec_path = out_path + ".plot.json";
-    write_text(spec_path, to_json(spec).dump(1) + "\n");
+// Draws the plots (specs already written) with a python process of its own.
+void render_in_new_process(const std::vector<std::pair<std::string, std::string>>& jobs) {
+  std::vector<std::string> args = {plot_python(), plot_script()};
+  for (const auto& [spec_path, out_path] : jobs) {
     args.push_back(spec_path);
     args.push_back(out_path);
   }
+
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
   // plot.py writes to a temporary name in the same folder and renames, so the image is atomic too.
-  const std::string& first_out = plots.front().second;
+  const std::string& first_out = jobs.front().second;
   const std::string log_path = first_out + ".plot.log";
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("render_plot: fork failed");
@@ -118,11 +100,55 @@ void render_plots(const std::vector<std::pair<PlotSpec, std::string>>& plots) {
         log_text.find_last_of('\n') == std::string::npos ? 0 : log_text.find_last_of('\n') + 1);
     throw std::runtime_error(
         std::string("plot ") + first_out +
-        (plots.size() > 1 ? std::string(" (and ") + std::to_string(plots.size() - 1) + " more)"
-                          : std::string()) +
-        ": " + plot_python() + " " + script_path() +
+        (jobs.size() > 1 ? std::string(" (and ") + std::to_string(jobs.size() - 1) + " more)"
+                         : std::string()) +
+        ": " + plot_python() + " " + plot_script() +
         " failed: " + (last_line.empty() ? std::string("no output") : last_line));
   }
+}
+
+}  // namespace
+
+std::string plot_script() {
+  if (const char* env = std::getenv("AOEVAL_PLOT_SCRIPT")) return env;
+  return std::string(AOEVAL_SOURCE_DIR) + "/drawing/plot.py";
+}
+
+std::string plot_python() {
+  if (const char* env = std::getenv("AOEVAL_PYTHON"); env && *env) return env;
+  if (access("/usr/bin/python3", X_OK) == 0) return "/usr/bin/python3";
+  return "python3";
+}
+
+void render_plot(const PlotSpec& spec, const std::string& out_path) {
+  render_plots({{spec, out_path}});
+}
+
+void render_plots(const std::vector<std::pair<PlotSpec, std::string>>& plots) {
+  if (plots.empty()) return;
+  std::vector<std::pair<std::string, std::string>> jobs;  // (spec path, image path)
+  for (const auto& [spec, out_path] : plots) {
+    check_lengths(spec);
+    const std::string spec_path = out_path + ".plot.json";
+    write_text(spec_path, to_json(spec).dump(1) + "\n");
+    jobs.emplace_back(spec_path, out_path);
+  }
+  // A pre-started worker when one is idle (drawing/plot_workers.h); what it cannot draw (it
+  // died) goes to a process of its own.
+  size_t done = 0;
+  PlotWorkers& pool = PlotWorkers::instance();
+  if (PlotWorkers::Worker* worker = pool.acquire()) {
+    try {
+      while (done < jobs.size() && PlotWorkers::draw(*worker, jobs[done].first, jobs[done].second))
+        ++done;
+    } catch (...) {
+      pool.release(worker);
+      throw;
+    }
+    pool.release(worker);
+  }
+  if (done < jobs.size())
+    render_in_new_process({jobs.begin() + static_cast<std::ptrdiff_t>(done), jobs.end()});
 }
 
 }  // namespace aoeval

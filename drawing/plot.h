@@ -40,12 +40,15 @@ struct PlotSpec {
 // `out_path + ".plot.json"`. Throws std::runtime_error with the reason (python3 or matplotlib
 // missing, plot.py's error message) when it cannot.
 void render_plot(const PlotSpec& spec, const std::string& out_path);
-// Several plots from one python process (matplotlib's import, about half a second, paid once);
-// otherwise as render_plot. Throws on the first plot that fails; those before it are written.
+// Several plots from one python process (matplotlib's import, about half a second, paid once;
+// a pre-started worker's when one is idle, see plot_workers.h); otherwise as render_plot. Throws on
+// the first plot that fails; those before it are written.
 void render_plots(const std::vector<std::pair<PlotSpec, std::string>>& plots);
 
 // The python interpreter used: $AOEVAL_PYTHON, else /usr/bin/python3 (Debian's, which has
 // python3-matplotlib), else python3 on PATH.
 std::string plot_python();
+// The drawing script: $AOEVAL_PLOT_SCRIPT, else drawing/plot.py in the source tree.
+std::string plot_script();
 
 }  // namespace aoeval

@@ -1,11 +1,17 @@
 #!/usr/bin/env python3
-"""Draws aoeval plots: plot.py SPEC.json OUT.png|OUT.svg [more pairs] (see reports/plot.h).
+"""Draws aoeval plots: plot.py SPEC.json OUT.png|OUT.svg [more pairs] (see drawing/plot.h).
+
+plot.py --serve: a pre-started worker (drawing/plot_workers.h). It imports matplotlib at once,
+then reads one job per line from stdin, "SPEC.json<TAB>OUT.png", and answers one line per job on
+stdout, "ok" or "error: <message>"; it exits at the end of stdin.
 
 matplotlib is the plotting library (Debian python3-matplotlib): proper axes, log scales, legends,
 error bars and vector output. The C++ side decides what to plot; this file only draws it.
 """
+import io
 import json
 import os
+import signal
 import sys
 
 import matplotlib
@@ -14,13 +20,18 @@ matplotlib.use("Agg")  # headless: no display on CI
 import matplotlib.pyplot as plt  # noqa: E402
 
 
-def draw(spec, out_path):
+def make_figure(spec):
     panels = spec.get("panels") or [spec]  # "panels": plots side by side, one axes each
     fig, axes = plt.subplots(1, len(panels),
                              figsize=(spec.get("width_in", 7.0), spec.get("height_in", 4.5)))
     for ax, panel in zip(axes if len(panels) > 1 else [axes], panels):
         draw_axes(ax, panel)
     fig.tight_layout()
+    return fig
+
+
+def draw(spec, out_path):
+    fig = make_figure(spec)
     root, ext = os.path.splitext(out_path)
     tmp = root + ".tmp" + str(os.getpid()) + ext
     fig.savefig(tmp, dpi=spec.get("dpi", 110))
@@ -87,15 +98,46 @@ def draw_axes(ax, spec):
                 va="bottom", ha="left", bbox=dict(facecolor="white", alpha=0.8, linewidth=0))
 
 
+def draw_file(spec_path, out_path):
+    with open(spec_path, encoding="utf-8") as f:
+        spec = json.load(f)
+    draw(spec, out_path)
+
+
+def serve():
+    # Ctrl-C reaches the whole process group; the harness decides what an interrupt stops, and a
+    # worker killed mid-run would lose the report's charts.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    # A throwaway plot first: matplotlib's first drawing loads fonts and sets up the renderer
+    # (a quarter of a second), which a worker does before it is asked for a chart.
+    warm_up = {"title": "warm-up", "x_label": "x", "y_label": "y", "log_y": True,
+               "notes": ["n"], "series": [{"label": "a", "kind": "line", "x": [1, 2], "y": [1, 2]},
+                                         {"label": "b", "kind": "bar", "x": [0], "y": [1]}]}
+    fig = make_figure(warm_up)
+    fig.savefig(io.BytesIO(), format="png", dpi=50)
+    plt.close(fig)
+    for line in sys.stdin:
+        spec_path, _, out_path = line.rstrip("\n").partition("\t")
+        try:
+            draw_file(spec_path, out_path)
+            answer = "ok"
+        except Exception as e:  # noqa: BLE001 - the message goes back to the harness
+            plt.close("all")  # a long-lived worker must not keep a failed plot's figure
+            answer = "error: " + " ".join(f"{type(e).__name__}: {e}".split())
+        sys.stdout.write(answer + "\n")
+        sys.stdout.flush()
+
+
 def main():
+    if sys.argv[1:] == ["--serve"]:
+        serve()
+        return
     # Pairs of arguments: several plots from one process pay matplotlib's import once.
     args = sys.argv[1:]
     if not args or len(args) % 2:
         sys.exit("usage: plot.py SPEC.json OUT.png|OUT.svg [SPEC.json OUT.png|OUT.svg ...]")
     for spec_path, out_path in zip(args[0::2], args[1::2]):
-        with open(spec_path, encoding="utf-8") as f:
-            spec = json.load(f)
-        draw(spec, out_path)
+        draw_file(spec_path, out_path)
 
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "drawing/plot_workers.h"
 #include "errors.h"
 #include "harness/cli/cluster_options.h"
 #include "harness/cli/commands.h"
@@ -21,7 +22,9 @@ namespace aoeval {
 RunOutcome run_suite_with_report(const SuiteRunOptions& o) {
   // The runner runs and stores; the pages are written here, so the runner never links reports/.
   const auto t0 = std::chrono::steady_clock::now();
-  SuiteRun run = run_suite(o);
+  SuiteRunOptions with_workers = o;
+  with_workers.prestart_plot_workers = true;
+  SuiteRun run = run_suite(with_workers);
   if (!run.gallery.empty()) {
     const auto timer = run.stages.time("G-buffer gallery page");
     write_gbuffer_gallery((std::filesystem::path(run.out_dir) / "gbuffers").string(),
@@ -35,6 +38,7 @@ RunOutcome run_suite_with_report(const SuiteRunOptions& o) {
     // Kept so that `aoeval merge` writes this same page for a suite run in shards.
     write_suite_record(run.out_dir, run.report, run.gallery);
     outcome.page = write_suite_report(run.out_dir, run.report);
+    PlotWorkers::instance().stop();
   }
   outcome.wall_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

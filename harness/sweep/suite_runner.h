@@ -25,6 +25,9 @@ struct SuiteRunOptions {
   std::vector<std::string> sets;  // "ESTIMATOR:KEY=VALUE"
   std::string shard;              // "I/N", "auto" or "": this shard's points only (CONTRACT §9)
   std::string shard_plan;         // with shard: the cost-balanced plan (shard_plan.h)
+  // Start the report's plot workers (drawing/plot_workers.h) at the start of the run, stopped
+  // while frames are timed: set by `aoeval run`, which draws the report's charts at the end.
+  bool prestart_plot_workers = false;
 };
 
 // What a run leaves for its report (cli/cmd_run.cpp writes the page with reports/).
