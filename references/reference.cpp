@@ -75,7 +75,10 @@ void parse_reference_options(ReferenceSettings& s, const std::string& weighting,
 namespace aoeval {
 
 ReferenceImage read_reference_image(const std::string& path) {
-  AoExr f = read_ao_exr(path, /*need_stderr=*/true);
+  return reference_image_from(read_ao_exr(path, /*need_stderr=*/true));
+}
+
+ReferenceImage reference_image_from(AoExr f) {
   ReferenceImage r;
   r.width = f.width;
   r.height = f.height;

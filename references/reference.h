@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "ao_definition.h"
+#include "ao_exr.h"
 #include "embree_scene.h"
 #include "gbuffer.h"
 #include "sampling/ao_tracer.h"
@@ -49,4 +50,5 @@ inline std::vector<BareRay> generate_reference_rays(const GBuffer& gbuffer,
 namespace aoeval {
 // Reads a reference EXR written by reference_to_image (bent normals and spp optional).
 ReferenceImage read_reference_image(const std::string& path);
+ReferenceImage reference_image_from(AoExr file);
 }  // namespace aoeval

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "ao_exr.h"
 #include "errors.h"
 #include "exr_io.h"
 #include "gbuffer.h"
@@ -26,7 +27,12 @@ uint64_t fnv1a(const std::string& s) {
 
 std::string reference_cache_key(const Scene& scene, const Camera& camera,
                                 const ReferenceSettings& settings) {
-  const nlohmann::json key = {{"scene", hash_hex(scene.content_hash())},
+  return reference_cache_key(scene.content_hash(), camera, settings);
+}
+
+std::string reference_cache_key(uint64_t scene_hash, const Camera& camera,
+                                const ReferenceSettings& settings) {
+  const nlohmann::json key = {{"scene", hash_hex(scene_hash)},
                               {"camera", nlohmann::json::parse(camera_to_json(camera))},
                               {"settings", reference_params(settings)},
                               {"generator", kReferenceGeneratorVersion}};
@@ -42,7 +48,12 @@ std::string reference_cache_path(const std::string& key) {
 
 Attributes reference_attributes(const Scene& scene, const View& view, const Camera& camera,
                                 const ReferenceSettings& settings) {
-  Attributes a = gbuffer_attributes(scene, view, camera);
+  return reference_attributes(scene, scene.content_hash(), view, camera, settings);
+}
+
+Attributes reference_attributes(const Scene& scene, uint64_t scene_hash, const View& view,
+                                const Camera& camera, const ReferenceSettings& settings) {
+  Attributes a = gbuffer_attributes(scene, scene_hash, view, camera);
   a.emplace_back("aoeval:definition", settings.definition.to_json().dump());
   a.emplace_back("aoeval:spp", std::to_string(settings.spp));
   a.emplace_back("aoeval:sampler", sampler_name(settings.sampler));
@@ -86,13 +97,10 @@ void add_cache_attributes(Attributes& attributes, const std::string& key,
   attributes.emplace_back("aoeval:checksum", image_checksum(image));
 }
 
-std::string cache_entry_problem(const std::string& path, const std::string& key) {
-  OIIO::ImageBuf image;
-  try {
-    image = read_image(path);  // a truncated EXR fails here
-  } catch (const std::exception& e) {
-    return std::string("unreadable (") + e.what() + ")";
-  }
+namespace {
+
+// Why `image`, read from a cache entry, is not a valid entry for `key`, or "" when it is.
+std::string image_entry_problem(const OIIO::ImageBuf& image, const std::string& key) {
   const std::string stored_key = string_attribute(image, "aoeval:cache_key");
   if (stored_key != key)
     return stored_key.empty() ? "carries no cache key (not written by this cache)"
@@ -105,14 +113,55 @@ std::string cache_entry_problem(const std::string& path, const std::string& key)
   return "";
 }
 
+// The entry's image, or nullopt with `problem` set when it cannot be read (a truncated EXR).
+std::optional<OIIO::ImageBuf> read_entry(const std::string& path, std::string& problem) {
+  try {
+    return read_image(path);
+  } catch (const std::exception& e) {
+    problem = std::string("unreadable (") + e.what() + ")";
+    return std::nullopt;
+  }
+}
+
+void report_and_remove(const std::string& path, const std::string& problem) {
+  std::fprintf(stderr, "reference cache: %s: %s; recomputing\n", path.c_str(), problem.c_str());
+  std::error_code ec;
+  std::filesystem::remove(path, ec);
+}
+
+}  // namespace
+
+std::string cache_entry_problem(const std::string& path, const std::string& key) {
+  std::string problem;
+  const std::optional<OIIO::ImageBuf> image = read_entry(path, problem);
+  return image ? image_entry_problem(*image, key) : problem;
+}
+
 bool usable_cache_entry(const std::string& path, const std::string& key) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return false;
   const std::string problem = cache_entry_problem(path, key);
   if (problem.empty()) return true;
-  std::fprintf(stderr, "reference cache: %s: %s; recomputing\n", path.c_str(), problem.c_str());
-  std::filesystem::remove(path, ec);
+  report_and_remove(path, problem);
   return false;
+}
+
+std::optional<ReferenceImage> read_usable_cache_entry(const std::string& path,
+                                                      const std::string& key) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return std::nullopt;
+  std::string problem;
+  const std::optional<OIIO::ImageBuf> image = read_entry(path, problem);
+  if (image) problem = image_entry_problem(*image, key);
+  if (problem.empty()) {
+    try {
+      return reference_image_from(ao_exr_from_image(*image, path, /*need_stderr=*/true));
+    } catch (const std::exception& e) {
+      problem = e.what();
+    }
+  }
+  report_and_remove(path, problem);
+  return std::nullopt;
 }
 
 }  // namespace aoeval

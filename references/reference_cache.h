@@ -20,6 +20,9 @@ inline constexpr const char* kReferenceGeneratorVersion = "reference-2";
 
 std::string reference_cache_key(const Scene& scene, const Camera& camera,
                                 const ReferenceSettings& settings);
+// The same from the scene's content_hash(), for callers that hash a scene once (the session).
+std::string reference_cache_key(uint64_t scene_hash, const Camera& camera,
+                                const ReferenceSettings& settings);
 // <data cache>/references/<key>.exr
 std::string reference_cache_path(const std::string& key);
 
@@ -28,6 +31,8 @@ std::string reference_cache_path(const std::string& key);
 // harness's cache, so a cached file reads the same whoever wrote it.
 Attributes reference_attributes(const Scene& scene, const View& view, const Camera& camera,
                                 const ReferenceSettings& settings);
+Attributes reference_attributes(const Scene& scene, uint64_t scene_hash, const View& view,
+                                const Camera& camera, const ReferenceSettings& settings);
 
 // Cache entries check themselves. A file in the cache folder can be truncated by a crash of
 // another tool, replaced by hand, or be any EXR that happens to carry the name: served blindly, it
@@ -45,5 +50,9 @@ std::string cache_entry_problem(const std::string& path, const std::string& key)
 // ("reference cache: <path>: <problem>; recomputing"), removed, and false is returned, so the
 // caller recomputes it.
 bool usable_cache_entry(const std::string& path, const std::string& key);
+// The entry as a reference image when usable_cache_entry() would say true, read once for both the
+// check and the use; nullopt (a damaged entry reported and removed likewise) otherwise.
+std::optional<ReferenceImage> read_usable_cache_entry(const std::string& path,
+                                                      const std::string& key);
 
 }  // namespace aoeval

@@ -1,11 +1,10 @@
 #include "gbuffer_gallery.h"
 
-#include <OpenImageIO/imagebufalgo.h>
-
 #include <algorithm>
 #include <filesystem>
 #include <sstream>
 
+#include "drawing/gbuffer_previews.h"
 #include "exr_io.h"
 #include "reports/html.h"
 
@@ -14,8 +13,6 @@ namespace aoeval {
 namespace fs = std::filesystem;
 
 namespace {
-const float kBackground = 0.12f;
-
 std::string with_commas(size_t n) {
   const std::string digits = std::to_string(n);
   std::string s;
@@ -26,48 +23,6 @@ std::string with_commas(size_t n) {
   return s;
 }
 }  // namespace
-
-void write_gbuffer_previews(const std::string& gbuffer_exr, const std::string& normals_png,
-                            const std::string& depth_png) {
-  OIIO::ImageBuf g = read_image(gbuffer_exr);
-  const int a = channel_index(g, "A", gbuffer_exr), z = channel_index(g, "Z", gbuffer_exr);
-  const int nx = channel_index(g, "N.X", gbuffer_exr);
-  const int w = g.spec().width, h = g.spec().height;
-  const auto* px = static_cast<const float*>(g.localpixels());
-  const int nc = g.spec().nchannels;
-
-  float zmin = 1e30f, zmax = -1e30f;
-  for (long k = 0; k < static_cast<long>(w) * h; ++k) {
-    if (px[k * nc + a] < 0.5f) continue;
-    zmin = std::min(zmin, px[k * nc + z]);
-    zmax = std::max(zmax, px[k * nc + z]);
-  }
-  const float zrange = zmax > zmin ? zmax - zmin : 1.0f;
-
-  OIIO::ImageBuf normals(OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::FLOAT));
-  OIIO::ImageBuf depth(OIIO::ImageSpec(w, h, 1, OIIO::TypeDesc::FLOAT));
-  OIIO::ImageBuf mask(OIIO::ImageSpec(w, h, 1, OIIO::TypeDesc::FLOAT));
-  auto* np = static_cast<float*>(normals.localpixels());
-  auto* dp = static_cast<float*>(depth.localpixels());
-  auto* mp = static_cast<float*>(mask.localpixels());
-  for (long k = 0; k < static_cast<long>(w) * h; ++k) {
-    const bool covered = px[k * nc + a] >= 0.5f;
-    mp[k] = covered ? 1.0f : 0.0f;
-    for (int c = 0; c < 3; ++c)
-      np[k * 3 + c] = covered ? px[k * nc + nx + c] * 0.5f + 0.5f : kBackground;
-    dp[k] = covered ? 1.0f - (px[k * nc + z] - zmin) / zrange : 0.0f;
-  }
-  // OIIO's colour map gives linear values; PNG holds sRGB-encoded ones. Then the background is
-  // painted where A = 0.
-  OIIO::ImageBuf coloured = OIIO::ImageBufAlgo::colorconvert(
-      OIIO::ImageBufAlgo::color_map(depth, 0, "inferno"), "linear", "sRGB");
-  auto* cp = static_cast<float*>(coloured.localpixels());
-  for (long k = 0; k < static_cast<long>(w) * h; ++k)
-    if (mp[k] < 0.5f)
-      for (int c = 0; c < 3; ++c) cp[k * 3 + c] = kBackground;
-  write_image(normals_png, normals);
-  write_image(depth_png, coloured);
-}
 
 std::string write_gbuffer_gallery(const std::string& out_dir, const std::string& suite,
                                   const std::vector<GalleryEntry>& entries) {
@@ -109,12 +64,18 @@ std::string write_gbuffer_gallery(const std::string& out_dir, const std::string&
            << " object(s)</p>\n";
       last = e.scene;
     }
-    const fs::path exr(e.gbuffer_exr);
-    const std::string stem = (exr.parent_path() / exr.stem()).string();
-    const std::string normals = stem + "_normals.png", depth = stem + "_depth.png";
-    write_gbuffer_previews((fs::path(out_dir) / e.gbuffer_exr).string(),
-                           (fs::path(out_dir) / normals).string(),
-                           (fs::path(out_dir) / depth).string());
+    const auto [normals, depth] = gbuffer_preview_paths(e.gbuffer_exr);
+    const fs::path exr = fs::path(out_dir) / e.gbuffer_exr;
+    const fs::path normals_png = fs::path(out_dir) / normals, depth_png = fs::path(out_dir) / depth;
+    std::error_code error;
+    const auto exr_time = fs::last_write_time(exr, error);
+    auto stale = [&](const fs::path& png) {
+      std::error_code e2;
+      const auto t = fs::last_write_time(png, e2);
+      return e2 || error || t < exr_time;
+    };
+    if (stale(normals_png) || stale(depth_png))
+      write_gbuffer_previews(exr.string(), normals_png.string(), depth_png.string());
     for (const auto& [img, label] : {std::pair{normals, "normals"}, std::pair{depth, "depth"}}) {
       html << "<figure><a href=\"" << html_escape(e.gbuffer_exr) << "\"><img src=\""
            << html_escape(img) << "\" alt=\"" << html_escape(e.scene + " " + e.view + " " + label)

@@ -9,13 +9,9 @@
 
 namespace aoeval {
 
-// Writes PNG previews beside each EXR and `out_dir`/index.html; returns the page's path.
+// Writes `out_dir`/index.html, and the PNG previews beside each EXR that lacks them (the suite
+// runner writes them as it goes; drawing/gbuffer_previews.h); returns the page's path.
 std::string write_gbuffer_gallery(const std::string& out_dir, const std::string& suite,
                                   const std::vector<GalleryEntry>& entries);
-
-// Previews of one G-buffer file: normals as RGB (n * 0.5 + 0.5) and linear depth through the
-// "inferno" colour map (near = bright), normalised over covered pixels; background dark grey.
-void write_gbuffer_previews(const std::string& gbuffer_exr, const std::string& normals_png,
-                            const std::string& depth_png);
 
 }  // namespace aoeval

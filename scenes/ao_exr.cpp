@@ -6,7 +6,10 @@
 namespace aoeval {
 
 AoExr read_ao_exr(const std::string& path, bool need_stderr) {
-  const OIIO::ImageBuf image = read_image(path);
+  return ao_exr_from_image(read_image(path), path, need_stderr);
+}
+
+AoExr ao_exr_from_image(const OIIO::ImageBuf& image, const std::string& path, bool need_stderr) {
   const OIIO::ImageSpec& spec = image.spec();
   AoExr f;
   f.path = path;

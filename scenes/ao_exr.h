@@ -1,8 +1,10 @@
 // The one reader of AO EXRs (references, estimates, any file `aoeval compare` is given): the AO and
-// A (coverage) channels, and the optional AO_stderr, bent.X/Y/Z, bent_stderr and spp channels and the
-// aoeval:scene/view/definition attributes. Every reader of such a file goes through it, so a file
-// means the same thing to compare, the dashboard and the reference cache.
+// A (coverage) channels, and the optional AO_stderr, bent.X/Y/Z, bent_stderr and spp channels and
+// the aoeval:scene/view/definition attributes. Every reader of such a file goes through it, so a
+// file means the same thing to compare, the dashboard and the reference cache.
 #pragma once
+
+#include <OpenImageIO/imagebuf.h>
 
 #include <glm/vec3.hpp>
 #include <string>
@@ -24,5 +26,9 @@ struct AoExr {
 // InputError naming the file when it is missing, unreadable, or lacks AO or A (or AO_stderr when
 // `need_stderr`).
 AoExr read_ao_exr(const std::string& path, bool need_stderr = false);
+// The same from an image already read from `path` (the reference cache reads a file once to
+// verify it and to use it).
+AoExr ao_exr_from_image(const OIIO::ImageBuf& image, const std::string& path,
+                        bool need_stderr = false);
 
 }  // namespace aoeval

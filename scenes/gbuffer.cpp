@@ -141,9 +141,14 @@ std::string camera_to_json(const Camera& c) {
 }
 
 Attributes gbuffer_attributes(const Scene& scene, const View& view, const Camera& camera) {
+  return gbuffer_attributes(scene, scene.content_hash(), view, camera);
+}
+
+Attributes gbuffer_attributes(const Scene& scene, uint64_t scene_hash, const View& view,
+                              const Camera& camera) {
   return {{"aoeval:scene", scene.name},
           {"aoeval:view", view.name},
-          {"aoeval:scene_hash", hash_hex(scene.content_hash())},
+          {"aoeval:scene_hash", hash_hex(scene_hash)},
           {"aoeval:camera", camera_to_json(camera)},
           {"aoeval:version", kAoevalVersion}};
 }

@@ -44,6 +44,10 @@ GBuffer read_gbuffer(const std::string& path);
 
 // The aoeval:* header attributes of a G-buffer file: scene, view, camera (JSON), version.
 Attributes gbuffer_attributes(const Scene& scene, const View& view, const Camera& camera);
+// The same with the scene's content_hash() computed once by the caller: hashing a mesh reads
+// every byte of it (tens of milliseconds for dragon), and a run writes many files per scene.
+Attributes gbuffer_attributes(const Scene& scene, uint64_t scene_hash, const View& view,
+                              const Camera& camera);
 std::string camera_to_json(const Camera& camera);
 
 }  // namespace aoeval

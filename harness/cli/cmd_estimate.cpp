@@ -4,9 +4,9 @@
 #include "corpus.h"
 #include "errors.h"
 #include "estimators/registry.h"
+#include "harness/cli/commands.h"
 #include "harness/evaluation/evaluation.h"
 #include "harness/plugins/plugin_options.h"
-#include "harness/cli/commands.h"
 
 namespace aoeval {
 
@@ -46,7 +46,8 @@ void add_estimate_command(CLI::App& app) {
       throw ExitStatus{1};
     }
     write_exr(o.output, estimate_to_image(g, r),
-              estimate_attributes(scene, view, camera, e, params, estimator->derived()));
+              estimate_attributes(scene, scene.content_hash(), view, camera, e, params,
+                                  estimator->derived()));
   });
 }
 

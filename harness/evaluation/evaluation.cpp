@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <optional>
 
 #include "corpus.h"
 #include "errors.h"
@@ -45,10 +46,10 @@ std::string run_name(const EstimatorInfo& e, const ParamSet& params,
   return name;
 }
 
-Attributes estimate_attributes(const Scene& scene, const View& view, const Camera& camera,
-                               const EstimatorInfo& e, const ParamSet& params,
+Attributes estimate_attributes(const Scene& scene, uint64_t scene_hash, const View& view,
+                               const Camera& camera, const EstimatorInfo& e, const ParamSet& params,
                                const nlohmann::json& derived) {
-  Attributes a = gbuffer_attributes(scene, view, camera);
+  Attributes a = gbuffer_attributes(scene, scene_hash, view, camera);
   a.emplace_back("aoeval:estimator", e.name);
   nlohmann::json all = params.json();
   if (!derived.empty()) all["derived"] = derived;
@@ -90,6 +91,7 @@ const EvaluationSession::SceneData& EvaluationSession::scene(const std::string& 
   auto& stored = scenes_[name];
   stored.scene = std::move(data.scene);
   stored.embree = std::make_unique<EmbreeScene>(stored.scene);
+  stored.content_hash = stored.scene.content_hash();
   return stored;
 }
 
@@ -119,7 +121,7 @@ void EvaluationSession::compute_missing_reference(const std::string& scene_name,
     if (disk_cache_) {
       const SceneData& s = scene(scene_name);
       const std::string path = reference_cache_path(reference_cache_key(
-          s.scene, make_camera(view, w, h), reference_spec_.settings(definition)));
+          s.content_hash, make_camera(view, w, h), reference_spec_.settings(definition)));
       if (fs::exists(path)) return;  // read when scored (a damaged entry is recomputed then)
     }
   }
@@ -128,42 +130,61 @@ void EvaluationSession::compute_missing_reference(const std::string& scene_name,
 
 const ReferenceImage& EvaluationSession::reference(const std::string& scene_name, const View& view,
                                                    int w, int h, const AoDefinition& definition) {
-  std::lock_guard<std::recursive_mutex> lock(cache_mutex_);
   const std::string key = view_key(scene_name, view, w, h) + "|" + definition.to_json().dump();
-  auto it = references_.find(key);
-  if (it != references_.end()) return it->second;
+  {
+    std::lock_guard<std::recursive_mutex> lock(cache_mutex_);
+    auto it = references_.find(key);
+    if (it != references_.end()) return it->second;
+  }
+  // Read or computed without the lock: the background lane reads references while the runner's
+  // thread asks whether the next point's are cached, and a lock held through a 15 ms EXR read
+  // made the runner wait (issue 16). Only the runner's thread computes (compute_missing_reference,
+  // before a point's frames, and the lane scores points whose references exist), so two threads
+  // at most read the same file twice; the first copy stored wins.
   const SceneData& s = scene(scene_name);
   const ReferenceSettings settings = reference_spec_.settings(definition);
   const Camera camera = make_camera(view, w, h);
-  const std::string cache_key = reference_cache_key(s.scene, camera, settings);
+  const std::string cache_key = reference_cache_key(s.content_hash, camera, settings);
   const std::string path = reference_cache_path(cache_key);
   const GBuffer& g = gbuffer(scene_name, view, w, h);
+  ReferenceImage image;
   if (!disk_cache_) {
     const auto timer = stages_.time("reference compute");
-    return references_[key] = compute_reference(*s.embree, g, settings);
+    image = compute_reference(*s.embree, g, settings);
+  } else {
+    // Shards on other nodes may need the same entry at the same moment: computed once under the
+    // entry's lock (references/cache_lock.h), then read back like any hit. A hit is read once,
+    // for its check and its use.
+    std::optional<ReferenceImage> hit;
+    fill_cache_entry_once(
+        path,
+        [&] {
+          const auto timer = stages_.time("reference read (cache)");
+          hit = read_usable_cache_entry(path, cache_key);
+          return hit.has_value();
+        },
+        [&] {
+          ReferenceImage r;
+          {
+            const auto timer = stages_.time("reference compute");
+            r = compute_reference(*s.embree, g, settings);
+          }
+          const auto timer = stages_.time("reference write (cache)");
+          const OIIO::ImageBuf written = reference_to_image(r, false);
+          Attributes attributes =
+              reference_attributes(s.scene, s.content_hash, view, camera, settings);
+          add_cache_attributes(attributes, cache_key, written);
+          write_exr(path, written, attributes);
+        });
+    if (hit) {
+      image = std::move(*hit);
+    } else {
+      const auto timer = stages_.time("reference read (cache)");
+      image = read_reference_image(path);
+    }
   }
-  // Shards on other nodes may need the same entry at the same moment: computed once under the
-  // entry's lock (references/cache_lock.h), then read back like any hit.
-  fill_cache_entry_once(
-      path,
-      [&] {
-        const auto timer = stages_.time("reference read (cache)");
-        return usable_cache_entry(path, cache_key);
-      },
-      [&] {
-        ReferenceImage r;
-        {
-          const auto timer = stages_.time("reference compute");
-          r = compute_reference(*s.embree, g, settings);
-        }
-        const auto timer = stages_.time("reference write (cache)");
-        const OIIO::ImageBuf image = reference_to_image(r, false);
-        Attributes attributes = reference_attributes(s.scene, view, camera, settings);
-        add_cache_attributes(attributes, cache_key, image);
-        write_exr(path, image, attributes);
-      });
-  const auto timer = stages_.time("reference read (cache)");
-  return references_[key] = read_reference_image(path);
+  std::lock_guard<std::recursive_mutex> lock(cache_mutex_);
+  return references_.emplace(key, std::move(image)).first->second;
 }
 
 namespace {
@@ -187,6 +208,7 @@ nlohmann::json score_against(const GBuffer& g, const ReferenceImage& ref,
       compare_images({g.width, g.height, ref.ao.data()}, {g.width, g.height, est.data()}, mask,
                      ref.stderr_ao, &flip_reference);
   nlohmann::json out = to_json(m, prefix);
+  BackgroundLane::checkpoint();
   if (bent) {
     if (const auto b = compare_bent(g.width, g.height, ref.bent, *bent, mask, ref.bent_stderr))
       add_bent_json(*b, out, prefix);
@@ -348,24 +370,29 @@ ResultRow EvaluationSession::score(Measurement& m, const std::string& estimate_p
   BackgroundLane::checkpoint();
   const ReferenceImage& truth = reference(m.scene, view, w, h, true_ao_definition());
   BackgroundLane::checkpoint();
-  {
+  // Each scoring in two steps (FLIP's reference side, then the metrics), so that a pause waits
+  // for one step, not a whole scoring (issue 16: the runner's waits for the lane).
+  auto score_with = [&](const ReferenceImage& reference) {
+    const flip::ReferenceSide* flip_side = nullptr;
+    {
+      const auto timer = stages_.time("scoring");
+      flip_side = &flip_reference(g, reference);
+    }
+    BackgroundLane::checkpoint();
     const auto timer = stages_.time("scoring");
-    row.metrics = score_against(g, matched, result.ao, bent, "", flip_reference(g, matched));
-  }
+    return score_against(g, reference, result.ao, bent, "", *flip_side);
+  };
+  row.metrics = score_with(matched);
   BackgroundLane::checkpoint();
-  {
-    // An estimator whose declared definition is true AO is scored against one reference twice:
-    // the same inputs give the same numbers, so the second scoring is the first's copy.
-    const auto timer = stages_.time("scoring");
-    row.true_metrics = &truth == &matched
-                           ? row.metrics
-                           : score_against(g, truth, result.ao, bent, "", flip_reference(g, truth));
-  }
+  // An estimator whose declared definition is true AO is scored against one reference twice: the
+  // same inputs give the same numbers, so the second scoring is the first's copy.
+  row.true_metrics = &truth == &matched ? row.metrics : score_with(truth);
   BackgroundLane::checkpoint();
   if (!estimate_path.empty()) {
     const auto timer = stages_.time("estimate EXR");
     write_exr(estimate_path, estimate_to_image(g, result),
-              estimate_attributes(s.scene, view, make_camera(view, w, h), e, params, m.derived));
+              estimate_attributes(s.scene, s.content_hash, view, make_camera(view, w, h), e, params,
+                                  m.derived));
   }
   last_estimate_ = std::move(m.result.ao);
   return row;

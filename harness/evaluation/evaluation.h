@@ -72,6 +72,7 @@ class EvaluationSession {
   struct SceneData {
     Scene scene;
     std::unique_ptr<EmbreeScene> embree;
+    uint64_t content_hash = 0;  // scene.content_hash(), computed once at load
   };
   const SceneData& scene(const std::string& name);
   const GBuffer& gbuffer(const std::string& scene, const View& view, int width, int height);
@@ -125,8 +126,8 @@ class EvaluationSession {
 
 // Header attributes of an estimate EXR.
 // `derived` (Estimator::derived()) is recorded under "derived" in aoeval:params when not empty.
-Attributes estimate_attributes(const Scene& scene, const View& view, const Camera& camera,
-                               const EstimatorInfo& e, const ParamSet& params,
+Attributes estimate_attributes(const Scene& scene, uint64_t scene_hash, const View& view,
+                               const Camera& camera, const EstimatorInfo& e, const ParamSet& params,
                                const nlohmann::json& derived = nlohmann::json::object());
 // The estimate as an image: AO, A and the estimator's extra channels.
 OIIO::ImageBuf estimate_to_image(const GBuffer& g, const EstimateResult& r);

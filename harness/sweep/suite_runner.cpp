@@ -6,9 +6,12 @@
 #include <map>
 #include <memory>
 #include <set>
+#include <thread>
 
 #include "corpus.h"
 #include "drawing/error_maps.h"
+#include "drawing/gbuffer_previews.h"
+#include "drawing/plot_workers.h"
 #include "errors.h"
 #include "exr_io.h"
 #include "harness/evaluation/background_lane.h"
@@ -47,7 +50,8 @@ class RunImages {
   // the content-addressed cache the session filled; returns its path relative to the output.
   std::string reference(EvaluationSession& session, const std::string& scene_name, const View& view,
                         int w, int h, const AoDefinition& definition) {
-    const auto& scene = session.scene(scene_name).scene;
+    const auto& data = session.scene(scene_name);
+    const Scene& scene = data.scene;
     const ReferenceSpec& spec = session.reference_spec();
     const std::string rel =
         "references/" +
@@ -58,7 +62,7 @@ class RunImages {
     if (!written_.insert(rel).second) return rel;
     session.reference(scene_name, view, w, h, definition);  // computes or reads the cache
     const std::string cached = reference_cache_path(
-        reference_cache_key(scene, make_camera(view, w, h), spec.settings(definition)));
+        reference_cache_key(data.content_hash, make_camera(view, w, h), spec.settings(definition)));
     const fs::path target = fs::path(out_) / rel;
     fs::create_directories(target.parent_path());
     const fs::path temp = target.string() + ".tmp";
@@ -89,19 +93,34 @@ class RunImages {
     return rel;
   }
 
-  // G-buffer EXRs of every (scene, view, resolution) the suite renders, and their gallery page.
-  void note_view(const std::string& scene, const std::string& view, int w, int h) {
-    const std::string key = scene + "|" + view + "|" + resolution(w, h);
-    if (seen_views_.insert(key).second) views_.push_back({scene, view, w, h});
+  // The gallery's G-buffer EXR and previews of every (scene, view, resolution) the suite renders,
+  // written when the view is first scored (on the background lane, so not in the wall time);
+  // the page is written at the end from gallery().
+  void note_view(EvaluationSession& session, const std::string& scene, const std::string& view_name,
+                 int w, int h, StageTimes& stages) {
+    const std::string key = scene + "|" + view_name + "|" + resolution(w, h);
+    if (!seen_views_.insert(key).second) return;
+    views_.push_back({scene, view_name, w, h});
+    const auto& data = session.scene(scene);
+    const View& view = data.scene.view(view_name);
+    const std::string exr =
+        (fs::path(out_) / "gbuffers" / gallery_exr(data.scene, view, w, h)).string();
+    {
+      const auto timer = stages.time("G-buffer gallery EXRs");
+      write_exr(exr, gbuffer_to_image(session.gbuffer(scene, view, w, h)),
+                gbuffer_attributes(data.scene, data.content_hash, view, make_camera(view, w, h)));
+    }
+    BackgroundLane::checkpoint();
+    const auto timer = stages.time("G-buffer gallery previews");
+    const GBufferPreviewPaths png = gbuffer_preview_paths(exr);
+    write_gbuffer_previews(exr, png.normals, png.depth);
   }
   std::vector<GalleryEntry> gallery(EvaluationSession& session,
                                     const std::map<std::string, double>& load_ms) {
     std::vector<GalleryEntry> entries;
-    const fs::path dir = fs::path(out_) / "gbuffers";
     for (const auto& v : views_) {
       const auto& data = session.scene(v.scene);
       const View& view = data.scene.view(v.view);
-      const Camera camera = make_camera(view, v.w, v.h);
       GalleryEntry e;
       e.scene = data.scene.name;
       e.view = view.name;
@@ -109,18 +128,17 @@ class RunImages {
       e.objects = data.scene.objects.size();
       e.bvh_ms = data.embree->build_ms();
       e.load_ms = std::max(0.0, load_ms.at(v.scene) - e.bvh_ms);
-      e.gbuffer_exr =
-          (fs::path("scenes") / e.scene / (view.name + "_" + resolution(v.w, v.h) + "_gbuffer.exr"))
-              .string();
-      write_exr((dir / e.gbuffer_exr).string(),
-                gbuffer_to_image(session.gbuffer(v.scene, view, v.w, v.h)),
-                gbuffer_attributes(data.scene, view, camera));
+      e.gbuffer_exr = gallery_exr(data.scene, view, v.w, v.h);
       entries.push_back(e);
     }
     return entries;
   }
 
  private:
+  static std::string gallery_exr(const Scene& scene, const View& view, int w, int h) {
+    return (fs::path("scenes") / scene.name / (view.name + "_" + resolution(w, h) + "_gbuffer.exr"))
+        .string();
+  }
   struct ViewUse {
     std::string scene, view;
     int w, h;
@@ -187,7 +205,7 @@ SuiteReportEntry finish_point(const SuitePoint& sp, Measurement& measured,
     const auto timer = stages.time("mosaics");
     entry.mosaic_png = images.write_mosaic(p, mosaic);
   }
-  images.note_view(p.scene, p.view, p.width, p.height);
+  images.note_view(session, p.scene, p.view, p.width, p.height, stages);
   BackgroundLane::checkpoint();
   return entry;
 }
@@ -245,6 +263,8 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
 
   RunImages images(out, run_dir);
   SuiteRun result;
+  result.stages.add("run set-up (suite, store, machine and git probe)",
+                    seconds_since(t_start) * 1000.0);
   result.out_dir = out;
   SuiteReport& report = result.report;
   report.suite = suite.name;
@@ -255,10 +275,24 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
   {
     // Declared after everything its jobs use, so it finishes them before those go away.
     BackgroundLane lane;
+    // The report's plot workers import matplotlib in the untimed stretches: the timed-frames
+    // guard stops them (SIGSTOP) with the lane.
+    PlotWorkers& plot_workers = PlotWorkers::instance();
+    if (o.prestart_plot_workers)
+      plot_workers.start(static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+    const bool guard_workers = o.prestart_plot_workers;
     Progress progress("run " + suite.name, points.size());
     for (const SuitePoint& sp : points) {
       EvaluationSession& session = session_for(suite.specs[sp.spec]);
-      session.set_timed_frames_guard([&lane] { lane.pause(); }, [&lane] { lane.resume(); });
+      session.set_timed_frames_guard(
+          [&lane, &plot_workers, guard_workers] {
+            if (guard_workers) plot_workers.freeze();
+            lane.pause();
+          },
+          [&lane, &plot_workers, guard_workers] {
+            lane.resume();
+            if (guard_workers) plot_workers.thaw();
+          });
       if (!load_ms.count(sp.point.scene)) {
         const auto t0 = std::chrono::steady_clock::now();
         session.scene(sp.point.scene);
@@ -291,12 +325,14 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
     }
     for (auto& [key, session] : sessions) session->set_timed_frames_guard(nullptr, nullptr);
   }
-  write_text((fs::path(out) / run_dir / "results.json").string(),
-             results_json(folder.rows(), context));
+  {
+    const auto timer = result.stages.time("results CSV + JSON");
+    write_text((fs::path(out) / run_dir / "results.json").string(),
+               results_json(folder.rows(), context));
+  }
 
   // The G-buffer gallery needs a session holding the scenes: every suite point used one.
   if (!sessions.empty()) {
-    const auto timer = result.stages.time("G-buffer gallery EXRs");
     result.gallery = images.gallery(*sessions.begin()->second, load_ms);
   }
   StageTimes stages;
