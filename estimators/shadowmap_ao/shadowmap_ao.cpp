@@ -163,7 +163,7 @@ class ShadowmapDevice {
       vk::pass_barrier(cmd);
       for (int first = 0; first < s.lights; first += s.lights_per_pass) {
         const int count = std::min(s.lights_per_pass, s.lights - first);
-        timer_.begin(cmd, "shadow_maps");
+        timer_.begin(cmd, "shadow_maps", vk::PassTimer::Work::draws);
         const VkClearColorValue far{{1.0f, 0.0f, 0.0f, 0.0f}};
         framebuffer_->begin(cmd, *depth_pipeline_, {far}, 1.0f);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, depth_pipeline_->layout(), 0,
@@ -182,7 +182,7 @@ class ShadowmapDevice {
         framebuffer_->end(cmd);
         vk::pass_barrier(cmd);
         timer_.end(cmd);
-        timer_.begin(cmd, "accumulate");
+        timer_.begin(cmd, "accumulate", vk::PassTimer::Work::unflushed_dispatches);
         AccumulatePush push{};
         push.centre_radius = centre_radius_;
         push.first_light = static_cast<uint32_t>(first);

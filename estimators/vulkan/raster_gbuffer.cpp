@@ -205,7 +205,7 @@ void RasterGBuffer::record(VkCommandBuffer cmd, const Camera& camera, DeviceGBuf
   push.right_width[3] = static_cast<float>(camera.width);
   push.up_height[3] = static_cast<float>(camera.height);
 
-  if (timer) timer->begin(cmd, "geometry");
+  if (timer) timer->begin(cmd, "geometry", PassTimer::Work::draws);
   const VkClearColorValue zero{{0.0f, 0.0f, 0.0f, 0.0f}};
   const VkClearColorValue minus_one{{-1.0f, 0.0f, 0.0f, 0.0f}};
   m.framebuffer->begin(cmd, m.pipeline, {zero, zero, zero, zero, zero, minus_one}, 0.0f);

@@ -31,25 +31,29 @@ void PassTimer::reset(VkCommandBuffer cmd) {
   if (pool_) vkCmdResetQueryPool(cmd, pool_, 0, 2 * capacity_);
 }
 
-void PassTimer::begin(VkCommandBuffer cmd, const std::string& pass) {
+void PassTimer::begin(VkCommandBuffer cmd, const std::string& pass, Work work) {
   if (open_) throw VulkanError("PassTimer: begin(\"" + pass + "\") inside an open pass");
   if (2 * (passes_.size() + 1) > capacity_)
     throw VulkanError("PassTimer: more than " + std::to_string(capacity_ / 2) + " passes");
   open_ = true;
   passes_.push_back(pass);
-  write_timestamp(cmd, static_cast<uint32_t>(2 * (passes_.size() - 1)));
+  write_timestamp(cmd, static_cast<uint32_t>(2 * (passes_.size() - 1)), work == Work::dispatches);
 }
 
 void PassTimer::end(VkCommandBuffer cmd) {
   if (!open_) throw VulkanError("PassTimer: end() without begin()");
   open_ = false;
-  write_timestamp(cmd, static_cast<uint32_t>(2 * passes_.size() - 1));
+  // An end timestamp is written by the flush before the next command's timestamp or at the end of
+  // the submission, both after the pass: it needs no flush of its own.
+  write_timestamp(cmd, static_cast<uint32_t>(2 * passes_.size() - 1), false);
 }
 
-void PassTimer::write_timestamp(VkCommandBuffer cmd, uint32_t query) {
+void PassTimer::write_timestamp(VkCommandBuffer cmd, uint32_t query, bool flush) {
   if (!pool_) return;
   vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_, query);
+  if (!flush) return;
   // The sibling write, whose value is never read, makes the timestamp above land now on lavapipe.
+  // (Only begin timestamps of dispatch passes ask for it: see PassTimer::Work.)
   // lavapipe flushes queued work before a BOTTOM_OF_PIPE timestamp and then queues the timestamp;
   // once a raster pass has bound a framebuffer in the context, llvmpipe writes a queued timestamp
   // only at the next flush. Without the sibling a pass's begin timestamp landed after the pass's
