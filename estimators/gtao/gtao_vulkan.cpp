@@ -3,12 +3,11 @@
 
 #include <glm/vec4.hpp>
 
-#include "estimators/vulkan/raster_gbuffer.h"
+#include "estimators/hbao_split/frame_device.h"
 #include "estimators/vulkan/vk_commands.h"
 #include "estimators/vulkan/vk_pipelines.h"
 #include "estimators/vulkan/vk_resources.h"
 #include "gtao_denoise_comp_spv.h"
-#include "gtao_eye_normals_comp_spv.h"
 #include "gtao_main_comp_spv.h"
 
 namespace aoeval {
@@ -30,23 +29,6 @@ const std::vector<VkDescriptorType> kPassBindings = {
     VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 8 bent
 };
 
-struct EyeNormalsPush {
-  glm::vec4 right, up, forward;
-  int32_t width, height;
-};
-
-std::vector<glm::vec4> padded(const std::vector<glm::vec3>& v) {
-  std::vector<glm::vec4> out(v.size());
-  for (size_t k = 0; k < v.size(); ++k) out[k] = glm::vec4(v[k], 0.0f);
-  return out;
-}
-
-std::vector<glm::vec3> unpadded(const std::vector<float>& v) {
-  std::vector<glm::vec3> out(v.size() / 4);
-  for (size_t k = 0; k < out.size(); ++k) out[k] = glm::vec3(v[4 * k], v[4 * k + 1], v[4 * k + 2]);
-  return out;
-}
-
 template <class T>
 vk::Buffer storage_buffer(vk::Context& vk, const std::vector<T>& values) {
   vk::Buffer b(vk, values.size() * sizeof(T), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
@@ -62,19 +44,16 @@ struct GtaoDevice::Impl {
   GtaoConstants constants{};
   Camera camera;
   int width = 0, height = 0;
-  HbaoFrame embree_frame;  // gbuffer=embree
-  std::unique_ptr<vk::RasterGBuffer> raster;
-  vk::DeviceGBuffer gbuffer;  // gbuffer=raster
-  vk::Image2D depth, normal, raw_ao, raw_bent, ao, bent;
+  std::unique_ptr<HbaoFrameDevice> frame;  // depth and eye normals, uploaded or rasterised
+  vk::Image2D raw_ao, raw_bent, ao, bent;
   vk::Buffer rotation, steps, slices;
-  std::unique_ptr<vk::ComputePipeline> eye_normals, main_pass, denoise;
-  VkDescriptorSet eye_set = VK_NULL_HANDLE, main_set = VK_NULL_HANDLE, denoise_set = VK_NULL_HANDLE;
+  std::unique_ptr<vk::ComputePipeline> main_pass, denoise;
+  VkDescriptorSet main_set = VK_NULL_HANDLE, denoise_set = VK_NULL_HANDLE;
   vk::PassTimer timer;
 
   Impl(vk::Context& context, const GtaoSettings& s, const Camera& cam, int w, int h, float focal)
       : vk(context), settings(s), camera(cam), width(w), height(h), timer(context) {
     constants = gtao_constants(s, w, h, focal);
-    normal = vk::Image2D(vk, w, h, VK_FORMAT_R32G32B32A32_SFLOAT);
     raw_ao = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
     raw_bent = vk::Image2D(vk, w, h, VK_FORMAT_R32G32B32A32_SFLOAT);
     ao = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
@@ -85,26 +64,16 @@ struct GtaoDevice::Impl {
     slices = storage_buffer(vk, tables.slices);
   }
 
-  const vk::Image2D& depth_image() const { return raster ? gbuffer.depth : depth; }
-
   void make_pipelines() {
     const uint32_t push = sizeof(GtaoConstants);
     main_pass = std::make_unique<vk::ComputePipeline>(vk, "gtao main", gtao_main_comp_spv,
                                                       kPassBindings, push);
     denoise = std::make_unique<vk::ComputePipeline>(vk, "gtao denoise", gtao_denoise_comp_spv,
                                                     kPassBindings, push);
-    const std::vector<vk::Resource> resources = {depth_image(), normal,   rotation, steps, slices,
-                                                 raw_ao,        raw_bent, ao,       bent};
+    const std::vector<vk::Resource> resources = {
+        frame->depth(), frame->normal(), rotation, steps, slices, raw_ao, raw_bent, ao, bent};
     main_set = main_pass->make_set(resources);
     denoise_set = denoise->make_set(resources);
-    if (raster) {
-      eye_normals = std::make_unique<vk::ComputePipeline>(
-          vk, "gtao eye normals", gtao_eye_normals_comp_spv,
-          std::vector<VkDescriptorType>{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                                        VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-          sizeof(EyeNormalsPush));
-      eye_set = eye_normals->make_set({gbuffer.normal, normal});
-    }
   }
 };
 
@@ -112,10 +81,7 @@ GtaoDevice::GtaoDevice(vk::Context& vk, const GtaoSettings& settings, const Hbao
                        const Camera& camera) {
   validate_gtao_frame(frame);
   impl_ = std::make_unique<Impl>(vk, settings, camera, frame.width, frame.height, frame.focal);
-  impl_->embree_frame = frame;
-  impl_->depth = vk::Image2D(vk, frame.width, frame.height, VK_FORMAT_R32_SFLOAT);
-  impl_->depth.upload(frame.depth);
-  impl_->normal.upload(padded(frame.normal));
+  impl_->frame = std::make_unique<HbaoFrameDevice>(vk, frame);
   impl_->make_pipelines();
 }
 
@@ -128,8 +94,7 @@ GtaoDevice::GtaoDevice(vk::Context& vk, const GtaoSettings& settings, const Scen
   shape.focal = focal;
   validate_gtao_frame(shape);
   impl_ = std::make_unique<Impl>(vk, settings, camera, camera.width, camera.height, focal);
-  impl_->raster = std::make_unique<vk::RasterGBuffer>(vk, scene);
-  impl_->gbuffer = vk::make_device_gbuffer(vk, camera.width, camera.height);
+  impl_->frame = std::make_unique<HbaoFrameDevice>(vk, scene, camera);
   impl_->make_pipelines();
 }
 
@@ -141,17 +106,7 @@ GtaoOutput GtaoDevice::run() {
   const uint32_t gy = vk::group_count(static_cast<uint32_t>(m.height), kGroup);
   m.vk.submit([&](VkCommandBuffer cmd) {
     m.timer.reset(cmd);
-    if (m.raster) {
-      // The geometry stage: the raster G-buffer and its normals in eye space, both timed as
-      // "geometry" (the spans add up).
-      m.raster->record(cmd, m.camera, m.gbuffer, &m.timer);
-      EyeNormalsPush push{glm::vec4(m.camera.right, 0.0f), glm::vec4(m.camera.up, 0.0f),
-                          glm::vec4(m.camera.forward, 0.0f), m.width, m.height};
-      m.timer.begin(cmd, "geometry");
-      m.eye_normals->dispatch(cmd, m.eye_set, push, gx, gy);
-      m.timer.end(cmd);
-      vk::pass_barrier(cmd);
-    }
+    m.frame->record(cmd, m.timer);  // the geometry stage with gbuffer=raster
     m.timer.begin(cmd, "horizon");
     m.main_pass->dispatch(cmd, m.main_set, m.constants, gx, gy);
     m.timer.end(cmd);
@@ -169,22 +124,14 @@ GtaoOutput GtaoDevice::run() {
   std::vector<float> ao = m.settings.denoise ? m.ao.download<float>() : out.raw_ao;
   std::vector<glm::vec3> eye_bent;
   if (m.settings.bent)
-    eye_bent = unpadded((m.settings.denoise ? m.bent : m.raw_bent).download<float>());
+    eye_bent = unpadded_texels((m.settings.denoise ? m.bent : m.raw_bent).download<float>());
   const HbaoFrame seen = frame();
   gtao_finish(m.settings, m.camera, seen, ao, eye_bent, out);
   return out;
 }
 
 HbaoFrame GtaoDevice::frame() const {
-  const Impl& m = *impl_;
-  if (!m.raster) return m.embree_frame;
-  HbaoFrame f;
-  f.width = m.width;
-  f.height = m.height;
-  f.focal = m.constants.focal;
-  f.depth = m.gbuffer.depth.download<float>();
-  f.normal = unpadded(m.normal.download<float>());
-  return f;
+  return impl_->frame->download();
 }
 
 namespace {

@@ -1,5 +1,6 @@
-// hbao-split, part of the geometry pass with gbuffer=raster: the raster G-buffer's world-space
-// normals in eye space (hbao_eye_normal, the conversion the CPU twin applies to the Embree ones).
+// hbao-split's and gtao's geometry pass with gbuffer=raster (HbaoFrameDevice, frame_device.h): the
+// raster G-buffer's world-space normals in eye space (hbao_eye_normal, the conversion the CPU twins
+// apply to the Embree ones).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 

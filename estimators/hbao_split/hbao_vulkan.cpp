@@ -5,12 +5,11 @@
 #include <glm/vec4.hpp>
 #include <numbers>
 
-#include "estimators/vulkan/raster_gbuffer.h"
+#include "estimators/hbao_split/frame_device.h"
 #include "estimators/vulkan/vk_commands.h"
 #include "estimators/vulkan/vk_pipelines.h"
 #include "hbao_bare_fetch_comp_spv.h"
 #include "hbao_blur_comp_spv.h"
-#include "hbao_eye_normals_comp_spv.h"
 #include "hbao_horizon_comp_spv.h"
 #include "hbao_normal_comp_spv.h"
 
@@ -32,43 +31,28 @@ const std::vector<VkDescriptorType> kPassBindings = {
     VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 7 AO
 };
 
-struct EyeNormalsPush {
-  glm::vec4 right, up, forward;
-  int32_t width, height;
-};
-
-std::vector<glm::vec4> padded(const std::vector<glm::vec3>& v) {
-  std::vector<glm::vec4> out(v.size());
-  for (size_t k = 0; k < v.size(); ++k) out[k] = glm::vec4(v[k], 0.0f);
-  return out;
-}
-
 }  // namespace
 
 struct HbaoDevice::Impl {
   vk::Context& vk;
   HbaoSettings settings{};
   HbaoConstants constants{};
-  Camera camera;
   int width = 0, height = 0;
-  HbaoFrame embree_frame;  // gbuffer=embree
-  std::unique_ptr<vk::RasterGBuffer> raster;
-  vk::DeviceGBuffer gbuffer;  // gbuffer=raster
-  vk::Image2D depth, normal, ot, raw_ao, ao;
+  std::unique_ptr<HbaoFrameDevice> frame;  // depth and eye normals, uploaded or rasterised
+  vk::Image2D ot, raw_ao, ao;
   vk::Buffer random, directions, horizons;
-  std::unique_ptr<vk::ComputePipeline> eye_normals, horizon, normal_pass, blur;
-  VkDescriptorSet eye_set = VK_NULL_HANDLE, horizon_set = VK_NULL_HANDLE,
-                  normal_set = VK_NULL_HANDLE, blur_set = VK_NULL_HANDLE;
+  std::unique_ptr<vk::ComputePipeline> horizon, normal_pass, blur;
+  VkDescriptorSet horizon_set = VK_NULL_HANDLE, normal_set = VK_NULL_HANDLE,
+                  blur_set = VK_NULL_HANDLE;
   vk::PassTimer timer;
 
   Impl(vk::Context& context, const HbaoSettings& s, int w, int h, float focal)
       : vk(context), settings(s), width(w), height(h), timer(context) {
     constants = hbao_constants(s, w, h, focal);
-    normal = vk::Image2D(vk, w, h, VK_FORMAT_R32G32B32A32_SFLOAT);
     ot = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
     raw_ao = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
     ao = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
-    const std::vector<glm::vec4> texels = padded(hbao_random_texture(s));
+    const std::vector<glm::vec4> texels = padded_texels(hbao_random_texture(s));
     random = vk::Buffer(vk, texels.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     random.upload(texels);
     const std::vector<glm::vec2> table = hbao_direction_table(s.directions);
@@ -79,8 +63,6 @@ struct HbaoDevice::Impl {
                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   }
 
-  const vk::Image2D& depth_image() const { return raster ? gbuffer.depth : depth; }
-
   void make_pipelines() {
     const uint32_t push = sizeof(HbaoConstants);
     horizon = std::make_unique<vk::ComputePipeline>(vk, "hbao horizon", hbao_horizon_comp_spv,
@@ -89,29 +71,18 @@ struct HbaoDevice::Impl {
                                                         kPassBindings, push);
     blur = std::make_unique<vk::ComputePipeline>(vk, "hbao blur", hbao_blur_comp_spv, kPassBindings,
                                                  push);
-    const std::vector<vk::Resource> resources = {depth_image(), normal, random, directions,
-                                                 horizons,      ot,     raw_ao, ao};
+    const std::vector<vk::Resource> resources = {
+        frame->depth(), frame->normal(), random, directions, horizons, ot, raw_ao, ao};
     horizon_set = horizon->make_set(resources);
     normal_set = normal_pass->make_set(resources);
     blur_set = blur->make_set(resources);
-    if (raster) {
-      eye_normals = std::make_unique<vk::ComputePipeline>(
-          vk, "hbao eye normals", hbao_eye_normals_comp_spv,
-          std::vector<VkDescriptorType>{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-                                        VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
-          sizeof(EyeNormalsPush));
-      eye_set = eye_normals->make_set({gbuffer.normal, normal});
-    }
   }
 };
 
 HbaoDevice::HbaoDevice(vk::Context& vk, const HbaoSettings& settings, const HbaoFrame& frame) {
   validate_hbao_frame(frame);
   impl_ = std::make_unique<Impl>(vk, settings, frame.width, frame.height, frame.focal);
-  impl_->embree_frame = frame;
-  impl_->depth = vk::Image2D(vk, frame.width, frame.height, VK_FORMAT_R32_SFLOAT);
-  impl_->depth.upload(frame.depth);
-  impl_->normal.upload(padded(frame.normal));
+  impl_->frame = std::make_unique<HbaoFrameDevice>(vk, frame);
   impl_->make_pipelines();
 }
 
@@ -124,16 +95,14 @@ HbaoDevice::HbaoDevice(vk::Context& vk, const HbaoSettings& settings, const Scen
   shape.focal = focal;
   validate_hbao_frame(shape);
   impl_ = std::make_unique<Impl>(vk, settings, camera.width, camera.height, focal);
-  impl_->camera = camera;
-  impl_->raster = std::make_unique<vk::RasterGBuffer>(vk, scene);
-  impl_->gbuffer = vk::make_device_gbuffer(vk, camera.width, camera.height);
+  impl_->frame = std::make_unique<HbaoFrameDevice>(vk, scene, camera);
   impl_->make_pipelines();
 }
 
 HbaoDevice::~HbaoDevice() = default;
 
 const vk::Image2D& HbaoDevice::depth_image() const {
-  return impl_->depth_image();
+  return impl_->frame->depth();
 }
 
 HbaoGpuResult HbaoDevice::run() {
@@ -142,17 +111,7 @@ HbaoGpuResult HbaoDevice::run() {
   const uint32_t gy = vk::group_count(static_cast<uint32_t>(m.height), kGroup);
   m.vk.submit([&](VkCommandBuffer cmd) {
     m.timer.reset(cmd);
-    if (m.raster) {
-      // The geometry stage: the raster G-buffer (timed as "geometry" by its record()) and its
-      // normals in eye space (timed as "geometry" too: the spans add up).
-      m.raster->record(cmd, m.camera, m.gbuffer, &m.timer);
-      EyeNormalsPush push{glm::vec4(m.camera.right, 0.0f), glm::vec4(m.camera.up, 0.0f),
-                          glm::vec4(m.camera.forward, 0.0f), m.width, m.height};
-      m.timer.begin(cmd, "geometry");
-      m.eye_normals->dispatch(cmd, m.eye_set, push, gx, gy);
-      m.timer.end(cmd);
-      vk::pass_barrier(cmd);
-    }
+    m.frame->record(cmd, m.timer);  // the geometry stage with gbuffer=raster
     m.timer.begin(cmd, "horizon");
     m.horizon->dispatch(cmd, m.horizon_set, m.constants, gx, gy);
     m.timer.end(cmd);
@@ -173,25 +132,14 @@ HbaoGpuResult HbaoDevice::run() {
   r.raw_ao = m.raw_ao.download<float>();
   r.ao = m.settings.blur ? m.ao.download<float>() : r.raw_ao;
   const std::vector<float> ot = m.ot.download<float>();
-  const std::vector<float> z = m.depth_image().download<float>();
+  const std::vector<float> z = m.frame->depth().download<float>();
   r.horizon_ao.assign(ot.size(), 0.0f);
   for (size_t k = 0; k < ot.size(); ++k) r.horizon_ao[k] = z[k] > 0.0f ? 1.0f - ot[k] : 0.0f;
   return r;
 }
 
 HbaoFrame HbaoDevice::frame() const {
-  const Impl& m = *impl_;
-  if (!m.raster) return m.embree_frame;
-  HbaoFrame f;
-  f.width = m.width;
-  f.height = m.height;
-  f.focal = m.constants.focal;
-  f.depth = m.gbuffer.depth.download<float>();
-  const std::vector<float> n = m.normal.download<float>();
-  f.normal.resize(f.depth.size());
-  for (size_t k = 0; k < f.normal.size(); ++k)
-    f.normal[k] = glm::vec3(n[4 * k], n[4 * k + 1], n[4 * k + 2]);
-  return f;
+  return impl_->frame->download();
 }
 
 struct BareFetch::Impl {
