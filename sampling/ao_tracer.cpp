@@ -269,11 +269,14 @@ TracedAo trace_ao(const EmbreeScene& es, const GBuffer& g, const AoTraceSettings
                     if (!replicated) ++acc.count, ++bent_acc.count;
                     continue;
                   }
-                  rep_sum += v;
                   const glm::dvec3 weighted = glm::dvec3(dirs[d]) * static_cast<double>(v);
-                  bent += weighted;
-                  rep_bent += weighted;
-                  if (!replicated) {
+                  if (replicated) {
+                    rep_sum += v;
+                    rep_bent += weighted;
+                    bent += weighted;
+                  } else {
+                    // bent_acc.sum is the same sum, added in the same order (same bits): the
+                    // random sampler's bent normal is read from it below.
                     acc.add(v);
                     bent_acc.add(weighted);
                   }
@@ -291,6 +294,7 @@ TracedAo trace_ao(const EmbreeScene& es, const GBuffer& g, const AoTraceSettings
             samples += static_cast<uint64_t>(used);
             r.ao[k] = static_cast<float>(acc.mean());
             r.stderr_ao[k] = static_cast<float>(acc.standard_error());
+            if (!replicated) bent = bent_acc.sum;
             const double len = glm::length(bent);
             r.bent[k] = len > 0.0 ? glm::vec3(bent / len) : glm::vec3(0.0f);
             r.bent_stderr[k] = static_cast<float>(bent_acc.angular_stderr_deg());
