@@ -21,7 +21,11 @@ GBufferPreviewPaths gbuffer_preview_paths(const std::string& gbuffer_exr) {
 
 void write_gbuffer_previews(const std::string& gbuffer_exr, const std::string& normals_png,
                             const std::string& depth_png) {
-  OIIO::ImageBuf g = read_image(gbuffer_exr);
+  write_gbuffer_previews(read_image(gbuffer_exr), gbuffer_exr, normals_png, depth_png);
+}
+
+void write_gbuffer_previews(const OIIO::ImageBuf& g, const std::string& gbuffer_exr,
+                            const std::string& normals_png, const std::string& depth_png) {
   const int a = channel_index(g, "A", gbuffer_exr), z = channel_index(g, "Z", gbuffer_exr);
   const int nx = channel_index(g, "N.X", gbuffer_exr);
   const int w = g.spec().width, h = g.spec().height;

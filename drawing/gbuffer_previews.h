@@ -3,6 +3,8 @@
 // whose previews are missing (a run merged from shards).
 #pragma once
 
+#include <OpenImageIO/imagebuf.h>
+
 #include <string>
 
 namespace aoeval {
@@ -17,5 +19,9 @@ GBufferPreviewPaths gbuffer_preview_paths(const std::string& gbuffer_exr);
 // "inferno" colour map (near = bright), normalised over covered pixels; background dark grey.
 void write_gbuffer_previews(const std::string& gbuffer_exr, const std::string& normals_png,
                             const std::string& depth_png);
+// The same from the image that was (or is being) written to `gbuffer_exr` (float channels, so the
+// file holds the same values): the suite runner does not read back the file it just wrote.
+void write_gbuffer_previews(const OIIO::ImageBuf& gbuffer, const std::string& gbuffer_exr,
+                            const std::string& normals_png, const std::string& depth_png);
 
 }  // namespace aoeval

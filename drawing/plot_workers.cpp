@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <stdexcept>
 
@@ -16,9 +17,10 @@ namespace aoeval {
 
 struct PlotWorkers::Worker {
   pid_t pid = -1;
-  int socket = -1;  // both directions: jobs out, answers in
-  bool busy = false, dead = false;
-  std::string pending;  // bytes read past the last answer's newline
+  int socket = -1;                // both directions: jobs out, answers in
+  bool busy = false;              // guarded by the pool's mutex
+  std::atomic<bool> dead{false};  // also set by draw(), which runs without the mutex
+  std::string pending;            // bytes read past the last answer's newline
 };
 
 namespace {

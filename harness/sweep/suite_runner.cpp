@@ -105,15 +105,16 @@ class RunImages {
     const View& view = data.scene.view(view_name);
     const std::string exr =
         (fs::path(out_) / "gbuffers" / gallery_exr(data.scene, view, w, h)).string();
+    const OIIO::ImageBuf image = gbuffer_to_image(session.gbuffer(scene, view, w, h));
     {
       const auto timer = stages.time("G-buffer gallery EXRs");
-      write_exr(exr, gbuffer_to_image(session.gbuffer(scene, view, w, h)),
+      write_exr(exr, image,
                 gbuffer_attributes(data.scene, data.content_hash, view, make_camera(view, w, h)));
     }
     BackgroundLane::checkpoint();
     const auto timer = stages.time("G-buffer gallery previews");
     const GBufferPreviewPaths png = gbuffer_preview_paths(exr);
-    write_gbuffer_previews(exr, png.normals, png.depth);
+    write_gbuffer_previews(image, exr, png.normals, png.depth);
   }
   std::vector<GalleryEntry> gallery(EvaluationSession& session,
                                     const std::map<std::string, double>& load_ms) {
