@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 #include <limits>
@@ -32,22 +33,43 @@ struct PixelInput {
   float offset;
 };
 
-// Visits every direction of one replicate of one pixel: `visit(direction, above_surface)`.
-template <class Visit>
-void for_each_direction(const AoTraceSettings& s, uint64_t pixel, uint32_t replicate, uint32_t m,
-                        const PixelInput& in, const Frame& frame, std::vector<glm::vec2>& square,
-                        Visit&& visit) {
-  square.resize(m);
-  thread_local std::vector<glm::vec3> local;
-  local.resize(m);
-  sample_square(s.sampler, s.seed, pixel, replicate, m, square.data());
+// Two doubles added and multiplied lane by lane (GCC/Clang vector extension): the same IEEE
+// operations as two scalar ones, so sums kept in lanes are the same bits as sums kept apart.
+using Double2 = double __attribute__((vector_size(16)));
+
+// One replicate's directions, as separate coordinate arrays: in the local frame (the hemisphere
+// map's output), in world space, and whether each lies above the geometric surface.
+struct ReplicateDirections {
+  std::vector<glm::vec2> square;
+  std::vector<float> local_x, local_y, local_z, x, y, z;
+  std::vector<uint8_t> above;
+};
+
+// Draws replicate `replicate` of pixel `pixel`: m directions in sample order. The world-space loop
+// does Frame::to_world's and glm::dot's operations in their order, lane by lane, so it vectorises
+// and gives the same bits as the per-direction calls.
+void make_directions(const AoTraceSettings& s, uint64_t pixel, uint32_t replicate, uint32_t m,
+                     const PixelInput& in, const Frame& frame, ReplicateDirections& d) {
+  for (auto* v : {&d.local_x, &d.local_y, &d.local_z, &d.x, &d.y, &d.z}) v->resize(m);
+  d.square.resize(m);
+  d.above.resize(m);
+  sample_square(s.sampler, s.seed, pixel, replicate, m, d.square.data());
   if (s.definition.weighting == Weighting::cosine)
-    square_to_cosine_hemisphere(square.data(), m, local.data());
+    square_to_cosine_hemisphere(d.square.data(), m, d.local_x.data(), d.local_y.data(),
+                                d.local_z.data());
   else
-    square_to_uniform_hemisphere(square.data(), m, local.data());
+    square_to_uniform_hemisphere(d.square.data(), m, d.local_x.data(), d.local_y.data(),
+                                 d.local_z.data());
+  const glm::vec3 t = frame.t, b = frame.b, n = frame.n, ng = in.geometric_normal;
+  const float *lx = d.local_x.data(), *ly = d.local_y.data(), *lz = d.local_z.data();
+  float *x = d.x.data(), *y = d.y.data(), *z = d.z.data();
+  uint8_t* above = d.above.data();
   for (uint32_t i = 0; i < m; ++i) {
-    const glm::vec3 w = frame.to_world(local[i]);
-    visit(w, glm::dot(w, in.geometric_normal) > 0.0f);
+    const float wx = t.x * lx[i] + b.x * ly[i] + n.x * lz[i];
+    const float wy = t.y * lx[i] + b.y * ly[i] + n.y * lz[i];
+    const float wz = t.z * lx[i] + b.z * ly[i] + n.z * lz[i];
+    x[i] = wx, y[i] = wy, z[i] = wz;
+    above[i] = wx * ng.x + wy * ng.y + wz * ng.z > 0.0f;
   }
 }
 
@@ -65,105 +87,21 @@ float scene_extent_of(const EmbreeScene& es) {
   return std::max({e.x, e.y, e.z});
 }
 
-// Traces one pixel's directions in packets of 16: they share an origin, so a packet traverses the
-// top of the BVH together. Directions are written straight into the packet's lanes as they are
-// generated; the origin, range and mask are written once per pixel.
-class PacketTracer {
- public:
-  PacketTracer(RTCScene scene, RTCIntersectContext& context, const AoDefinition& def,
-               const PixelInput& in)
-      : scene_(scene), context_(context), def_(def), occlusion_only_(def.falloff == Falloff::none) {
-    const glm::vec3 o = in.position + in.geometric_normal * in.offset;
-    tfar_ = def.bounded() ? static_cast<float>(def.dmax) : kInf;
-    RTCRay16& r = occlusion_only_ ? ray_ : hit_.ray;
-    for (int k = 0; k < 16; ++k) {
-      r.org_x[k] = o.x, r.org_y[k] = o.y, r.org_z[k] = o.z;
-      r.dir_x[k] = 0.0f, r.dir_y[k] = 0.0f, r.dir_z[k] = 1.0f;
-      r.tnear[k] = 0.0f;
-      r.time[k] = 0.0f;
-      r.mask[k] = 0xFFFFFFFFu;
-      r.id[k] = static_cast<unsigned>(k);
-      r.flags[k] = 0;
-    }
-  }
-
-  // Queues direction w, whose value goes to values[index] when the packet is traced.
-  void add(const glm::vec3& w, uint32_t index, float* values, uint64_t& traced) {
-    RTCRay16& r = occlusion_only_ ? ray_ : hit_.ray;
-    r.dir_x[lanes_] = w.x, r.dir_y[lanes_] = w.y, r.dir_z[lanes_] = w.z;
-    index_[lanes_++] = index;
-    if (lanes_ == 16) flush(values, traced);
-  }
-
-  void flush(float* values, uint64_t& traced) {
-    if (lanes_ == 0) return;
-    alignas(64) int valid[16];
-    for (int k = 0; k < 16; ++k) valid[k] = k < lanes_ ? -1 : 0;
-    traced += static_cast<uint64_t>(lanes_);
-    if (occlusion_only_) {
-      for (int k = 0; k < 16; ++k) ray_.tfar[k] = tfar_;
-      rtcOccluded16(valid, scene_, &context_, &ray_);
-      for (int k = 0; k < lanes_; ++k) values[index_[k]] = ray_.tfar[k] < 0.0f ? 0.0f : 1.0f;
-    } else {
-      for (int k = 0; k < 16; ++k) {
-        hit_.ray.tfar[k] = tfar_;
-        hit_.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-      }
-      rtcIntersect16(valid, scene_, &context_, &hit_);
-      for (int k = 0; k < lanes_; ++k)
-        values[index_[k]] =
-            hit_.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID ? 1.0f : def_.ray_value(hit_.ray.tfar[k]);
-    }
-    lanes_ = 0;
-  }
-
- private:
-  RTCScene scene_;
-  RTCIntersectContext& context_;
-  const AoDefinition& def_;
-  bool occlusion_only_;
-  float tfar_ = kInf;
-  alignas(64) RTCRay16 ray_;
-  alignas(64) RTCRayHit16 hit_;
-  uint32_t index_[16];
-  int lanes_ = 0;
-};
-
-// One replicate of one pixel: m directions, traced in packets, values in sample order.
-void evaluate_replicate(RTCScene scene, RTCIntersectContext& context, const AoTraceSettings& s,
-                        uint64_t pixel, uint32_t replicate, uint32_t m, const PixelInput& in,
-                        const Frame& frame, std::vector<glm::vec2>& square,
-                        std::vector<glm::vec3>& dirs, std::vector<float>& values,
-                        uint64_t& traced) {
-  dirs.resize(m);
-  values.resize(m);
-  PacketTracer tracer(scene, context, s.definition, in);
-  for_each_direction(s, pixel, replicate, m, in, frame, square,
-                     [&, i = 0u](const glm::vec3& w, bool is_above) mutable {
-                       dirs[i] = w;
-                       values[i] = 0.0f;  // below the surface: occluded at distance 0
-                       if (is_above) tracer.add(w, i, values.data(), traced);
-                       ++i;
-                     });
-  tracer.flush(values.data(), traced);
-}
-
 // Running statistics of one pixel: over samples (random) or over replicate means (the others).
 struct Accumulator {
-  double sum = 0.0, sum_sq = 0.0;
+  Double2 sums = {0.0, 0.0};  // the sum and the sum of squares
   long count = 0;
   void add(double x) {
-    sum += x;
-    sum_sq += x * x;
+    sums += Double2{x, x * x};
     ++count;
   }
-  double mean() const { return count ? sum / static_cast<double>(count) : 0.0; }
+  double mean() const { return count ? sums[0] / static_cast<double>(count) : 0.0; }
   // Standard error of the mean; with no degree of freedom, the bound 0.5 / sqrt(n) of a [0, 1]
   // quantity (the largest possible standard deviation is 0.5).
   double standard_error() const {
     if (count < 2) return 0.5 / std::sqrt(std::max<double>(1.0, static_cast<double>(count)));
-    const double n = static_cast<double>(count);
-    const double var = std::max(0.0, (sum_sq - sum * sum / n) / (n - 1.0));
+    const double n = static_cast<double>(count), sum = sums[0];
+    const double var = std::max(0.0, (sums[1] - sum * sum / n) / (n - 1.0));
     return std::sqrt(var / n);
   }
 };
@@ -172,18 +110,25 @@ struct Accumulator {
 // units as Accumulator (samples value * w, or replicate means of them): their sum and the sum of
 // their outer products, from which the covariance of the mean follows.
 struct VectorAccumulator {
-  glm::dvec3 sum{0.0};
-  // The six distinct sums of the symmetric outer products x x^T (xx, yy, zz, xy, xz, yz): IEEE
+  Double2 sum_xy = {0.0, 0.0};
+  double sum_z = 0.0;
+  // The six distinct sums of the symmetric outer products x x^T, two per lane pair: IEEE
   // multiplication commutes, so the mirrored entries are the same bits as a full 3x3 sum's.
-  double xx = 0.0, yy = 0.0, zz = 0.0, xy = 0.0, xz = 0.0, yz = 0.0;
+  Double2 xx_yy = {0.0, 0.0}, zz_xy = {0.0, 0.0}, xz_yz = {0.0, 0.0};
   long count = 0;
   void add(const glm::dvec3& x) {
-    sum += x;
-    xx += x.x * x.x, yy += x.y * x.y, zz += x.z * x.z;
-    xy += x.x * x.y, xz += x.x * x.z, yz += x.y * x.z;
+    const Double2 xy = {x.x, x.y};
+    sum_xy += xy;
+    sum_z += x.z;
+    xx_yy += xy * xy;
+    zz_xy += Double2{x.z, x.x} * Double2{x.z, x.y};
+    xz_yz += xy * Double2{x.z, x.z};
     ++count;
   }
+  glm::dvec3 sum() const { return glm::dvec3(sum_xy[0], sum_xy[1], sum_z); }
   glm::dmat3 outer() const {  // column-major, symmetric
+    const double xx = xx_yy[0], yy = xx_yy[1], zz = zz_xy[0], xy = zz_xy[1], xz = xz_yz[0],
+                 yz = xz_yz[1];
     return glm::dmat3(xx, xy, xz, xy, yy, yz, xz, yz, zz);
   }
   // The angular standard error of the unit mean direction, degrees: with C the covariance of the
@@ -195,14 +140,15 @@ struct VectorAccumulator {
   // 0 where m = 0 (no bent normal).
   double angular_stderr_deg() const {
     const double n = static_cast<double>(count);
-    const glm::dvec3 m = n > 0.0 ? sum / n : glm::dvec3(0.0);
+    const glm::dvec3 total = sum();
+    const glm::dvec3 m = n > 0.0 ? total / n : glm::dvec3(0.0);
     const double len = glm::length(m);
     if (!(len > 0.0)) return 0.0;
     double across = 0.0;
     if (count < 2) {
       across = 1.0 / std::max(1.0, n);
     } else {
-      const glm::dmat3 cov = (outer() - glm::outerProduct(sum, sum) / n) / (n - 1.0) / n;
+      const glm::dmat3 cov = (outer() - glm::outerProduct(total, total) / n) / (n - 1.0) / n;
       const glm::dvec3 u = m / len;
       const double trace = cov[0][0] + cov[1][1] + cov[2][2];
       across = std::max(0.0, trace - glm::dot(u, cov * u));
@@ -210,6 +156,181 @@ struct VectorAccumulator {
     return std::sqrt(across) / len * (180.0 / std::numbers::pi);
   }
 };
+
+// The sums of one pixel, fed each direction's value in sample order (the same bits whatever the
+// packets). Occluded directions add zeros (x + 0 = x exactly, and a sum that starts at +0 stays
+// +0), so for them only the counts move.
+struct PixelSums {
+  explicit PixelSums(bool replicated_samples) : replicated(replicated_samples) {}
+  bool replicated;  // stratified and sobol: statistics over replicate means, not samples
+  Accumulator acc;
+  VectorAccumulator bent_acc;
+  double replicate_sum = 0.0;
+  glm::dvec3 replicate_bent{0.0};
+  glm::dvec3 bent{0.0};  // replicated: the sum of value * w (random reads bent_acc's sum)
+
+  void occluded() {
+    if (!replicated) ++acc.count, ++bent_acc.count;
+  }
+  // value 1: w itself (w * 1.0 would be the same bits).
+  void unoccluded(const glm::vec3& w) { add(1.0, glm::dvec3(w)); }
+  // value 1 if `open`, else 0, without a branch (occlusion is unpredictable from ray to ray): an
+  // occluded direction adds 0 and w * 0 = +-0, which leave every sum's bits as they are (no sum is
+  // ever -0: each starts at +0, and x + (-x) = +0), and moves the counts as occluded() does.
+  void occlusion(const glm::vec3& w, bool open) {
+    const auto value = static_cast<double>(open);  // a conversion, which compiles without a jump
+    add(value, glm::dvec3(w) * value);
+  }
+  void partly_occluded(const glm::vec3& w, float value) {
+    if (value == 0.0f) return occluded();
+    add(value, glm::dvec3(w) * static_cast<double>(value));
+  }
+  void end_replicate(uint32_t m) {
+    if (!replicated) return;
+    acc.add(replicate_sum / m);
+    bent_acc.add(replicate_bent / static_cast<double>(m));
+    replicate_sum = 0.0;
+    replicate_bent = glm::dvec3(0.0);
+  }
+  glm::dvec3 bent_sum() const { return replicated ? bent : bent_acc.sum(); }
+
+ private:
+  void add(double value, const glm::dvec3& weighted) {
+    if (replicated) {
+      replicate_sum += value;
+      replicate_bent += weighted;
+      bent += weighted;
+    } else {
+      acc.add(value);
+      bent_acc.add(weighted);
+    }
+  }
+};
+
+// Traces one pixel's directions in packets of 16: they share an origin, so a packet traverses the
+// top of the BVH together. Directions are written straight into the packet's lanes as they are
+// generated; the origin, range and mask are written once per pixel. Each traced packet's values go
+// to the pixel's sums at once, in lane (= sample) order.
+class PacketTracer {
+ public:
+  PacketTracer(RTCScene scene, RTCIntersectContext& context, const AoDefinition& def,
+               const PixelInput& in, PixelSums& sums)
+      : scene_(scene),
+        context_(context),
+        def_(def),
+        sums_(sums),
+        occlusion_only_(def.falloff == Falloff::none),
+        rays_(occlusion_only_ ? &ray_ : &hit_.ray) {
+    const glm::vec3 o = in.position + in.geometric_normal * in.offset;
+    tfar_ = def.bounded() ? static_cast<float>(def.dmax) : kInf;
+    RTCRay16& r = *rays_;
+    for (int k = 0; k < 16; ++k) {
+      r.org_x[k] = o.x, r.org_y[k] = o.y, r.org_z[k] = o.z;
+      r.dir_x[k] = 0.0f, r.dir_y[k] = 0.0f, r.dir_z[k] = 1.0f;
+      r.tnear[k] = 0.0f;
+      r.time[k] = 0.0f;
+      r.mask[k] = 0xFFFFFFFFu;
+      r.id[k] = static_cast<unsigned>(k);
+      r.flags[k] = 0;
+    }
+  }
+
+  // Queues direction w; its value goes to the sums when its packet is traced.
+  void add(float x, float y, float z, uint64_t& traced) {
+    RTCRay16& r = *rays_;
+    r.dir_x[lanes_] = x, r.dir_y[lanes_] = y, r.dir_z[lanes_] = z;
+    if (++lanes_ == 16) flush(traced);
+  }
+
+  // Traces 16 directions at once as a full packet; only when no direction is queued.
+  void add_packet(const float* x, const float* y, const float* z, uint64_t& traced) {
+    RTCRay16& r = *rays_;
+    std::copy_n(x, 16, r.dir_x);
+    std::copy_n(y, 16, r.dir_y);
+    std::copy_n(z, 16, r.dir_z);
+    lanes_ = 16;
+    flush(traced);
+  }
+  bool empty() const { return lanes_ == 0; }
+
+  void flush(uint64_t& traced) {
+    if (lanes_ == 0) return;
+    alignas(64) int valid[16];
+    for (int k = 0; k < 16; ++k) valid[k] = k < lanes_ ? -1 : 0;
+    traced += static_cast<uint64_t>(lanes_);
+    const RTCRay16& r = *rays_;
+    if (occlusion_only_) {
+      for (int k = 0; k < 16; ++k) ray_.tfar[k] = tfar_;
+      rtcOccluded16(valid, scene_, &context_, &ray_);
+      // Summed in a local copy, which the compiler keeps in registers (the pixel's sums behind a
+      // reference stay in memory, a store and a load per addition).
+      PixelSums local = sums_;
+      for (int k = 0; k < lanes_; ++k)
+        local.occlusion(glm::vec3(r.dir_x[k], r.dir_y[k], r.dir_z[k]), ray_.tfar[k] >= 0.0f);
+      sums_ = local;
+    } else {
+      for (int k = 0; k < 16; ++k) {
+        hit_.ray.tfar[k] = tfar_;
+        hit_.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      }
+      rtcIntersect16(valid, scene_, &context_, &hit_);
+      for (int k = 0; k < lanes_; ++k) {
+        const glm::vec3 w(r.dir_x[k], r.dir_y[k], r.dir_z[k]);
+        if (hit_.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID)
+          sums_.unoccluded(w);
+        else
+          sums_.partly_occluded(w, def_.ray_value(hit_.ray.tfar[k]));
+      }
+    }
+    lanes_ = 0;
+  }
+
+ private:
+  RTCScene scene_;
+  RTCIntersectContext& context_;
+  const AoDefinition& def_;
+  PixelSums& sums_;
+  bool occlusion_only_;
+  RTCRay16* rays_;  // the packet's rays: ray_, or hit_'s rays when distances are needed
+  float tfar_ = kInf;
+  alignas(64) RTCRay16 ray_;
+  alignas(64) RTCRayHit16 hit_;
+  int lanes_ = 0;
+};
+
+// Whether the 16 flags from `above` on are all set (each flag is 0 or 1).
+bool all_above(const uint8_t* above) {
+  uint64_t low, high;
+  std::memcpy(&low, above, 8);
+  std::memcpy(&high, above + 8, 8);
+  constexpr uint64_t kAllOnes = 0x0101010101010101u;
+  return low == kAllOnes && high == kAllOnes;
+}
+
+// One replicate of one pixel: m directions, traced in packets, their values summed in sample
+// order. Directions below the geometric surface are occluded at distance 0 and not traced.
+void evaluate_replicate(RTCScene scene, RTCIntersectContext& context, const AoTraceSettings& s,
+                        uint64_t pixel, uint32_t replicate, uint32_t m, const PixelInput& in,
+                        const Frame& frame, ReplicateDirections& d, PixelSums& sums,
+                        uint64_t& traced) {
+  make_directions(s, pixel, replicate, m, in, frame, d);
+  PacketTracer tracer(scene, context, s.definition, in, sums);
+  for (uint32_t i = 0; i < m;) {
+    // Sixteen directions above the surface in a row (nearly always): one copy into the packet.
+    if (tracer.empty() && m - i >= 16 && all_above(d.above.data() + i)) {
+      tracer.add_packet(d.x.data() + i, d.y.data() + i, d.z.data() + i, traced);
+      i += 16;
+      continue;
+    }
+    if (d.above[i])
+      tracer.add(d.x[i], d.y[i], d.z[i], traced);
+    else
+      sums.occluded();
+    ++i;
+  }
+  tracer.flush(traced);
+  sums.end_replicate(m);
+}
 
 }  // namespace
 
@@ -239,9 +360,7 @@ TracedAo trace_ao(const EmbreeScene& es, const GBuffer& g, const AoTraceSettings
       tbb::blocked_range<int>(0, g.height, 1), [&](const tbb::blocked_range<int>& rows) {
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
-        std::vector<glm::vec2> square;
-        std::vector<glm::vec3> dirs;
-        std::vector<float> values;
+        ReplicateDirections directions;
         uint64_t traced = 0, samples = 0;
         for (int j = rows.begin(); j < rows.end(); ++j) {
           for (int i = 0; i < g.width; ++i) {
@@ -249,55 +368,26 @@ TracedAo trace_ao(const EmbreeScene& es, const GBuffer& g, const AoTraceSettings
             if (!g.covered(k)) continue;
             const PixelInput in = pixel_input(g, k, s, extent);
             const Frame frame = make_frame(in.normal);
-            Accumulator acc;
-            VectorAccumulator bent_acc;
-            glm::dvec3 bent(0.0);
+            PixelSums sums(replicated);
             long used = 0;
             for (uint32_t batch = 0;; ++batch) {
               for (int rep = 0; rep < replicates; ++rep) {
-                double rep_sum = 0.0;
-                glm::dvec3 rep_bent(0.0);
                 const auto replicate = static_cast<uint32_t>(batch * replicates + rep);
-                evaluate_replicate(es.handle(), context, s, k, replicate, m, in, frame, square,
-                                   dirs, values, traced);
-                for (uint32_t d = 0; d < m;
-                     ++d) {  // in sample order: same bits whatever the packets
-                  const float v = values[d];
-                  if (v == 0.0f) {
-                    // An occluded direction adds zeros (x + 0 = x exactly, and a sum that starts
-                    // at +0 stays +0): only the counts move.
-                    if (!replicated) ++acc.count, ++bent_acc.count;
-                    continue;
-                  }
-                  const glm::dvec3 weighted = glm::dvec3(dirs[d]) * static_cast<double>(v);
-                  if (replicated) {
-                    rep_sum += v;
-                    rep_bent += weighted;
-                    bent += weighted;
-                  } else {
-                    // bent_acc.sum is the same sum, added in the same order (same bits): the
-                    // random sampler's bent normal is read from it below.
-                    acc.add(v);
-                    bent_acc.add(weighted);
-                  }
-                }
-                if (replicated) {
-                  acc.add(rep_sum / m);
-                  bent_acc.add(rep_bent / static_cast<double>(m));
-                }
+                evaluate_replicate(es.handle(), context, s, k, replicate, m, in, frame, directions,
+                                   sums, traced);
                 used += m;
               }
-              if (s.target_stderr <= 0.0 || acc.standard_error() <= s.target_stderr ||
+              if (s.target_stderr <= 0.0 || sums.acc.standard_error() <= s.target_stderr ||
                   used + s.spp > s.max_spp)
                 break;
             }
             samples += static_cast<uint64_t>(used);
-            r.ao[k] = static_cast<float>(acc.mean());
-            r.stderr_ao[k] = static_cast<float>(acc.standard_error());
-            if (!replicated) bent = bent_acc.sum;
+            r.ao[k] = static_cast<float>(sums.acc.mean());
+            r.stderr_ao[k] = static_cast<float>(sums.acc.standard_error());
+            const glm::dvec3 bent = sums.bent_sum();
             const double len = glm::length(bent);
             r.bent[k] = len > 0.0 ? glm::vec3(bent / len) : glm::vec3(0.0f);
-            r.bent_stderr[k] = static_cast<float>(bent_acc.angular_stderr_deg());
+            r.bent_stderr[k] = static_cast<float>(sums.bent_acc.angular_stderr_deg());
             r.spp[k] = static_cast<float>(used);
           }
         }
@@ -313,7 +403,7 @@ TracedAo trace_ao(const EmbreeScene& es, const GBuffer& g, const AoTraceSettings
 std::vector<BareRay> generate_traced_rays(const GBuffer& g, const AoTraceSettings& s,
                                           float scene_extent) {
   std::vector<BareRay> rays;
-  std::vector<glm::vec2> square;
+  ReplicateDirections d;
   const int replicates = replicate_count(s.sampler, s.spp);
   const auto m = static_cast<uint32_t>(s.spp / replicates);
   const float tfar = s.definition.bounded() ? static_cast<float>(s.definition.dmax) : kInf;
@@ -322,16 +412,16 @@ std::vector<BareRay> generate_traced_rays(const GBuffer& g, const AoTraceSetting
     if (!g.covered(k)) continue;
     const PixelInput in = pixel_input(g, k, s, scene_extent);
     const Frame frame = make_frame(in.normal);
+    const glm::vec3 origin = in.position + in.geometric_normal * in.offset;
     for (int rep = 0; rep < replicates; ++rep) {
+      make_directions(s, k, static_cast<uint32_t>(rep), m, in, frame, d);
       int lanes = 0;
-      for_each_direction(
-          s, k, static_cast<uint32_t>(rep), m, in, frame, square,
-          [&](const glm::vec3& w, bool above) {
-            if (!above) return;
-            if (lanes == 16) ++packet, lanes = 0;
-            rays.push_back({in.position + in.geometric_normal * in.offset, w, tfar, packet});
-            ++lanes;
-          });
+      for (uint32_t i = 0; i < m; ++i) {
+        if (!d.above[i]) continue;
+        if (lanes == 16) ++packet, lanes = 0;
+        rays.push_back({origin, glm::vec3(d.x[i], d.y[i], d.z[i]), tfar, packet});
+        ++lanes;
+      }
       if (lanes > 0) ++packet;
     }
   }

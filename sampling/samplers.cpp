@@ -179,10 +179,15 @@ void sample_square(SamplerKind kind, uint64_t seed, uint64_t pixel, uint32_t rep
   }
 }
 
-glm::vec3 square_to_cosine_hemisphere(glm::vec2 u) {
+namespace {
+
+// The cosine map of square_to_cosine_hemisphere without a branch, so that a loop of it
+// vectorises: the centre of the square (a = b = 0) computes q = 0 / 0 = NaN and is replaced by +Z
+// at the end. Vectorised lanes do the same operations in the same order (no contraction into FMA
+// at this ISA level), so a batch gives the same bits as single points (samplers_test).
+inline glm::vec3 concentric_cosine(glm::vec2 u) {
   // Shirley & Chiu 1997: the square [-1, 1]^2 onto the unit disk, concentric squares to circles.
   const float a = 2.0f * u.x - 1.0f, b = 2.0f * u.y - 1.0f;
-  if (a == 0.0f && b == 0.0f) return glm::vec3(0.0f, 0.0f, 1.0f);
   // Left/right wedges (|a| > |b|): r = a, phi = pi/4 b/a; top/bottom: r = b, phi = pi/2 - pi/4 a/b.
   // Written with selects and one division (the wedge is unpredictable from point to point).
   const bool wide = std::abs(a) > std::abs(b);
@@ -202,7 +207,14 @@ glm::vec3 square_to_cosine_hemisphere(glm::vec2 u) {
   const float x_disk = r * cos_phi, y_disk = r * sin_phi;
   // Malley's method: lifting a uniform disk point to the hemisphere gives pdf cos(theta) / pi.
   const float z = std::sqrt(std::max(0.0f, 1.0f - x_disk * x_disk - y_disk * y_disk));
-  return glm::vec3(x_disk, y_disk, z);
+  const bool centre = a == 0.0f && b == 0.0f;
+  return centre ? glm::vec3(0.0f, 0.0f, 1.0f) : glm::vec3(x_disk, y_disk, z);
+}
+
+}  // namespace
+
+glm::vec3 square_to_cosine_hemisphere(glm::vec2 u) {
+  return concentric_cosine(u);
 }
 
 glm::vec3 square_to_uniform_hemisphere(glm::vec2 u) {
@@ -212,45 +224,18 @@ glm::vec3 square_to_uniform_hemisphere(glm::vec2 u) {
   return glm::vec3(s * std::cos(phi), s * std::sin(phi), z);
 }
 
-void square_to_cosine_hemisphere(const glm::vec2* in, uint32_t m, glm::vec3* out) {
-  // The single-point map above, eight points at a time in separate arrays, without its early
-  // return, so the middle loop vectorises: the centre of the square (a = b = 0) computes
-  // q = 0 / 0 = NaN in its lane and is replaced by +Z. Every other lane does the same operations in
-  // the same order (no contraction into FMA at this ISA level), so the directions are the same
-  // bits as the single-point map's (samplers_test).
-  constexpr uint32_t kLanes = 8;
-  for (uint32_t base = 0; base < m; base += kLanes) {
-    const uint32_t n = std::min(kLanes, m - base);
-    alignas(32) float a[kLanes], b[kLanes], ox[kLanes], oy[kLanes], oz[kLanes];
-    for (uint32_t k = 0; k < kLanes; ++k) {
-      const glm::vec2 u = k < n ? in[base + k] : glm::vec2(0.5f);  // padding: the centre
-      a[k] = 2.0f * u.x - 1.0f;
-      b[k] = 2.0f * u.y - 1.0f;
-    }
-    for (uint32_t k = 0; k < kLanes; ++k) {
-      const bool wide = std::abs(a[k]) > std::abs(b[k]);
-      const float r = wide ? a[k] : b[k];
-      const float q = (wide ? b[k] : a[k]) / r;
-      const float x = (kPi / 4.0f) * q, x2 = x * x;
-      const float sin_x =
-          x * (1.0f +
-               x2 * (-1.0f / 6 + x2 * (1.0f / 120 + x2 * (-1.0f / 5040 + x2 * (1.0f / 362880)))));
-      const float cos_x =
-          1.0f + x2 * (-0.5f + x2 * (1.0f / 24 + x2 * (-1.0f / 720 + x2 * (1.0f / 40320))));
-      const float cos_phi = wide ? cos_x : sin_x, sin_phi = wide ? sin_x : cos_x;
-      const float x_disk = r * cos_phi, y_disk = r * sin_phi;
-      const float z = std::sqrt(std::max(0.0f, 1.0f - x_disk * x_disk - y_disk * y_disk));
-      const bool centre = a[k] == 0.0f && b[k] == 0.0f;
-      ox[k] = centre ? 0.0f : x_disk;
-      oy[k] = centre ? 0.0f : y_disk;
-      oz[k] = centre ? 1.0f : z;
-    }
-    for (uint32_t k = 0; k < n; ++k) out[base + k] = glm::vec3(ox[k], oy[k], oz[k]);
+void square_to_cosine_hemisphere(const glm::vec2* in, uint32_t m, float* x, float* y, float* z) {
+  for (uint32_t i = 0; i < m; ++i) {
+    const glm::vec3 w = concentric_cosine(in[i]);
+    x[i] = w.x, y[i] = w.y, z[i] = w.z;
   }
 }
 
-void square_to_uniform_hemisphere(const glm::vec2* in, uint32_t m, glm::vec3* out) {
-  for (uint32_t i = 0; i < m; ++i) out[i] = square_to_uniform_hemisphere(in[i]);
+void square_to_uniform_hemisphere(const glm::vec2* in, uint32_t m, float* x, float* y, float* z) {
+  for (uint32_t i = 0; i < m; ++i) {
+    const glm::vec3 w = square_to_uniform_hemisphere(in[i]);
+    x[i] = w.x, y[i] = w.y, z[i] = w.z;
+  }
 }
 
 Frame make_frame(const glm::vec3& n) {

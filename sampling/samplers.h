@@ -46,9 +46,11 @@ void sample_square(SamplerKind kind, uint64_t seed, uint64_t pixel, uint32_t rep
 glm::vec3 square_to_cosine_hemisphere(glm::vec2 u);
 // Uniform: pdf 1 / (2 pi), cos(theta) = 1 - u.x, phi = 2 pi u.y.
 glm::vec3 square_to_uniform_hemisphere(glm::vec2 u);
-// The same maps over m points at once (a loop the compiler can vectorise): out[i] = map(in[i]).
-void square_to_cosine_hemisphere(const glm::vec2* in, uint32_t m, glm::vec3* out);
-void square_to_uniform_hemisphere(const glm::vec2* in, uint32_t m, glm::vec3* out);
+// The same maps over m points at once (a loop the compiler can vectorise), into separate
+// coordinate arrays: (x[i], y[i], z[i]) = map(in[i]), the same bits. Structure of arrays is the
+// form the reference's tracer turns to world space and packs into Embree's ray packets.
+void square_to_cosine_hemisphere(const glm::vec2* in, uint32_t m, float* x, float* y, float* z);
+void square_to_uniform_hemisphere(const glm::vec2* in, uint32_t m, float* x, float* y, float* z);
 
 // A right-handed orthonormal basis (t, b, n), t x b = n, around the unit vector n (Duff et al.
 // 2017).

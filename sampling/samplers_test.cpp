@@ -505,15 +505,18 @@ TEST(SamplerHemisphereMaps, BatchMapsAreTheSinglePointMapsBitForBit) {
   for (int i = 0; i < 4093; ++i) points.emplace_back(rng.uniform_float(), rng.uniform_float());
   for (float a : {0.0f, 0.5f, kOneMinus, 0.5f + 0x1p-24f})
     for (float b : {0.0f, 0.5f, kOneMinus, 0.5f - 0x1p-24f}) points.emplace_back(a, b);
-  std::vector<glm::vec3> cosine(points.size()), uniform(points.size());
-  square_to_cosine_hemisphere(points.data(), static_cast<uint32_t>(points.size()), cosine.data());
-  square_to_uniform_hemisphere(points.data(), static_cast<uint32_t>(points.size()),
-                               uniform.data());
-  for (size_t i = 0; i < points.size(); ++i) {
+  const size_t n = points.size();
+  std::vector<float> cx(n), cy(n), cz(n), ux(n), uy(n), uz(n);
+  square_to_cosine_hemisphere(points.data(), static_cast<uint32_t>(n), cx.data(), cy.data(),
+                              cz.data());
+  square_to_uniform_hemisphere(points.data(), static_cast<uint32_t>(n), ux.data(), uy.data(),
+                               uz.data());
+  for (size_t i = 0; i < n; ++i) {
     const glm::vec3 c = square_to_cosine_hemisphere(points[i]);
     const glm::vec3 u = square_to_uniform_hemisphere(points[i]);
-    ASSERT_EQ(std::memcmp(&c, &cosine[i], sizeof c), 0) << points[i].x << ", " << points[i].y;
-    ASSERT_EQ(std::memcmp(&u, &uniform[i], sizeof u), 0) << points[i].x << ", " << points[i].y;
+    const glm::vec3 cosine(cx[i], cy[i], cz[i]), uniform(ux[i], uy[i], uz[i]);
+    ASSERT_EQ(std::memcmp(&c, &cosine, sizeof c), 0) << points[i].x << ", " << points[i].y;
+    ASSERT_EQ(std::memcmp(&u, &uniform, sizeof u), 0) << points[i].x << ", " << points[i].y;
   }
 }
 
