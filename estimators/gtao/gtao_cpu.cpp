@@ -1,32 +1,15 @@
 // gtao-cpu: the CPU twin of gtao. It compiles the shared kernel (gtao_kernel.glsl) as C++ and runs
 // its two passes (horizons and integrals, denoise) with TBB over rows.
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <chrono>
+
+#include "estimators/pixel_loops.h"
 
 #include "estimators/gtao/gtao.h"
 #include "estimators/gtao/gtao_cpu_kernel.h"
 
 namespace aoeval {
 
-namespace {
-
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-template <class Body>
-void for_each_pixel(int width, int height, const Body& body) {
-  tbb::parallel_for(tbb::blocked_range<int>(0, height, 1),
-                    [&](const tbb::blocked_range<int>& rows) {
-                      for (int j = rows.begin(); j < rows.end(); ++j)
-                        for (int i = 0; i < width; ++i) body(i, j);
-                    });
-}
-
-}  // namespace
 
 GtaoOutput gtao_cpu(const HbaoFrame& frame, const Camera& camera, const GtaoSettings& settings) {
   validate_gtao_frame(frame);

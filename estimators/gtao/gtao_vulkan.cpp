@@ -139,7 +139,7 @@ namespace {
 class GtaoVulkanEstimator : public Estimator {
  public:
   explicit GtaoVulkanEstimator(const ParamSet& p)
-      : settings_(gtao_settings_of(p)), raster_(p.choice("gbuffer") == "raster") {}
+      : settings_(gtao_settings_of(p)), raster_(rasterises_frame(p)) {}
   void prepare(const EstimateContext& context) override {
     vk::Context& vk = vk::require_shared_context();
     const Camera& camera = context.gbuffer.camera;
@@ -172,17 +172,7 @@ EstimatorInfo gtao_estimator() {
   info.backend = Backend::vulkan;
   info.inputs = {EstimatorInput::gbuffer, EstimatorInput::scene_geometry};
   info.params = gtao_param_specs();
-  info.params.push_back(
-      {"gbuffer",
-       ParamType::choice,
-       "raster",
-       0,
-       0,
-       false,
-       "",
-       "raster: the scene rasterised on the device every frame (timed as geometry_ms); embree: "
-       "the shared Embree G-buffer, uploaded once in prepare() (no geometry_ms)",
-       {"raster", "embree"}});
+  info.params.push_back(frame_source_param(""));
   info.definition_doc = kGtaoDefinitionDoc;
   info.definition = [](const ParamSet& p) { return gtao_definition(gtao_settings_of(p)); };
   info.create = [](const ParamSet& p) { return std::make_unique<GtaoVulkanEstimator>(p); };

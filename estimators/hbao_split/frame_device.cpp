@@ -116,4 +116,24 @@ HbaoFrame HbaoFrameDevice::download() const {
   return f;
 }
 
+ParamSpec frame_source_param(const std::string& geometry_pass) {
+  const std::string timed_as =
+      geometry_pass.empty() ? "timed as geometry_ms" : "timed as geometry_ms, " + geometry_pass;
+  return {"gbuffer",
+          ParamType::choice,
+          "raster",
+          0,
+          0,
+          false,
+          "",
+          "raster: the scene rasterised on the device every frame (" + timed_as +
+              "); embree: the shared Embree G-buffer, uploaded once in prepare() (no "
+              "geometry_ms)",
+          {"raster", "embree"}};
+}
+
+bool rasterises_frame(const ParamSet& params) {
+  return params.choice("gbuffer") == "raster";
+}
+
 }  // namespace aoeval

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "camera.h"
+#include "estimators/estimator.h"
 #include "estimators/hbao_split/hbao_split.h"
 #include "estimators/vulkan/vk_commands.h"
 #include "estimators/vulkan/vk_context.h"
@@ -44,6 +45,13 @@ class HbaoFrameDevice {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// The `gbuffer` parameter of the estimators that run on an HbaoFrameDevice (hbao-split, gtao):
+// where their frame comes from, "raster" (the default) or "embree". `geometry_pass` names what
+// the estimator's paper calls the raster pass, if anything ("" for nothing).
+ParamSpec frame_source_param(const std::string& geometry_pass);
+// Whether a ParamSet of such an estimator chose gbuffer=raster.
+bool rasterises_frame(const ParamSet& params);
 
 // RGBA texels (w = 0) of vec3s, and back: the layout of the normal images.
 std::vector<glm::vec4> padded_texels(const std::vector<glm::vec3>& v);

@@ -1,10 +1,9 @@
 // hbao-split-cpu: the CPU twin of hbao-split. It compiles the shared kernel (hbao_kernel.glsl) as
 // C++ and runs its three passes (horizon occlusion, normal occlusion, blur) with TBB over rows.
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <atomic>
 #include <chrono>
+
+#include "estimators/pixel_loops.h"
 
 #include "errors.h"
 #include "estimators/hbao_split/hbao_split.h"
@@ -38,24 +37,7 @@ inline float hbao_depth(const HbaoImages& img, int i, int j) {
 
 namespace aoeval {
 
-namespace {
-
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-// Runs body(i, j) over every pixel, rows in parallel.
-template <class Body>
-void for_each_pixel(int width, int height, const Body& body) {
-  tbb::parallel_for(tbb::blocked_range<int>(0, height, 1),
-                    [&](const tbb::blocked_range<int>& rows) {
-                      for (int j = rows.begin(); j < rows.end(); ++j)
-                        for (int i = 0; i < width; ++i) body(i, j);
-                    });
-}
-
-}  // namespace
 
 HbaoFrame hbao_frame_from_gbuffer(const GBuffer& g) {
   HbaoFrame f;

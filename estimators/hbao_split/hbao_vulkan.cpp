@@ -205,7 +205,7 @@ namespace {
 class HbaoVulkanEstimator : public Estimator {
  public:
   explicit HbaoVulkanEstimator(const ParamSet& p)
-      : settings_(hbao_settings_of(p)), raster_(p.choice("gbuffer") == "raster") {}
+      : settings_(hbao_settings_of(p)), raster_(rasterises_frame(p)) {}
   void prepare(const EstimateContext& context) override {
     vk::Context& vk = vk::require_shared_context();
     if (raster_)
@@ -242,18 +242,7 @@ EstimatorInfo hbao_split_estimator() {
   info.backend = Backend::vulkan;
   info.inputs = {EstimatorInput::gbuffer, EstimatorInput::scene_geometry};
   info.params = hbao_param_specs();
-  info.params.push_back(
-      {"gbuffer",
-       ParamType::choice,
-       "raster",
-       0,
-       0,
-       false,
-       "",
-       "raster: the scene rasterised on the device every frame (timed as geometry_ms, §5's "
-       "geometry pass); embree: the shared Embree G-buffer, uploaded once in prepare() (no "
-       "geometry_ms)",
-       {"raster", "embree"}});
+  info.params.push_back(frame_source_param("§5's geometry pass"));
   info.definition_doc = kHbaoDefinitionDoc;
   info.definition = [](const ParamSet& p) { return hbao_definition(hbao_settings_of(p)); };
   info.create = [](const ParamSet& p) { return std::make_unique<HbaoVulkanEstimator>(p); };

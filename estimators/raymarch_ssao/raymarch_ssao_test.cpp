@@ -22,23 +22,10 @@ RaymarchSettings crease_settings(int rays, bool attenuation) {
   return s;
 }
 
-struct Errors {
-  double bias = 0.0, rms = 0.0;
-};
-
-Errors crease_errors(const TestView& view, const RaymarchSettings& s) {
+CreaseErrors raymarch_crease_errors(const TestView& view, const RaymarchSettings& s) {
   const std::vector<float> ao = raymarch_ssao(view.gbuffer, s);
-  const std::vector<CreasePixel> pixels = crease_floor_pixels(view.gbuffer, s.radius + 0.05);
-  Errors e;
-  for (const CreasePixel& p : pixels) {
-    const double error = ao[p.k] - crease_ao(p.x, s.radius, s.attenuation);
-    e.bias += error;
-    e.rms += error * error;
-  }
-  const double n = static_cast<double>(pixels.size());
-  e.bias /= n;
-  e.rms = std::sqrt(e.rms / n);
-  return e;
+  return crease_errors(ao, crease_floor_pixels(view.gbuffer, s.radius + 0.05), s.radius,
+                       s.attenuation);
 }
 
 TEST(RaymarchSsao, OpenFloorIsUnoccluded) {
@@ -70,9 +57,9 @@ TEST(RaymarchSsao, OpenFloorIsUnoccluded) {
 TEST(RaymarchSsao, ConvergesToTheCreaseClosedFormAsRaysGrow) {
   const TestView view = crease(160, 120);
   for (bool attenuation : {false, true}) {
-    const Errors e4 = crease_errors(view, crease_settings(4, attenuation));
-    const Errors e16 = crease_errors(view, crease_settings(16, attenuation));
-    const Errors e64 = crease_errors(view, crease_settings(64, attenuation));
+    const CreaseErrors e4 = raymarch_crease_errors(view, crease_settings(4, attenuation));
+    const CreaseErrors e16 = raymarch_crease_errors(view, crease_settings(16, attenuation));
+    const CreaseErrors e64 = raymarch_crease_errors(view, crease_settings(64, attenuation));
     std::printf(
         "raymarch crease, attenuation %d: rms %.4f / %.4f / %.4f at 4 / 16 / 64 rays, "
         "bias %.4f at 64\n",

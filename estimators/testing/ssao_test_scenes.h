@@ -3,6 +3,7 @@
 // form that is also the exact AO of the bounded definition.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -97,6 +98,33 @@ inline std::vector<CreasePixel> crease_floor_pixels(const GBuffer& g, double mar
     out.push_back({k, static_cast<double>(g.position[k].z - kCreaseWallZ)});
   }
   return out;
+}
+
+// An AO image against crease_ao over the crease's floor pixels: how many lie within R of the wall
+// (closed form below 0.999), and the bias, mean absolute, root-mean-square and largest absolute
+// error.
+struct CreaseErrors {
+  size_t within_radius = 0;
+  double bias = 0.0, mean_abs = 0.0, rms = 0.0, max_abs = 0.0;
+};
+inline CreaseErrors crease_errors(const std::vector<float>& ao,
+                                  const std::vector<CreasePixel>& pixels, double radius,
+                                  bool attenuation) {
+  CreaseErrors e;
+  for (const CreasePixel& p : pixels) {
+    const double expected = crease_ao(p.x, radius, attenuation);
+    const double error = ao[p.k] - expected;
+    if (expected < 0.999) ++e.within_radius;
+    e.bias += error;
+    e.mean_abs += std::abs(error);
+    e.rms += error * error;
+    e.max_abs = std::max(e.max_abs, std::abs(error));
+  }
+  const double n = static_cast<double>(std::max<size_t>(1, pixels.size()));
+  e.bias /= n;
+  e.mean_abs /= n;
+  e.rms = std::sqrt(e.rms / n);
+  return e;
 }
 
 }  // namespace aoeval
