@@ -9,12 +9,12 @@
 #include "corpus.h"
 #include "errors.h"
 #include "estimators/registry.h"
+#include "harness/bench/bench_rows.h"
 #include "harness/cli/commands.h"
 #include "harness/evaluation/evaluation.h"
 #include "harness/evaluation/progress.h"
 #include "harness/results/results_store.h"
 #include "harness/results/summary.h"
-#include "version.h"
 
 namespace aoeval {
 
@@ -137,30 +137,13 @@ void bench_estimators(const EstimatorBenchOptions& o) {
                   pre};
       l.mpixel_per_s = static_cast<double>(g.pixel_count()) / (l.median_ms * 1e3);
       lines.push_back(l);
-      ResultRow row;
-      row.run_id = context.run_id;
-      row.run_name = run_name(*e, params, overrides, scene.name, view.name, g.width, g.height);
-      row.estimator = e->name;
-      row.params = params.json();
-      row.scene = scene.name;
-      row.view = view.name;
-      row.width = g.width;
-      row.height = g.height;
-      row.definition = e->definition(params).to_json().dump();
-      row.backend = backend_name(e->backend);
-      row.time_ms_median = l.median_ms;
-      row.time_ms_min = l.min_ms;
-      row.time_ms_max = l.max_ms;
-      row.repetitions = o.repetitions;
+      PassTimes pass_times;
+      for (const auto& [pass, values] : passes) pass_times[pass] = median(values);
+      std::string device = backend_device(e->backend);
+      if (device.empty()) device = context.device;
+      ResultRow row = timing_row(context, *e, params, overrides, scene.name, view.name, g.width,
+                                 g.height, times, pass_times, device);
       row.precompute_ms = pre;
-      for (const auto& [pass, values] : passes) row.pass_ms[pass] = median(values);
-      row.machine = context.machine;
-      row.device = backend_device(e->backend);
-      if (row.device.empty()) row.device = context.device;
-      row.git_commit = context.git_commit;
-      row.aoeval_version = kAoevalVersion;
-      row.timestamp = context.started;
-      row.status = "timing only";
       folder.add(row);
       store.add(row);
       progress.step(e->name + " " + scene.name);

@@ -6,21 +6,11 @@
 // Writes bench_gtao.json and bench_gtao.md to --out, and results rows (results.csv/json, SQLite).
 #pragma once
 
-#include <string>
-#include <vector>
+#include "harness/bench/twin_bench.h"
 
 namespace aoeval {
 
-struct GtaoBenchOptions {
-  std::string scene = "bunny";
-  std::string view;
-  std::string res = "640x480";
-  std::vector<std::string> sets;  // KEY=VALUE for gtao (gbuffer applies to the GPU only)
-  int warmup = 1;
-  int repetitions = 5;
-  std::string out_dir = "out/bench-gtao";
-  std::string database = "out/results.sqlite";
-};
+using GtaoBenchOptions = TwinBenchOptions;  // out_dir default: out/bench-gtao
 
 void bench_gtao(const GtaoBenchOptions& options);
 

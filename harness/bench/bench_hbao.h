@@ -11,21 +11,11 @@
 // Writes bench_hbao.json and bench_hbao.md to --out, and results rows (results.csv/json, SQLite).
 #pragma once
 
-#include <string>
-#include <vector>
+#include "harness/bench/twin_bench.h"
 
 namespace aoeval {
 
-struct HbaoBenchOptions {
-  std::string scene = "bunny";
-  std::string view;
-  std::string res = "640x480";
-  std::vector<std::string> sets;  // KEY=VALUE for hbao-split (gbuffer applies to the GPU only)
-  int warmup = 1;
-  int repetitions = 5;
-  std::string out_dir = "out/bench-hbao";
-  std::string database = "out/results.sqlite";
-};
+using HbaoBenchOptions = TwinBenchOptions;  // out_dir default: out/bench-hbao
 
 void bench_hbao(const HbaoBenchOptions& options);
 

@@ -166,10 +166,11 @@ void bench_reference(const ReferenceBenchOptions& o) {
               median(bare_rate) / 1e6, o.repetitions,
               *std::min_element(bare_rate.begin(), bare_rate.end()) / 1e6,
               *std::max_element(bare_rate.begin(), bare_rate.end()) / 1e6);
-  std::printf("  bare rtcOccluded16 loop   %.2f Mrays/s (median of %d; min %.2f, max %.2f; %zu packets)\n",
-              median(packet_rate) / 1e6, o.repetitions,
-              *std::min_element(packet_rate.begin(), packet_rate.end()) / 1e6,
-              *std::max_element(packet_rate.begin(), packet_rate.end()) / 1e6, packets.size());
+  std::printf(
+      "  bare rtcOccluded16 loop   %.2f Mrays/s (median of %d; min %.2f, max %.2f; %zu packets)\n",
+      median(packet_rate) / 1e6, o.repetitions,
+      *std::min_element(packet_rate.begin(), packet_rate.end()) / 1e6,
+      *std::max_element(packet_rate.begin(), packet_rate.end()) / 1e6, packets.size());
   std::printf("  ratio reference / bare1   %.3f (median of per-repetition ratios, interleaved)\n",
               median(ratios));
   std::printf("  ratio reference / bare16  %.3f (median of per-repetition ratios, interleaved)\n",

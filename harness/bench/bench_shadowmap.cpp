@@ -5,27 +5,21 @@
 #include <filesystem>
 #include <sstream>
 
-#include "harness/cli/commands.h"
 #include "corpus.h"
 #include "errors.h"
 #include "estimators/registry.h"
+#include "harness/bench/bench_rows.h"
+#include "harness/cli/commands.h"
 #include "harness/evaluation/evaluation.h"
 #include "harness/evaluation/progress.h"
 #include "harness/results/results_store.h"
-#include "version.h"
+#include "harness/results/summary.h"
 
 namespace aoeval {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 struct Line {
   int lights = 0, map = 0;
@@ -76,29 +70,10 @@ void bench_shadowmap(const ShadowmapBenchOptions& o) {
       }
       Line l{n, map, median(total), median(shadow), median(accumulate)};
       lines.push_back(l);
-      ResultRow row;
-      row.run_id = context.run_id;
-      row.run_name = run_name(e, params, overrides, scene.name, view.name, g.width, g.height);
-      row.estimator = e.name;
-      row.params = params.json();
-      row.scene = scene.name;
-      row.view = view.name;
-      row.width = g.width;
-      row.height = g.height;
-      row.definition = e.definition(params).to_json().dump();
-      row.backend = backend_name(e.backend);
-      row.time_ms_median = l.total_ms;
-      row.time_ms_min = *std::min_element(total.begin(), total.end());
-      row.time_ms_max = *std::max_element(total.begin(), total.end());
-      row.repetitions = o.repetitions;
-      row.pass_ms["shadow_maps_ms"] = l.shadow_ms;
-      row.pass_ms["accumulate_ms"] = l.accumulate_ms;
-      row.machine = context.machine;
-      row.device = backend_device(e.backend);
-      row.git_commit = context.git_commit;
-      row.aoeval_version = kAoevalVersion;
-      row.timestamp = context.started;
-      row.status = "timing only";
+      const ResultRow row =
+          timing_row(context, e, params, overrides, scene.name, view.name, g.width, g.height, total,
+                     {{"shadow_maps_ms", l.shadow_ms}, {"accumulate_ms", l.accumulate_ms}},
+                     backend_device(e.backend));
       folder.add(row);
       store.add(row);
       progress.step(std::to_string(n) + " lights, " + std::to_string(map) + "²");

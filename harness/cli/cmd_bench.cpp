@@ -1,14 +1,34 @@
 // `aoeval bench ...`: timing tables and throughput figures. Benchmarks measure; tests never time.
-#include "harness/bench/bench_reference.h"
-#include "harness/cli/commands.h"
 #include "harness/bench/bench_estimators.h"
 #include "harness/bench/bench_gtao.h"
 #include "harness/bench/bench_hbao.h"
+#include "harness/bench/bench_reference.h"
 #include "harness/bench/bench_shadowmap.h"
+#include "harness/cli/commands.h"
 #include "harness/plugins/bench_plugins.h"
 #include "harness/plugins/plugin_options.h"
 
 namespace aoeval {
+
+namespace {
+
+// The options of a twin bench (`bench hbao`, `bench gtao`): `estimator` names the GPU one, `stem`
+// the files it writes, `out_dir` their default folder.
+void add_twin_bench_options(CLI::App& cmd, TwinBenchOptions& o, const std::string& estimator,
+                            const std::string& stem, const std::string& out_dir) {
+  o.out_dir = out_dir;
+  cmd.add_option("--scene", o.scene, "corpus name or scene file (default bunny)");
+  cmd.add_option("--view", o.view, "view name (default: the scene's first view)");
+  cmd.add_option("--res", o.res, "resolution WIDTHxHEIGHT (default 640x480)");
+  cmd.add_option("--set", o.sets, "KEY=VALUE for " + estimator + " (repeatable)");
+  cmd.add_option("--warmup", o.warmup, "untimed runs first")->check(CLI::Range(0, 100));
+  cmd.add_option("--repetitions", o.repetitions, "timed runs")->check(CLI::Range(1, 1000));
+  cmd.add_option("--out", o.out_dir,
+                 "output folder (" + stem + ".json, " + stem + ".md, results.*)");
+  cmd.add_option("--db", o.database, "SQLite results store");
+}
+
+}  // namespace
 
 void add_bench_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("bench", "timing tables and throughput figures");
@@ -44,36 +64,21 @@ void add_bench_command(CLI::App& app) {
   add_plugins_option(estimators);
   estimators->callback([] { bench_estimators(est); });
 
-  static HbaoBenchOptions hb;
+  static TwinBenchOptions hb;
   auto* hbao = cmd->add_subcommand(
       "hbao",
       "hbao-split: depth fetches/s against a bare fetch loop (target ratio >= 0.5), and "
       "against hbao-split-cpu on the same G-buffer");
-  hbao->add_option("--scene", hb.scene, "corpus name or scene file (default bunny)");
-  hbao->add_option("--view", hb.view, "view name (default: the scene's first view)");
-  hbao->add_option("--res", hb.res, "resolution WIDTHxHEIGHT (default 640x480)");
-  hbao->add_option("--set", hb.sets, "KEY=VALUE for hbao-split (repeatable)");
-  hbao->add_option("--warmup", hb.warmup, "untimed runs first")->check(CLI::Range(0, 100));
-  hbao->add_option("--repetitions", hb.repetitions, "timed runs")->check(CLI::Range(1, 1000));
-  hbao->add_option("--out", hb.out_dir,
-                   "output folder (bench_hbao.json, bench_hbao.md, results.*)");
-  hbao->add_option("--db", hb.database, "SQLite results store");
+  add_twin_bench_options(*hbao, hb, "hbao-split", "bench_hbao", "out/bench-hbao");
   hbao->callback([] { bench_hbao(hb); });
 
-  static GtaoBenchOptions gt;
+  static TwinBenchOptions gt;
   auto* gtao = cmd->add_subcommand(
       "gtao",
       "gtao: GPU time per pass, horizon samples/s, and against gtao-cpu on the same G-buffer");
-  gtao->add_option("--scene", gt.scene, "corpus name or scene file (default bunny)");
-  gtao->add_option("--view", gt.view, "view name (default: the scene's first view)");
-  gtao->add_option("--res", gt.res, "resolution WIDTHxHEIGHT (default 640x480)");
-  gtao->add_option("--set", gt.sets, "KEY=VALUE for gtao (repeatable)");
-  gtao->add_option("--warmup", gt.warmup, "untimed runs first")->check(CLI::Range(0, 100));
-  gtao->add_option("--repetitions", gt.repetitions, "timed runs")->check(CLI::Range(1, 1000));
-  gtao->add_option("--out", gt.out_dir,
-                   "output folder (bench_gtao.json, bench_gtao.md, results.*)");
-  gtao->add_option("--db", gt.database, "SQLite results store");
+  add_twin_bench_options(*gtao, gt, "gtao", "bench_gtao", "out/bench-gtao");
   gtao->callback([] { bench_gtao(gt); });
+
   static ShadowmapBenchOptions sm;
   auto* shadowmap = cmd->add_subcommand(
       "shadowmap", "shadowmap-ao: time per pass against the number of lights and the map size");
@@ -85,8 +90,7 @@ void add_bench_command(CLI::App& app) {
       ->check(CLI::Range(16, 4096));
   shadowmap->add_option("--set", sm.sets, "further KEY=VALUE for shadowmap-ao (repeatable)");
   shadowmap->add_option("--warmup", sm.warmup, "untimed runs first")->check(CLI::Range(0, 100));
-  shadowmap->add_option("--repetitions", sm.repetitions, "timed runs")
-      ->check(CLI::Range(1, 1000));
+  shadowmap->add_option("--repetitions", sm.repetitions, "timed runs")->check(CLI::Range(1, 1000));
   shadowmap->add_option("--out", sm.out_dir, "output folder (bench_shadowmap.md/csv, results.*)");
   shadowmap->add_option("--db", sm.database, "SQLite results store");
   shadowmap->callback([] { bench_shadowmap(sm); });

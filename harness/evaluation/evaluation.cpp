@@ -334,11 +334,7 @@ Measurement EvaluationSession::measure(const EvaluationRequest& req) {
     throw std::runtime_error("estimator " + e.name + " returned " +
                              std::to_string(result.ao.size()) + " values for " +
                              std::to_string(g.pixel_count()) + " pixels");
-  row.time_ms_median = median(times);
-  row.time_ms_min = *std::min_element(times.begin(), times.end());
-  row.time_ms_max = *std::max_element(times.begin(), times.end());
-  row.repetitions = static_cast<int>(times.size());
-  row.time_ms_samples = times;
+  row.set_times(times);
   for (const auto& [pass, values] : passes)
     if (pass != "total_ms") row.pass_ms[pass] = median(values);
   row.timing_source = !result.timing_source.empty()           ? result.timing_source

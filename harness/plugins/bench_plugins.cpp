@@ -7,12 +7,13 @@
 #include <fstream>
 #include <sstream>
 
-#include "harness/cli/commands.h"
 #include "corpus.h"
 #include "estimators/plugins/plugin_registry.h"
 #include "estimators/registry.h"
 #include "estimators/vulkan/vk_context.h"
 #include "exr_io.h"
+#include "harness/cli/commands.h"
+#include "harness/results/summary.h"
 
 namespace aoeval {
 
@@ -27,12 +28,6 @@ struct Timing {
   double frames = 1.0;   // frames one run() computes
   std::string skipped;
 };
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 Timing time_estimator(const std::string& name, const std::string& note, Estimator& e,
                       const EstimateContext& context, const PluginBenchOptions& o,

@@ -22,6 +22,8 @@
 #include <set>
 #include <stdexcept>
 
+#include "harness/results/summary.h"
+
 namespace aoeval {
 
 namespace {
@@ -211,6 +213,14 @@ ResultRow unflatten(const nlohmann::json& flat) {
     }
   }
   return row;
+}
+
+void ResultRow::set_times(const std::vector<double>& samples_ms) {
+  time_ms_median = median(samples_ms);
+  time_ms_min = samples_ms.empty() ? 0.0 : *std::min_element(samples_ms.begin(), samples_ms.end());
+  time_ms_max = samples_ms.empty() ? 0.0 : *std::max_element(samples_ms.begin(), samples_ms.end());
+  repetitions = static_cast<int>(samples_ms.size());
+  time_ms_samples = samples_ms;
 }
 
 std::string file_stem_for(const std::string& run_name) {

@@ -29,6 +29,8 @@ struct ResultRow {
   // Every timed repetition in ms, in order (what the dashboard's rank test compares); the
   // "time_ms_samples" column holds them as a JSON array.
   std::vector<double> time_ms_samples;
+  // Sets the time columns from every timed repetition (median, min, max, count, samples).
+  void set_times(const std::vector<double>& samples_ms);
   std::map<std::string, double> pass_ms;  // per-pass GPU/CPU times, column names end in "_ms"
   double precompute_ms = 0.0;
   std::string backend;  // cpu, embree, vulkan

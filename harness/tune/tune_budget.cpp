@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <utility>
+
+#include "harness/results/summary.h"
 
 namespace aoeval {
 
@@ -19,9 +22,7 @@ const char* time_verdict_name(TimeVerdict v) {
 
 double median_of(std::vector<double> v) {
   if (v.empty()) throw std::invalid_argument("median of no values");
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+  return median(std::move(v));
 }
 
 TimeJudgement judge_time(const std::vector<std::vector<double>>& samples, double budget_ms,

@@ -35,11 +35,7 @@ extern "C" void on_tune_sigint(int) {
 ResultRow pooled(const ResultRow& first, ResultRow again) {
   std::vector<double> all = first.time_ms_samples;
   all.insert(all.end(), again.time_ms_samples.begin(), again.time_ms_samples.end());
-  again.time_ms_samples = all;
-  again.time_ms_median = median_of(all);
-  again.time_ms_min = *std::min_element(all.begin(), all.end());
-  again.time_ms_max = *std::max_element(all.begin(), all.end());
-  again.repetitions = static_cast<int>(all.size());
+  again.set_times(all);
   return again;
 }
 
