@@ -3,6 +3,8 @@
 #   - reports/ (aoeval_reports) and the code it draws and reads with (aoeval_drawing,
 #     aoeval_results) never reach, directly or through another target, an estimator, the Vulkan
 #     layer, a reference, or a runner (evaluation, sweep, bench, figures);
+#   - results/ (aoeval_results) is a leaf: of aoeval's targets it reaches only aoeval_files
+#     (errors, JSON reading, atomic writes), never aoeval_scenes and its Embree, OIIO and assimp;
 #   - only the `aoeval` binary (cli/), aoeval_figures and the reports' own tests link aoeval_reports;
 #   - estimators/ (the registry, every estimator folder, the Vulkan layer) never reach references/:
 #     an estimator that traces rays shares sampling/'s tracer with the ground truth instead.
@@ -61,6 +63,13 @@ function(aoeval_check_rooms)
       foreach(lib IN LISTS closure)
         if(lib MATCHES "${forbidden_pattern}")
           list(APPEND errors "${t} links ${lib}: reports/, drawing/ and results/ may not reach an estimator, a reference or a runner")
+        endif()
+      endforeach()
+    endif()
+    if(t STREQUAL "aoeval_results")
+      foreach(lib IN LISTS closure)
+        if(NOT lib STREQUAL "aoeval_files")
+          list(APPEND errors "aoeval_results links ${lib}: results/ is a leaf (aoeval_files, JSON and SQLite only)")
         endif()
       endforeach()
     endif()

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "text_files.h"
+
 namespace aoeval {
 
 using Attributes = std::vector<std::pair<std::string, std::string>>;
@@ -18,8 +20,6 @@ using Attributes = std::vector<std::pair<std::string, std::string>>;
 void write_exr(const std::string& path, const OIIO::ImageBuf& image, const Attributes& attributes);
 // Writes any format OIIO knows by the extension of `path` (PNG previews), atomically.
 void write_image(const std::string& path, const OIIO::ImageBuf& image);
-// Writes a text file atomically.
-void write_text(const std::string& path, const std::string& content);
 
 // Reads a whole image into memory as float; InputError naming the file when it cannot.
 OIIO::ImageBuf read_image(const std::string& path);
@@ -27,9 +27,5 @@ OIIO::ImageBuf read_image(const std::string& path);
 int channel_index(const OIIO::ImageBuf& image, const std::string& name, const std::string& path);
 // A header attribute as a string ("" when absent).
 std::string string_attribute(const OIIO::ImageBuf& image, const std::string& name);
-
-// The temporary path used for an atomic write of `path`, and the rename that commits it.
-std::string temporary_path_for(const std::string& path);
-void commit_temporary(const std::string& temporary, const std::string& path);
 
 }  // namespace aoeval

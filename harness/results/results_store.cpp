@@ -9,8 +9,8 @@
 #include <stdexcept>
 
 #include "errors.h"
-#include "exr_io.h"
 #include "json_reader.h"
+#include "text_files.h"
 
 namespace aoeval {
 

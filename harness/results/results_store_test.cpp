@@ -162,8 +162,9 @@ TEST(StageTimes, SumsByStageInFirstUseOrderAndCountsTheEstimatorsShare) {
   EXPECT_EQ(t.ms("never"), 0.0);
   EXPECT_EQ(t.total_ms(), 10.0);
   EXPECT_EQ(t.estimator_ms(), 7.0);
-  EXPECT_EQ(t.to_json(), (nlohmann::json{{"scoring", 3.0}, {"estimator timed frames", 6.0},
-                                         {"estimator warm-up", 1.0}}));
+  EXPECT_EQ(t.to_json(),
+            (nlohmann::json{
+                {"scoring", 3.0}, {"estimator timed frames", 6.0}, {"estimator warm-up", 1.0}}));
   EXPECT_LT(t.table(20.0).find("scoring"), t.table(20.0).find("estimator timed frames"));
   StageTimes u;
   u.add_all(t);
@@ -172,9 +173,7 @@ TEST(StageTimes, SumsByStageInFirstUseOrderAndCountsTheEstimatorsShare) {
   const std::string table = t.table(20.0);
   EXPECT_NE(table.find("other (untimed)"), std::string::npos) << table;
   EXPECT_NE(table.find(" 35.0 %  (estimator share of wall time)"), std::string::npos) << table;
-  {
-    const auto timer = u.time("timed scope");
-  }
+  { const auto timer = u.time("timed scope"); }
   EXPECT_GE(u.ms("timed scope"), 0.0);
   EXPECT_TRUE(u.to_json().contains("timed scope"));
 }

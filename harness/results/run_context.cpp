@@ -88,23 +88,23 @@ RunContext make_run_context(const std::string& command) {
 
 nlohmann::json to_json(const RunContext& c) {
   nlohmann::json j = {{"run_id", c.run_id},
-          {"command", c.command},
-          {"machine", c.machine},
-          {"device", c.device},
-          {"embree_version", c.embree_version},
-          {"git_commit", c.git_commit},
-          {"aoeval_version", c.aoeval_version},
-          {"started", c.started},
-          {"output_dir", c.output_dir}};
+                      {"command", c.command},
+                      {"machine", c.machine},
+                      {"device", c.device},
+                      {"embree_version", c.embree_version},
+                      {"git_commit", c.git_commit},
+                      {"aoeval_version", c.aoeval_version},
+                      {"started", c.started},
+                      {"output_dir", c.output_dir}};
   if (!c.stages_ms.empty()) j["stages_ms"] = c.stages_ms;
   return j;
 }
 
 RunContext run_context_from_json(const nlohmann::json& j) {
   auto s = [&](const char* key) { return j.is_object() ? j.value(key, std::string()) : ""; };
-  RunContext c{s("run_id"),     s("command"),        s("machine"), s("device"),
-               s("embree_version"), s("git_commit"), s("aoeval_version"), s("started"),
-               s("output_dir")};
+  RunContext c{s("run_id"),         s("command"),        s("machine"),
+               s("device"),         s("embree_version"), s("git_commit"),
+               s("aoeval_version"), s("started"),        s("output_dir")};
   if (j.is_object() && j.contains("stages_ms") && j["stages_ms"].is_object())
     c.stages_ms = j["stages_ms"];
   return c;

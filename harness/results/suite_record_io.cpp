@@ -4,7 +4,7 @@
 #include <fstream>
 
 #include "errors.h"
-#include "exr_io.h"
+#include "text_files.h"
 
 namespace aoeval {
 
