@@ -11,6 +11,7 @@
 #include <set>
 
 #include "errors.h"
+#include "estimators/registry.h"
 #include "harness/cli/cli_test_util.h"
 #include "harness/sweep/shard_plan.h"
 #include "scenes/scene.h"
@@ -203,6 +204,37 @@ TEST(ShardPlan, LargestFirstOnGrahamsExample) {
   EXPECT_THROW(aoeval::planned_shard(back, names, 0, 3, "plan.json"), aoeval::InputError);
   names.push_back("p5");
   EXPECT_THROW(aoeval::planned_shard(back, names, 0, 2, "plan.json"), aoeval::InputError);
+}
+
+// A point's cost counts its precompute (prepare(): vertex-baked's bake) beside its frames: the
+// median of its own run name's history, or for a run name never seen the estimator's precompute
+// per unit of work times the point's work (here 4x the rays: 4x the bake and the frames). The
+// Slurm shards of the paper suite differed by 2.2x while the plan ignored the bake.
+TEST(ShardPlan, CostCountsThePrecompute) {
+  const aoeval::EstimatorInfo& baked = aoeval::find_estimator("vertex-baked");
+  aoeval::ResultRow row;
+  row.run_name = "vertex-baked/rays:128";
+  row.estimator = baked.name;
+  row.params = {{"rays", 128}};
+  row.width = row.height = 100;
+  row.time_ms_median = 2.0;
+  row.precompute_ms = 1000.0;
+  const aoeval::CostModel model({row});
+  aoeval::SweepPoint point;
+  point.estimator = &baked;
+  point.width = point.height = 100;
+  point.name = row.run_name;
+  point.overrides = {{"rays", 128}};
+  const aoeval::TimingSpec timing{1, 5};
+  const double scoring_ms = aoeval::kScoringNsPerPixel * 1e4 * 1e-6;
+  const aoeval::PointCost seen = model.estimate(point, timing);
+  EXPECT_EQ(seen.source, "history");
+  EXPECT_DOUBLE_EQ(seen.ms, 6 * 2.0 + 1000.0 + scoring_ms);
+  point.name = "vertex-baked/rays:512";
+  point.overrides = {{"rays", 512}};
+  const aoeval::PointCost scaled = model.estimate(point, timing);
+  EXPECT_EQ(scaled.source, "estimator");
+  EXPECT_NEAR(scaled.ms, 6 * 8.0 + 4000.0 + scoring_ms, 1e-9);
 }
 
 }  // namespace

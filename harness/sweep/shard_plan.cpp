@@ -7,17 +7,11 @@
 #include "errors.h"
 #include "estimators/registry.h"
 #include "exr_io.h"
+#include "harness/results/summary.h"
 
 namespace aoeval {
 
 namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 bool scales_work(const std::string& unit) {
   static const std::set<std::string> units = {"rays",    "directions", "steps",
@@ -38,20 +32,22 @@ double work_factor(const EstimatorInfo& estimator, const nlohmann::json& params)
 }
 
 CostModel::CostModel(const std::vector<ResultRow>& history) {
-  std::map<std::string, std::vector<double>> frames, per_pixel, work;
+  std::map<std::string, std::vector<double>> frames, precompute, per_pixel, precompute_per_work;
   for (const ResultRow& r : history) {
     if (r.status != "ok" || r.time_ms_median <= 0.0 || r.width <= 0 || r.height <= 0) continue;
     frames[r.run_name].push_back(r.time_ms_median);
+    precompute[r.run_name].push_back(r.precompute_ms);
     const double pixels = static_cast<double>(r.width) * r.height;
     double w = 1.0;
     for (const EstimatorInfo& e : estimator_registry())  // history may name a gone plug-in
       if (e.name == r.estimator) w = work_factor(e, r.params);
     per_pixel[r.estimator].push_back(r.time_ms_median * 1e6 / pixels / w);
-    work[r.estimator].push_back(w);
+    precompute_per_work[r.estimator].push_back(r.precompute_ms / w);
   }
   for (auto& [k, v] : frames) by_run_name_[k] = median(v);
+  for (auto& [k, v] : precompute) precompute_by_run_name_[k] = median(v);
   for (auto& [k, v] : per_pixel) ns_per_pixel_[k] = median(v);
-  for (auto& [k, v] : work) work_[k] = median(v);
+  for (auto& [k, v] : precompute_per_work) precompute_per_work_[k] = median(v);
 }
 
 PointCost CostModel::estimate(const SweepPoint& p, const TimingSpec& timing) const {
@@ -59,20 +55,23 @@ PointCost CostModel::estimate(const SweepPoint& p, const TimingSpec& timing) con
   c.name = p.name;
   const double pixels = static_cast<double>(std::max(1, p.width)) * std::max(1, p.height);
   const double frames = timing.warmup + timing.repetitions;
-  double frame_ms = 0.0;
+  double frame_ms = 0.0, precompute_ms = 0.0;
   if (auto it = by_run_name_.find(p.name); it != by_run_name_.end()) {
     frame_ms = it->second;
+    precompute_ms = precompute_by_run_name_.at(p.name);
     c.source = "history";
   } else if (auto e = ns_per_pixel_.find(p.estimator->name); e != ns_per_pixel_.end()) {
     const ParamSet params =
         resolve_params(p.estimator->name, p.estimator->params, p.overrides, p.name);
-    frame_ms = e->second * pixels * work_factor(*p.estimator, params.json()) * 1e-6;
+    const double w = work_factor(*p.estimator, params.json());
+    frame_ms = e->second * pixels * w * 1e-6;
+    precompute_ms = precompute_per_work_.at(p.estimator->name) * w;
     c.source = "estimator";
   } else {
     frame_ms = kDefaultNsPerPixel * pixels * 1e-6;
     c.source = "default";
   }
-  c.ms = frames * frame_ms + kScoringNsPerPixel * pixels * 1e-6;
+  c.ms = frames * frame_ms + precompute_ms + kScoringNsPerPixel * pixels * 1e-6;
   return c;
 }
 

@@ -6,14 +6,17 @@
 // (`--shard I/N --shard-plan FILE`), so the shards agree on it whatever the node.
 //
 // The estimate of one point, in milliseconds:
-//   cost = frames * frame_ms + kScoringNsPerPixel * pixels
-// with frames = warm-up + repetitions, and frame_ms from the SQLite history, best source first:
-//   "history" the median time_ms_median of ok rows with the same run name (same estimator,
-//             parameters, scene, view and resolution), on any machine;
-//   "estimator" the median per-pixel time of the estimator's ok rows, times the pixels, times
-//             the ratio of the point's ray-count parameters to the history rows' (a parameter
-//             whose unit is "rays" or "directions"/"samples"/"steps"/"lights" scales the work);
-//   "default" kDefaultNsPerPixel per pixel (no history: the first run of a new estimator).
+//   cost = frames * frame_ms + precompute_ms + kScoringNsPerPixel * pixels
+// with frames = warm-up + repetitions, and frame_ms and precompute_ms (prepare(): vertex-baked's
+// bake, shader compiles) from the SQLite history, best source first:
+//   "history" the medians of time_ms_median and precompute_ms of ok rows with the same run name
+//             (same estimator, parameters, scene, view and resolution), on any machine;
+//   "estimator" the median per-pixel frame time of the estimator's ok rows, times the pixels,
+//             and its median precompute, each per unit of work, times the point's work (the
+//             product of its ray-count parameters: a parameter whose unit is "rays" or
+//             "directions"/"samples"/"steps"/"lights" scales the work; the precompute's scene
+//             dependence, e.g. a bake's triangle count, is not modelled);
+//   "default" kDefaultNsPerPixel per pixel and no precompute (no history: a new estimator).
 #pragma once
 
 #include <map>
@@ -44,9 +47,10 @@ class CostModel {
   PointCost estimate(const SweepPoint& point, const TimingSpec& timing) const;
 
  private:
-  std::map<std::string, double> by_run_name_;   // median frame ms
-  std::map<std::string, double> ns_per_pixel_;  // estimator -> median ns per pixel per frame
-  std::map<std::string, double> work_;          // estimator -> median ray-count product
+  std::map<std::string, double> by_run_name_;             // median frame ms
+  std::map<std::string, double> precompute_by_run_name_;  // median precompute ms
+  std::map<std::string, double> ns_per_pixel_;         // estimator -> median ns per pixel per frame
+  std::map<std::string, double> precompute_per_work_;  // estimator -> median precompute ms / work
 };
 
 // The product of a point's work-scaling parameters (see above), 1 when it has none.
