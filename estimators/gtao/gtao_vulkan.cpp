@@ -80,6 +80,7 @@ struct GtaoDevice::Impl {
 GtaoDevice::GtaoDevice(vk::Context& vk, const GtaoSettings& settings, const HbaoFrame& frame,
                        const Camera& camera) {
   validate_gtao_frame(frame);
+  check_frame_matches_camera(frame, camera);
   impl_ = std::make_unique<Impl>(vk, settings, camera, frame.width, frame.height, frame.focal);
   impl_->frame = std::make_unique<HbaoFrameDevice>(vk, frame);
   impl_->make_pipelines();
@@ -87,13 +88,9 @@ GtaoDevice::GtaoDevice(vk::Context& vk, const GtaoSettings& settings, const Hbao
 
 GtaoDevice::GtaoDevice(vk::Context& vk, const GtaoSettings& settings, const Scene& scene,
                        const Camera& camera) {
-  const float focal = static_cast<float>(camera.height) / (2.0f * camera.tan_half_fov_y);
-  HbaoFrame shape;
-  shape.width = camera.width;
-  shape.height = camera.height;
-  shape.focal = focal;
+  const HbaoFrame shape = hbao_frame_shape(camera);
   validate_gtao_frame(shape);
-  impl_ = std::make_unique<Impl>(vk, settings, camera, camera.width, camera.height, focal);
+  impl_ = std::make_unique<Impl>(vk, settings, camera, shape.width, shape.height, shape.focal);
   impl_->frame = std::make_unique<HbaoFrameDevice>(vk, scene, camera);
   impl_->make_pipelines();
 }
@@ -136,29 +133,9 @@ HbaoFrame GtaoDevice::frame() const {
 
 namespace {
 
-class GtaoVulkanEstimator : public Estimator {
- public:
-  explicit GtaoVulkanEstimator(const ParamSet& p)
-      : settings_(gtao_settings_of(p)), raster_(rasterises_frame(p)) {}
-  void prepare(const EstimateContext& context) override {
-    vk::Context& vk = vk::require_shared_context();
-    const Camera& camera = context.gbuffer.camera;
-    if (raster_)
-      device_ = std::make_unique<GtaoDevice>(vk, settings_, context.scene, camera);
-    else
-      device_ = std::make_unique<GtaoDevice>(vk, settings_,
-                                             hbao_frame_from_gbuffer(context.gbuffer), camera);
-  }
-  EstimateResult run(const EstimateContext& context) override {
-    if (!device_) prepare(context);
-    return gtao_estimate_result(settings_, device_->run());
-  }
-
- private:
-  GtaoSettings settings_;
-  bool raster_;
-  std::unique_ptr<GtaoDevice> device_;
-};
+EstimateResult gtao_frame_result(const GtaoSettings& settings, GtaoDevice& device) {
+  return gtao_estimate_result(settings, device.run());
+}
 
 }  // namespace
 
@@ -175,7 +152,10 @@ EstimatorInfo gtao_estimator() {
   info.params.push_back(frame_source_param(""));
   info.definition_doc = kGtaoDefinitionDoc;
   info.definition = [](const ParamSet& p) { return gtao_definition(gtao_settings_of(p)); };
-  info.create = [](const ParamSet& p) { return std::make_unique<GtaoVulkanEstimator>(p); };
+  info.create = [](const ParamSet& p) {
+    return std::make_unique<FrameDeviceEstimator<GtaoDevice, GtaoSettings>>(
+        gtao_settings_of(p), rasterises_frame(p), gtao_frame_result);
+  };
   return info;
 }
 

@@ -2,6 +2,7 @@
 
 #include <glm/vec4.hpp>
 
+#include "errors.h"
 #include "estimators/vulkan/raster_gbuffer.h"
 #include "estimators/vulkan/vk_pipelines.h"
 #include "hbao_eye_normals_comp_spv.h"
@@ -114,6 +115,13 @@ HbaoFrame HbaoFrameDevice::download() const {
   f.depth = m.gbuffer.depth.download<float>();
   f.normal = unpadded_texels(m.normal.download<float>());
   return f;
+}
+
+void check_frame_matches_camera(const HbaoFrame& frame, const Camera& camera) {
+  if (frame.width != camera.width || frame.height != camera.height)
+    throw InputError("frame of " + std::to_string(frame.width) + "x" +
+                     std::to_string(frame.height) + " pixels for a camera of " +
+                     std::to_string(camera.width) + "x" + std::to_string(camera.height));
 }
 
 ParamSpec frame_source_param(const std::string& geometry_pass) {

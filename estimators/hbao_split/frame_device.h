@@ -15,6 +15,7 @@
 #include "estimators/vulkan/vk_commands.h"
 #include "estimators/vulkan/vk_context.h"
 #include "estimators/vulkan/vk_resources.h"
+#include "gbuffer.h"
 #include "scene.h"
 
 namespace aoeval {
@@ -44,6 +45,43 @@ class HbaoFrameDevice {
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+};
+
+// InputError unless `frame` has `camera`'s size (an uploaded frame drawn through another camera).
+void check_frame_matches_camera(const HbaoFrame& frame, const Camera& camera);
+
+// The device of a technique on an HbaoFrameDevice (HbaoDevice, GtaoDevice) for one view: with
+// gbuffer=raster, Device(vk, settings, scene, camera) rasterises the scene at every frame; with
+// gbuffer=embree, Device(vk, settings, frame, camera) uploads the shared Embree G-buffer once.
+template <class Device, class Settings>
+std::unique_ptr<Device> make_frame_device(vk::Context& vk, const Settings& settings, bool raster,
+                                          const Scene& scene, const GBuffer& gbuffer) {
+  if (raster) return std::make_unique<Device>(vk, settings, scene, gbuffer.camera);
+  return std::make_unique<Device>(vk, settings, hbao_frame_from_gbuffer(gbuffer), gbuffer.camera);
+}
+
+// The Estimator of such a technique (hbao-split, gtao): prepare() builds the device on the shared
+// Vulkan context, run() runs one frame and turns it into an EstimateResult with `result_of`.
+template <class Device, class Settings>
+class FrameDeviceEstimator : public Estimator {
+ public:
+  using ResultOf = EstimateResult (*)(const Settings&, Device&);
+  FrameDeviceEstimator(const Settings& settings, bool raster, ResultOf result_of)
+      : settings_(settings), raster_(raster), result_of_(result_of) {}
+  void prepare(const EstimateContext& context) override {
+    device_ = make_frame_device<Device>(vk::require_shared_context(), settings_, raster_,
+                                        context.scene, context.gbuffer);
+  }
+  EstimateResult run(const EstimateContext& context) override {
+    if (!device_) prepare(context);
+    return result_of_(settings_, *device_);
+  }
+
+ private:
+  Settings settings_;
+  bool raster_;
+  ResultOf result_of_;
+  std::unique_ptr<Device> device_;
 };
 
 // The `gbuffer` parameter of the estimators that run on an HbaoFrameDevice (hbao-split, gtao):

@@ -39,11 +39,16 @@ namespace aoeval {
 
 using Clock = std::chrono::steady_clock;
 
-HbaoFrame hbao_frame_from_gbuffer(const GBuffer& g) {
+HbaoFrame hbao_frame_shape(const Camera& camera) {
   HbaoFrame f;
-  f.width = g.width;
-  f.height = g.height;
-  f.focal = static_cast<float>(g.height) / (2.0f * g.camera.tan_half_fov_y);
+  f.width = camera.width;
+  f.height = camera.height;
+  f.focal = static_cast<float>(camera.height) / (2.0f * camera.tan_half_fov_y);
+  return f;
+}
+
+HbaoFrame hbao_frame_from_gbuffer(const GBuffer& g) {
+  HbaoFrame f = hbao_frame_shape(g.camera);
   f.depth.assign(g.pixel_count(), 0.0f);
   f.normal.assign(g.pixel_count(), glm::vec3(0.0f, 0.0f, -1.0f));
   const Camera& c = g.camera;

@@ -60,6 +60,8 @@ struct HbaoFrame {
   std::vector<glm::vec3> normal;
 };
 HbaoFrame hbao_frame_from_gbuffer(const GBuffer& gbuffer);
+// A frame's size and focal length for `camera`, without pixels (what the raster pass will draw).
+HbaoFrame hbao_frame_shape(const Camera& camera);
 
 // §4.1.2: tile x tile texels of (cos alpha, sin alpha, beta), alpha uniform in [0, 2 pi / Nd), beta
 // uniform in (-1, 1), from `seed`; all (1, 0, 0) without jitter. Row-major, texel (i mod tile,

@@ -245,7 +245,7 @@ TEST(HbaoSplitVulkan, TwinsAgreeOnTheSameGBuffer) {
     const HbaoSettings s =
         settings_with({{"blur", blur}, {"Nn", blur ? 1 : 2}, {"Nd", blur ? 7 : 8}});
     const HbaoCpuResult cpu = hbao_split_cpu(frame, s);
-    HbaoDevice device(*vk, s, frame);
+    HbaoDevice device(*vk, s, frame, camera);
     const HbaoGpuResult gpu = device.run();
     const double diff = hbao_max_abs_difference(frame, cpu.ao, gpu.ao);
     std::printf("twins, blur %d: max |cpu - gpu| = %.3g (raw %.3g, horizon %.3g)\n", blur, diff,
@@ -294,11 +294,23 @@ TEST(HbaoSplitVulkan, RasterGBufferFeedsTheSameKernel) {
   EXPECT_LT(static_cast<double>(large), 0.01 * static_cast<double>(both));
 }
 
+// An uploaded frame must be the camera's: a frame of another size would be read with the wrong
+// projection, so the device refuses it before anything reaches the GPU.
+TEST(HbaoSplitVulkan, AFrameOfAnotherSizeThanTheCameraIsRejected) {
+  REQUIRE_VULKAN(vk);
+  const TestView view = grazing_floor(80, 60);
+  Camera other = view.gbuffer.camera;
+  other.width = 40;
+  EXPECT_THROW(HbaoDevice(*vk, settings_with({}), hbao_frame_from_gbuffer(view.gbuffer), other),
+               InputError);
+}
+
 TEST(HbaoSplitVulkan, GrazingFloorOnTheDevice) {
   REQUIRE_VULKAN(vk);
   const TestView view = grazing_floor(160, 120);
-  HbaoDevice on(*vk, settings_with({}), hbao_frame_from_gbuffer(view.gbuffer));
-  HbaoDevice off(*vk, settings_with({{"offset", false}}), hbao_frame_from_gbuffer(view.gbuffer));
+  const HbaoFrame frame = hbao_frame_from_gbuffer(view.gbuffer);
+  HbaoDevice on(*vk, settings_with({}), frame, view.gbuffer.camera);
+  HbaoDevice off(*vk, settings_with({{"offset", false}}), frame, view.gbuffer.camera);
   const Stats a = floor_stats(view.gbuffer, on.run().ao, 80.0);
   const Stats b = floor_stats(view.gbuffer, off.run().ao, 80.0);
   EXPECT_GE(a.mean, 0.98);

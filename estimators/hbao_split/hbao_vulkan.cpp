@@ -79,8 +79,10 @@ struct HbaoDevice::Impl {
   }
 };
 
-HbaoDevice::HbaoDevice(vk::Context& vk, const HbaoSettings& settings, const HbaoFrame& frame) {
+HbaoDevice::HbaoDevice(vk::Context& vk, const HbaoSettings& settings, const HbaoFrame& frame,
+                       const Camera& camera) {
   validate_hbao_frame(frame);
+  check_frame_matches_camera(frame, camera);
   impl_ = std::make_unique<Impl>(vk, settings, frame.width, frame.height, frame.focal);
   impl_->frame = std::make_unique<HbaoFrameDevice>(vk, frame);
   impl_->make_pipelines();
@@ -88,13 +90,9 @@ HbaoDevice::HbaoDevice(vk::Context& vk, const HbaoSettings& settings, const Hbao
 
 HbaoDevice::HbaoDevice(vk::Context& vk, const HbaoSettings& settings, const Scene& scene,
                        const Camera& camera) {
-  const float focal = static_cast<float>(camera.height) / (2.0f * camera.tan_half_fov_y);
-  HbaoFrame shape;
-  shape.width = camera.width;
-  shape.height = camera.height;
-  shape.focal = focal;
+  const HbaoFrame shape = hbao_frame_shape(camera);
   validate_hbao_frame(shape);
-  impl_ = std::make_unique<Impl>(vk, settings, camera.width, camera.height, focal);
+  impl_ = std::make_unique<Impl>(vk, settings, shape.width, shape.height, shape.focal);
   impl_->frame = std::make_unique<HbaoFrameDevice>(vk, scene, camera);
   impl_->make_pipelines();
 }
@@ -202,33 +200,16 @@ double BareFetch::run_ms() {
 
 namespace {
 
-class HbaoVulkanEstimator : public Estimator {
- public:
-  explicit HbaoVulkanEstimator(const ParamSet& p)
-      : settings_(hbao_settings_of(p)), raster_(rasterises_frame(p)) {}
-  void prepare(const EstimateContext& context) override {
-    vk::Context& vk = vk::require_shared_context();
-    if (raster_)
-      device_ = std::make_unique<HbaoDevice>(vk, settings_, context.scene, context.gbuffer.camera);
-    else
-      device_ =
-          std::make_unique<HbaoDevice>(vk, settings_, hbao_frame_from_gbuffer(context.gbuffer));
-  }
-  EstimateResult run(const EstimateContext& context) override {
-    if (!device_) prepare(context);
-    HbaoGpuResult image = device_->run();
-    EstimateResult r;
-    r.ao = std::move(image.ao);
-    r.extra_channels["AO_horizon"] = std::move(image.horizon_ao);
-    r.pass_ms = std::move(image.pass_ms);
-    return r;
-  }
-
- private:
-  HbaoSettings settings_;
-  bool raster_;
-  std::unique_ptr<HbaoDevice> device_;
-};
+// One frame of hbao-split as the harness sees it: AO, the horizon term as an extra channel, and
+// the passes' GPU times.
+EstimateResult hbao_frame_result(const HbaoSettings&, HbaoDevice& device) {
+  HbaoGpuResult image = device.run();
+  EstimateResult r;
+  r.ao = std::move(image.ao);
+  r.extra_channels["AO_horizon"] = std::move(image.horizon_ao);
+  r.pass_ms = std::move(image.pass_ms);
+  return r;
+}
 
 }  // namespace
 
@@ -245,7 +226,10 @@ EstimatorInfo hbao_split_estimator() {
   info.params.push_back(frame_source_param("§5's geometry pass"));
   info.definition_doc = kHbaoDefinitionDoc;
   info.definition = [](const ParamSet& p) { return hbao_definition(hbao_settings_of(p)); };
-  info.create = [](const ParamSet& p) { return std::make_unique<HbaoVulkanEstimator>(p); };
+  info.create = [](const ParamSet& p) {
+    return std::make_unique<FrameDeviceEstimator<HbaoDevice, HbaoSettings>>(
+        hbao_settings_of(p), rasterises_frame(p), hbao_frame_result);
+  };
   return info;
 }
 

@@ -27,8 +27,10 @@ struct HbaoGpuResult {
 
 class HbaoDevice {
  public:
-  // gbuffer=embree: `frame` (from the shared Embree G-buffer) is uploaded here, once.
-  HbaoDevice(vk::Context& vk, const HbaoSettings& settings, const HbaoFrame& frame);
+  // gbuffer=embree: `frame` (from the shared Embree G-buffer, seen through `camera`: its size is
+  // checked) is uploaded here, once.
+  HbaoDevice(vk::Context& vk, const HbaoSettings& settings, const HbaoFrame& frame,
+             const Camera& camera);
   // gbuffer=raster: the scene is rasterised through `camera` at every run().
   HbaoDevice(vk::Context& vk, const HbaoSettings& settings, const Scene& scene,
              const Camera& camera);

@@ -8,6 +8,7 @@
 
 #include "estimators/gtao/gtao.h"
 #include "estimators/gtao/gtao_vulkan.h"
+#include "estimators/hbao_split/frame_device.h"
 #include "harness/bench/twin_bench.h"
 #include "harness/results/summary.h"
 
@@ -20,10 +21,8 @@ void bench_gtao(const GtaoBenchOptions& o) {
     return;
   }
   const GtaoSettings s = gtao_settings_of(b.cpu_params);
-  std::unique_ptr<GtaoDevice> device =
-      b.raster
-          ? std::make_unique<GtaoDevice>(*b.vk, s, b.scene, b.camera)
-          : std::make_unique<GtaoDevice>(*b.vk, s, hbao_frame_from_gbuffer(b.gbuffer), b.camera);
+  const std::unique_ptr<GtaoDevice> device =
+      make_frame_device<GtaoDevice>(*b.vk, s, b.raster, b.scene, b.gbuffer);
   const GtaoOutput first = device->run();
   const HbaoFrame frame = device->frame();
   const GtaoOutput twin = gtao_cpu(frame, b.camera, s);

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "estimators/hbao_split/frame_device.h"
 #include "estimators/hbao_split/hbao_split.h"
 #include "estimators/hbao_split/hbao_vulkan.h"
 #include "harness/bench/twin_bench.h"
@@ -41,9 +42,8 @@ void bench_hbao(const HbaoBenchOptions& o) {
   const int w = b.camera.width, h = b.camera.height;
 
   // hbao-split on the device; its first frame gives the G-buffer for the CPU twin.
-  std::unique_ptr<HbaoDevice> device =
-      b.raster ? std::make_unique<HbaoDevice>(*b.vk, s, b.scene, b.camera)
-               : std::make_unique<HbaoDevice>(*b.vk, s, hbao_frame_from_gbuffer(b.gbuffer));
+  const std::unique_ptr<HbaoDevice> device =
+      make_frame_device<HbaoDevice>(*b.vk, s, b.raster, b.scene, b.gbuffer);
   const HbaoGpuResult first = device->run();
 
   // hbao-split-cpu on that G-buffer: the exact fetch count and the twin check.
