@@ -29,13 +29,6 @@ const std::vector<VkDescriptorType> kPassBindings = {
     VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 8 bent
 };
 
-template <class T>
-vk::Buffer storage_buffer(vk::Context& vk, const std::vector<T>& values) {
-  vk::Buffer b(vk, values.size() * sizeof(T), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  b.upload(values);
-  return b;
-}
-
 }  // namespace
 
 struct GtaoDevice::Impl {
@@ -59,9 +52,9 @@ struct GtaoDevice::Impl {
     ao = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
     bent = vk::Image2D(vk, w, h, VK_FORMAT_R32G32B32A32_SFLOAT);
     const GtaoTables tables = gtao_tables(s);
-    rotation = storage_buffer(vk, tables.rotation);
-    steps = storage_buffer(vk, tables.steps);
-    slices = storage_buffer(vk, tables.slices);
+    rotation = vk::storage_buffer(vk, tables.rotation);
+    steps = vk::storage_buffer(vk, tables.steps);
+    slices = vk::storage_buffer(vk, tables.slices);
   }
 
   void make_pipelines() {
@@ -104,16 +97,10 @@ GtaoOutput GtaoDevice::run() {
   m.vk.submit([&](VkCommandBuffer cmd) {
     m.timer.reset(cmd);
     m.frame->record(cmd, m.timer);  // the geometry stage with gbuffer=raster
-    m.timer.begin(cmd, "horizon");
-    m.main_pass->dispatch(cmd, m.main_set, m.constants, gx, gy);
-    m.timer.end(cmd);
-    vk::pass_barrier(cmd);
-    if (m.settings.denoise) {
-      m.timer.begin(cmd, "denoise");
-      m.denoise->dispatch(cmd, m.denoise_set, m.constants, gx, gy);
-      m.timer.end(cmd);
-      vk::pass_barrier(cmd);
-    }
+    vk::timed_compute_pass(cmd, m.timer, "horizon", *m.main_pass, m.main_set, m.constants, gx, gy);
+    if (m.settings.denoise)
+      vk::timed_compute_pass(cmd, m.timer, "denoise", *m.denoise, m.denoise_set, m.constants, gx,
+                             gy);
   });
   GtaoOutput out;
   out.pass_ms = m.timer.read();

@@ -52,13 +52,8 @@ struct HbaoDevice::Impl {
     ot = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
     raw_ao = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
     ao = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
-    const std::vector<glm::vec4> texels = padded_texels(hbao_random_texture(s));
-    random = vk::Buffer(vk, texels.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    random.upload(texels);
-    const std::vector<glm::vec2> table = hbao_direction_table(s.directions);
-    directions =
-        vk::Buffer(vk, table.size() * sizeof(glm::vec2), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    directions.upload(table);
+    random = vk::storage_buffer(vk, padded_texels(hbao_random_texture(s)));
+    directions = vk::storage_buffer(vk, hbao_direction_table(s.directions));
     horizons = vk::Buffer(vk, static_cast<VkDeviceSize>(w) * h * s.directions * sizeof(float),
                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   }
@@ -110,20 +105,11 @@ HbaoGpuResult HbaoDevice::run() {
   m.vk.submit([&](VkCommandBuffer cmd) {
     m.timer.reset(cmd);
     m.frame->record(cmd, m.timer);  // the geometry stage with gbuffer=raster
-    m.timer.begin(cmd, "horizon");
-    m.horizon->dispatch(cmd, m.horizon_set, m.constants, gx, gy);
-    m.timer.end(cmd);
-    vk::pass_barrier(cmd);
-    m.timer.begin(cmd, "normal");
-    m.normal_pass->dispatch(cmd, m.normal_set, m.constants, gx, gy);
-    m.timer.end(cmd);
-    vk::pass_barrier(cmd);
-    if (m.settings.blur) {
-      m.timer.begin(cmd, "blur");
-      m.blur->dispatch(cmd, m.blur_set, m.constants, gx, gy);
-      m.timer.end(cmd);
-      vk::pass_barrier(cmd);
-    }
+    vk::timed_compute_pass(cmd, m.timer, "horizon", *m.horizon, m.horizon_set, m.constants, gx, gy);
+    vk::timed_compute_pass(cmd, m.timer, "normal", *m.normal_pass, m.normal_set, m.constants, gx,
+                           gy);
+    if (m.settings.blur)
+      vk::timed_compute_pass(cmd, m.timer, "blur", *m.blur, m.blur_set, m.constants, gx, gy);
   });
   HbaoGpuResult r;
   r.pass_ms = m.timer.read();

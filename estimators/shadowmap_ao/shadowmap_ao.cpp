@@ -81,10 +81,8 @@ class ShadowmapDevice {
     }
     if (idx.empty()) throw InputError("scene: shadowmap-ao needs at least one triangle");
     vertex_count_ = static_cast<uint32_t>(idx.size());
-    positions_ = vk::Buffer(vk, p.size() * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    indices_ = vk::Buffer(vk, idx.size() * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    positions_.upload(p);
-    indices_.upload(idx);
+    positions_ = vk::storage_buffer(vk, p);
+    indices_ = vk::storage_buffer(vk, idx);
     // Each light's frame: d towards the light, u and v spanning its map.
     std::vector<glm::vec4> frames;
     for (const glm::vec3& d : light_directions(s.lights, s.distribution, s.dome, s.seed)) {
@@ -93,8 +91,7 @@ class ShadowmapDevice {
       const glm::vec3 v = glm::cross(d, u);
       frames.insert(frames.end(), {glm::vec4(u, 0.0f), glm::vec4(v, 0.0f), glm::vec4(d, 0.0f)});
     }
-    lights_ = vk::Buffer(vk, frames.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    lights_.upload(frames);
+    lights_ = vk::storage_buffer(vk, frames);
 
     vk::GraphicsDesc desc;
     desc.name = "shadowmap depth";

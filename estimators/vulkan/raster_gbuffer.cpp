@@ -151,12 +151,9 @@ struct RasterGBuffer::Impl {
       if (draw.vertex_count > 0) draws.push_back(draw);
     }
     if (idx.empty()) throw VulkanError("raster G-buffer: the scene has no triangles");
-    positions = Buffer(ctx, p.size() * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    indices = Buffer(ctx, idx.size() * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    normals = Buffer(ctx, n.size() * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    positions.upload(p);
-    indices.upload(idx);
-    normals.upload(n);
+    positions = storage_buffer(ctx, p);
+    indices = storage_buffer(ctx, idx);
+    normals = storage_buffer(ctx, n);
     set = pipeline.make_set({positions, indices, normals});
   }
 

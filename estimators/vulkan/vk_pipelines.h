@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "estimators/vulkan/vk_commands.h"
 #include "estimators/vulkan/vk_context.h"
 #include "estimators/vulkan/vk_resources.h"
 
@@ -117,6 +118,18 @@ class ComputePipeline : public PipelineBase {
     dispatch(cmd, set, &push_data, sizeof(Push), groups_x, groups_y, groups_z);
   }
 };
+
+// One timed compute pass: `pipeline` dispatched over groups_x x groups_y workgroups inside
+// `timer`'s span `name`, then a pass_barrier so that the next pass reads what this one wrote.
+template <class Push>
+void timed_compute_pass(VkCommandBuffer cmd, PassTimer& timer, const char* name,
+                        const ComputePipeline& pipeline, VkDescriptorSet set, const Push& push,
+                        uint32_t groups_x, uint32_t groups_y) {
+  timer.begin(cmd, name);
+  pipeline.dispatch(cmd, set, push, groups_x, groups_y);
+  timer.end(cmd);
+  pass_barrier(cmd);
+}
 
 // A graphics pipeline with its render pass: triangle lists, no vertex input (vertex shaders fetch
 // from storage buffers with gl_VertexIndex), no culling (two-sided surfaces), dynamic viewport and

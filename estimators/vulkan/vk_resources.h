@@ -56,6 +56,14 @@ class Buffer {
   void* mapped_ = nullptr;
 };
 
+// A storage buffer holding `values` (uploaded at once: submits and waits).
+template <class T>
+Buffer storage_buffer(Context& context, const std::vector<T>& values) {
+  Buffer buffer(context, values.size() * sizeof(T), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  buffer.upload(values);
+  return buffer;
+}
+
 // Bytes per texel of the formats aoeval uses (R32F, R32UI, R32I, RG32F, RGBA32F, RGBA8, RGBA16F,
 // D32); throws VulkanError for others.
 size_t texel_bytes(VkFormat format);
