@@ -259,15 +259,14 @@ class PacketTracer {
     for (int k = 0; k < 16; ++k) valid[k] = k < lanes_ ? -1 : 0;
     traced += static_cast<uint64_t>(lanes_);
     const RTCRay16& r = *rays_;
+    // Summed in a local copy, which the compiler keeps in registers (the pixel's sums behind a
+    // reference stay in memory, a store and a load per addition).
+    PixelSums local = sums_;
     if (occlusion_only_) {
       for (int k = 0; k < 16; ++k) ray_.tfar[k] = tfar_;
       rtcOccluded16(valid, scene_, &context_, &ray_);
-      // Summed in a local copy, which the compiler keeps in registers (the pixel's sums behind a
-      // reference stay in memory, a store and a load per addition).
-      PixelSums local = sums_;
       for (int k = 0; k < lanes_; ++k)
         local.occlusion(glm::vec3(r.dir_x[k], r.dir_y[k], r.dir_z[k]), ray_.tfar[k] >= 0.0f);
-      sums_ = local;
     } else {
       for (int k = 0; k < 16; ++k) {
         hit_.ray.tfar[k] = tfar_;
@@ -277,11 +276,12 @@ class PacketTracer {
       for (int k = 0; k < lanes_; ++k) {
         const glm::vec3 w(r.dir_x[k], r.dir_y[k], r.dir_z[k]);
         if (hit_.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID)
-          sums_.unoccluded(w);
+          local.unoccluded(w);
         else
-          sums_.partly_occluded(w, def_.ray_value(hit_.ray.tfar[k]));
+          local.partly_occluded(w, def_.ray_value(hit_.ray.tfar[k]));
       }
     }
+    sums_ = local;
     lanes_ = 0;
   }
 
