@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "text_files.h"
+
 namespace aoeval {
 
 CacheEntryLock::CacheEntryLock(const std::string& entry_path) {
@@ -39,6 +41,9 @@ bool fill_cache_entry_once(const std::string& entry_path, const std::function<bo
   if (usable()) return false;
   CacheEntryLock lock(entry_path);
   if (usable()) return false;  // written by another process while this one waited
+  // Every writer holds this lock while its temporary exists, so any temporary of the entry here
+  // is a killed writer's (on any node sharing the cache): removed, or they would stay for good.
+  remove_temporaries_of(entry_path);
   produce();
   return true;
 }

@@ -28,7 +28,8 @@ class CacheEntryLock {
 // The cache's whole protocol in one place: `usable()` is checked without the lock (the common
 // hit); on a miss, the lock is taken and `usable()` checked again (another process may have just
 // written it); only then is `produce()` called, under the lock, and it must write the entry
-// atomically. Returns true when this call produced the entry.
+// atomically (text_files.h); the temporaries of killed earlier writers are removed before. Returns
+// true when this call produced the entry.
 bool fill_cache_entry_once(const std::string& entry_path, const std::function<bool()>& usable,
                            const std::function<void()>& produce);
 

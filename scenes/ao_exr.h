@@ -12,6 +12,11 @@
 
 namespace aoeval {
 
+// AO is accessibility in [0, 1] (CONTRACT §3). Values within this of the range are float rounding
+// in someone's arithmetic (1 - sum giving 1.0000001); anything further out means the file or the
+// program holds something other than accessibility.
+inline constexpr float kAoRangeSlack = 1e-3f;
+
 struct AoExr {
   std::string path;  // the file it was read from
   int width = 0, height = 0;
@@ -24,7 +29,9 @@ struct AoExr {
 };
 
 // InputError naming the file when it is missing, unreadable, or lacks AO or A (or AO_stderr when
-// `need_stderr`).
+// `need_stderr`), and naming the pixel and its value when a covered pixel's AO is NaN, infinite,
+// or outside [0, 1] by more than kAoRangeSlack: scoring such a file would turn it into plausible
+// numbers.
 AoExr read_ao_exr(const std::string& path, bool need_stderr = false);
 // The same from an image already read from `path` (the reference cache reads a file once to
 // verify it and to use it).

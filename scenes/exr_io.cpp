@@ -15,8 +15,7 @@ void write_with(const std::string& path, const OIIO::ImageBuf& image, const char
                 OIIO::TypeDesc type) {
   const std::string tmp = temporary_path_for(path);
   if (!image.write(tmp, type, format)) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
+    discard_temporary(tmp);
     throw std::runtime_error("cannot write " + path + ": " + image.geterror());
   }
   commit_temporary(tmp, path);

@@ -14,6 +14,55 @@ std::string describe(const nlohmann::json& j) {
   if (s.size() > 40) s = s.substr(0, 37) + "...";
   return s;
 }
+
+// Follows the parser's events to find a key given twice in one object: nlohmann keeps the last
+// value silently, so a scene or spec with two "radius" keys would run with one the user may not
+// have meant. Tracks the field path ("runs[1].grid.radius") for the message.
+class DuplicateKeys {
+ public:
+  void see(nlohmann::json::parse_event_t event, const nlohmann::json& parsed) {
+    using E = nlohmann::json::parse_event_t;
+    switch (event) {
+      case E::object_start:
+      case E::array_start:
+        frames_.push_back({event == E::object_start, {}, {}, 0});
+        break;
+      case E::key:
+        frames_.back().key = parsed.get<std::string>();
+        if (!frames_.back().keys.insert(frames_.back().key).second && found_.empty())
+          found_ = path();
+        break;
+      case E::object_end:
+      case E::array_end:
+        frames_.pop_back();
+        [[fallthrough]];
+      case E::value:
+        if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
+        break;
+    }
+  }
+  const std::string& found() const { return found_; }  // the path of the first duplicate, or ""
+
+ private:
+  struct Frame {
+    bool object;
+    std::set<std::string> keys;
+    std::string key;
+    size_t index;
+  };
+  std::string path() const {
+    std::string p;
+    for (const Frame& f : frames_) {
+      if (f.object)
+        p.append(p.empty() ? "" : ".").append(f.key);
+      else
+        p.append("[").append(std::to_string(f.index)).append("]");
+    }
+    return p;
+  }
+  std::vector<Frame> frames_;
+  std::string found_;
+};
 }  // namespace
 
 JsonReader::JsonReader(const nlohmann::json& object, std::string file, std::string path)
@@ -171,9 +220,12 @@ nlohmann::json parse_json_text(const std::string& text, const std::string& name)
   // nested 100,000 deep would overflow the stack later. The callback sees every value's depth while
   // parsing, so a too-deep document is rejected before anything walks it.
   bool too_deep = false;
+  DuplicateKeys duplicates;
   const nlohmann::json::parser_callback_t depth_check =
-      [&too_deep](int depth, nlohmann::json::parse_event_t, nlohmann::json&) {
+      [&too_deep, &duplicates](int depth, nlohmann::json::parse_event_t event,
+                               nlohmann::json& parsed) {
         if (depth > kMaxJsonDepth) too_deep = true;
+        if (!too_deep) duplicates.see(event, parsed);
         return !too_deep;
       };
   // e.byte is the offset of the error; turn it into line:column for a human.
@@ -204,6 +256,9 @@ nlohmann::json parse_json_text(const std::string& text, const std::string& name)
     throw InputError(name + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) +
                      " levels");
   }
+  if (!duplicates.found().empty())
+    throw InputError(name + ": " + duplicates.found() +
+                     ": duplicate key (a key may appear once in an object)");
   return result;
 }
 

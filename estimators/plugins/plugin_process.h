@@ -32,12 +32,13 @@
 #include <string>
 #include <vector>
 
+#include "ao_exr.h"
 #include "estimators/estimator.h"
 #include "estimators/plugins/plugin_manifest.h"
 
 namespace aoeval {
 
-inline constexpr float kAoRangeSlack = 1e-3f;
+// kAoRangeSlack: scenes/ao_exr.h, the one rule for AO values read from any file.
 
 struct ProcessOutcome {
   bool started = false;  // false: fork failed (reason in `error`)

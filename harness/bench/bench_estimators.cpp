@@ -13,6 +13,7 @@
 #include "harness/cli/commands.h"
 #include "harness/evaluation/evaluation.h"
 #include "harness/evaluation/progress.h"
+#include "harness/results/output_lock.h"
 #include "harness/results/results_store.h"
 #include "harness/results/summary.h"
 
@@ -79,24 +80,33 @@ void bench_estimators(const EstimatorBenchOptions& o) {
     for (const auto* e : chosen) used = used || e->find_param(it.key());
     if (!used) throw InputError("--set: no chosen estimator has a parameter '" + it.key() + "'");
   }
+  // Every input is checked before the store is opened, so a bad scene or --set leaves no empty
+  // database and no run without rows: each estimator's parameters, then each scene.
+  std::vector<std::pair<nlohmann::json, ParamSet>> chosen_params;
+  for (const EstimatorInfo* e : chosen) {
+    nlohmann::json overrides = nlohmann::json::object();
+    for (auto it = sets.begin(); it != sets.end(); ++it)
+      if (e->find_param(it.key())) overrides[it.key()] = it.value();
+    chosen_params.emplace_back(overrides, resolve_params(e->name, e->params, overrides, "--set"));
+  }
+  std::vector<Scene> scenes;
+  for (const auto& scene_name : o.scenes) scenes.push_back(load_scene(scene_name));
+  check_output_folder(o.out_dir);
   const RunContext context = make_run_context("bench estimators");
   ResultsFolder folder(o.out_dir, context);
   SqliteStore store(o.database);
   store.add_run(context);
   std::vector<BenchLine> lines;
   Progress progress("bench", chosen.size() * o.scenes.size());
-  for (const auto& scene_name : o.scenes) {
-    Scene scene = load_scene(scene_name);
+  for (Scene& scene : scenes) {
     const View& view = scene.view("");
     EmbreeScene es(scene);
     const Camera camera = make_camera(view, w, h);
     const GBuffer g = render_gbuffer(es, camera);
     const EstimateContext context_in{scene, es, g};
-    for (const EstimatorInfo* e : chosen) {
-      nlohmann::json overrides = nlohmann::json::object();
-      for (auto it = sets.begin(); it != sets.end(); ++it)
-        if (e->find_param(it.key())) overrides[it.key()] = it.value();
-      const ParamSet params = resolve_params(e->name, e->params, overrides, "--set");
+    for (size_t k = 0; k < chosen.size(); ++k) {
+      const EstimatorInfo* e = chosen[k];
+      const auto& [overrides, params] = chosen_params[k];
       auto estimator = e->create(params);
       double pre = 0.0;
       std::vector<double> times;

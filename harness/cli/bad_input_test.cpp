@@ -60,15 +60,21 @@ bool generate(const std::string& what, const fs::path& in) {
     sqlite3_close(db);
   } else if (what == "ao_exrs") {
     // Two small AO images: one well formed, one whose aoeval:definition header is not JSON.
+    // And negative.exr: well formed, but AO = -5 at pixel (3, 2).
     for (const auto& [file, definition] :
          {std::pair<std::string, std::string>{"good.exr", R"({"weighting": "cosine"})"},
-          {"baddef.exr", "{not json"}}) {
+          {"baddef.exr", "{not json"},
+          {"negative.exr", R"({"weighting": "cosine"})"}}) {
       OIIO::ImageSpec spec(8, 8, 2, OIIO::TypeDesc::FLOAT);
       spec.channelnames = {"AO", "A"};
       spec.attribute("aoeval:definition", definition);
       OIIO::ImageBuf image(spec);
       const float pixel[2] = {0.5f, 1.0f};
       OIIO::ImageBufAlgo::fill(image, pixel);
+      if (file == "negative.exr") {
+        const float bad[2] = {-5.0f, 1.0f};
+        image.setpixel(3, 2, bad);
+      }
       image.write((in / file).string());
     }
   } else if (what == "same_name_scenes") {
@@ -130,7 +136,9 @@ TEST(BadInput, EveryCaseOfTheCorpusIsRejectedCleanly) {
     const auto before = snapshot(in);
     std::string args = replace_all(c["args"], "{in}", in.string());
     args = replace_all(args, "{out}", out.string());
-    const auto r = aoeval::cli_test::run_aoeval(env, args, capture);
+    const std::string case_env =
+        c.contains("env") ? replace_all(c["env"], "{in}", in.string()) + " " : "";
+    const auto r = aoeval::cli_test::run_aoeval(env + case_env, args, capture);
     ++ran;
     EXPECT_EQ(r.code, c["exit"].get<int>()) << args << "\n" << r.err;
     EXPECT_EQ(line_count(r.err), 1u) << r.err;

@@ -2,6 +2,8 @@
 
 #include <filesystem>
 
+#include "errors.h"
+
 namespace aoeval {
 
 void add_cluster_options(CLI::App* cmd, ClusterOptions& c) {
@@ -12,9 +14,21 @@ void add_cluster_options(CLI::App* cmd, ClusterOptions& c) {
                   "an option for every sbatch, e.g. --slurm-arg=--partition=gpu (repeatable)");
   cmd->add_option("--shards", c.shards, "with --slurm: the number of estimator shards")
       ->check(CLI::Range(1, 100000));
+  cmd->add_option("--sbatch-timeout", c.sbatch_timeout_s,
+                  "with --slurm: seconds to wait for each sbatch before giving up (exit 2)")
+      ->check(CLI::Range(1.0, 3600.0));
   cmd->add_flag("--references-only", c.references_only,
                 "compute the distinct references of this shard (--shard) into the cache and "
                 "stop: the reference stage of --slurm");
+}
+
+void check_cluster_options(const CLI::App* cmd, const ClusterOptions& c) {
+  if (!c.slurm) return;
+  for (const char* option : {"--shard", "--shard-plan", "--references-only"})
+    if (cmd->count(option) > 0)
+      throw InputError(std::string(option) +
+                       ": cannot be combined with --slurm (--slurm plans and submits its own "
+                       "shards; choose their number with --shards N)");
 }
 
 void add_plugin_args(const CLI::App* cmd, std::vector<std::string>& args) {

@@ -12,6 +12,9 @@
 namespace aoeval {
 
 void add_cluster_options(CLI::App* command, ClusterOptions& options);
+// InputError (exit 2) for --shard, --shard-plan or --references-only given with --slurm: a
+// submission is the whole run, its shards are the jobs'.
+void check_cluster_options(const CLI::App* command, const ClusterOptions& options);
 // Appends "--plugins DIR" for each --plugins the command was given, so every job sees the same
 // estimators.
 void add_plugin_args(const CLI::App* command, std::vector<std::string>& args);

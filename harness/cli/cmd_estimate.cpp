@@ -1,4 +1,5 @@
 // `aoeval estimate --estimator E --scene S [--view V] [--res WxH] [--set KEY=VALUE]... -o FILE.exr`
+#include <chrono>
 #include <cstdio>
 
 #include "corpus.h"
@@ -7,6 +8,7 @@
 #include "harness/cli/commands.h"
 #include "harness/evaluation/evaluation.h"
 #include "harness/plugins/plugin_options.h"
+#include "text_files.h"
 
 namespace aoeval {
 
@@ -26,6 +28,8 @@ void add_estimate_command(CLI::App& app) {
   cmd->add_option("-o,--output", o.output, "output OpenEXR file")->required();
   add_plugins_option(cmd);
   cmd->callback([] {
+    install_interrupt_cleanup();  // Ctrl-C leaves no temporary (text_files.h)
+    remove_dead_temporaries_of(o.output);
     const EstimatorInfo& e = find_estimator(o.estimator);
     const ParamSet params = resolve_params(e.name, e.params, parse_set_arguments(o.sets), "--set");
     const auto [w, h] = parse_resolution(o.res);
@@ -37,9 +41,12 @@ void add_estimate_command(CLI::App& app) {
     const EstimateContext context{scene, es, g};
     auto estimator = e.create(params);
     EstimateResult r;
+    double ms = 0.0;
     try {
       estimator->prepare(context);
+      const auto t0 = std::chrono::steady_clock::now();
       r = estimator->run(context);
+      ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     } catch (const EstimatorUnavailable& unavailable) {
       // No backend here (e.g. no Vulkan device): say so in the results' words, write nothing.
       std::fprintf(stderr, "aoeval: skipped: %s\n", unavailable.what());
@@ -48,6 +55,12 @@ void add_estimate_command(CLI::App& app) {
     write_exr(o.output, estimate_to_image(g, r),
               estimate_attributes(scene, scene.content_hash(), view, camera, e, params,
                                   estimator->derived()));
+    // One line: what ran where, how long its frame took (the estimator's own total when it
+    // measures one, e.g. GPU timestamps; else the wall clock around run()), and the file.
+    if (const auto total = r.pass_ms.find("total_ms"); total != r.pass_ms.end()) ms = total->second;
+    std::printf("estimate: %s on %s/%s %dx%d: %.3f ms (one frame, after prepare) -> %s\n",
+                e.name.c_str(), scene.name.c_str(), view.name.c_str(), g.width, g.height, ms,
+                o.output.c_str());
   });
 }
 

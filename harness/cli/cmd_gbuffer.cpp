@@ -5,6 +5,7 @@
 #include "errors.h"
 #include "gbuffer.h"
 #include "harness/cli/commands.h"
+#include "text_files.h"
 
 namespace aoeval {
 
@@ -19,6 +20,8 @@ void add_gbuffer_command(CLI::App& app) {
   cmd->add_option("--res", o.res, "resolution WIDTHxHEIGHT (default: the view's)");
   cmd->add_option("-o,--output", o.output, "output OpenEXR file")->required();
   cmd->callback([] {
+    install_interrupt_cleanup();  // Ctrl-C leaves no temporary (text_files.h)
+    remove_dead_temporaries_of(o.output);
     const auto [w, h] = parse_resolution(o.res);
     Scene scene = load_scene(o.scene);
     const View& view = scene.view(o.view);

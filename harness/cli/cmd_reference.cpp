@@ -12,6 +12,7 @@
 #include "harness/cli/commands.h"
 #include "references/cache_lock.h"
 #include "references/reference_cache.h"
+#include "text_files.h"
 #include "version.h"
 
 namespace aoeval {
@@ -41,6 +42,8 @@ void copy_atomically(const std::string& from, const std::string& to) {
 
 void run_reference(const Options& o) {
   const auto t0 = std::chrono::steady_clock::now();
+  install_interrupt_cleanup();  // Ctrl-C leaves no temporary (text_files.h)
+  remove_dead_temporaries_of(o.output);
   const auto [w, h] = parse_resolution(o.res);
   ReferenceSettings s;
   s.spp = o.spp;

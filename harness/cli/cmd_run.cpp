@@ -80,6 +80,7 @@ void add_run_command(CLI::App& app) {
       throw InputError(
           "--resume: `aoeval run` resumes only with --slurm (a single-machine run "
           "is one pass; use `aoeval sweep --resume` for an interruptible one)");
+    check_cluster_options(cmd, c);
     if (c.slurm || c.references_only) {
       Suite suite = load_suite(o.suite);
       std::vector<SuiteOverride> overrides;

@@ -28,6 +28,7 @@ void add_sweep_command(CLI::App& app) {
   static ClusterOptions c;
   add_cluster_options(cmd, c);
   cmd->callback([cmd] {
+    check_cluster_options(cmd, c);
     if (c.slurm || c.references_only) {
       const SweepSpec spec = load_sweep_spec(o.spec_path);
       const std::vector<SweepPoint> points = expand_sweep(spec, o.max_points);

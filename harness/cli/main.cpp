@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <functional>
+#include <string>
 
 #include "errors.h"
 #include "harness/cli/commands.h"
@@ -25,6 +27,20 @@ int main(int argc, char** argv) {
   aoeval::add_dashboard_command(app);
   aoeval::add_tune_command(app);
   aoeval::add_merge_command(app);
+  // CLI11 reports an unknown first word only as "a subcommand is required": name it, and the
+  // commands there are.
+  const std::string first = argc > 1 ? argv[1] : "";
+  const std::function<bool(CLI::App*)> named = [&first](CLI::App* s) {
+    return s->check_name(first);
+  };
+  if (!first.empty() && first[0] != '-' && app.get_subcommands(named).empty()) {
+    std::string known;
+    for (const CLI::App* sub : app.get_subcommands(std::function<bool(CLI::App*)>()))
+      known.append(known.empty() ? "" : ", ").append(sub->get_name());
+    std::fprintf(stderr, "aoeval: error: unknown command '%s' (commands: %s; see --help)\n",
+                 argv[1], known.c_str());
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

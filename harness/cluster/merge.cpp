@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <set>
 
@@ -12,6 +11,7 @@
 #include "harness/results/output_lock.h"
 #include "harness/results/suite_record_io.h"
 #include "harness/sweep/shard_plan.h"
+#include "json_reader.h"
 
 namespace aoeval {
 
@@ -62,19 +62,17 @@ void copy_images(const fs::path& from, const fs::path& to) {
 
 std::optional<ShardTiming> read_timing(const std::string& dir) {
   const fs::path path = fs::path(dir) / "shard.json";
-  std::ifstream in(path);
-  if (!in) return std::nullopt;
-  try {
-    const nlohmann::json j = nlohmann::json::parse(in);
-    ShardTiming t;
-    t.dir = dir;
-    t.index = j.at("index").get<int>();
-    t.wall_s = j.at("wall_s").get<double>();
-    t.node = j.value("node", "");
-    return t;
-  } catch (const std::exception& e) {
-    throw InputError(path.string() + ": not a shard timing file (" + e.what() + ")");
-  }
+  if (!fs::exists(path)) return std::nullopt;
+  // Written by the shard's job script (slurm_submit.cpp): {"index", "count", "node", "wall_s"}.
+  JsonReader r(parse_json_file(path.string()), path.string());
+  ShardTiming t;
+  t.dir = dir;
+  t.index = static_cast<int>(r.integer("index", 0, 1000000));
+  r.integer("count", 1, 1000001);
+  t.wall_s = r.number("wall_s", 0.0, 1e9);
+  t.node = r.string("node", "");
+  r.finish();
+  return t;
 }
 
 }  // namespace
@@ -154,6 +152,7 @@ MergeResult merge_results(const MergeOptions& o) {
     result.measured_ratio = ratio(walls);
   }
 
+  check_output_folder(o.out);  // inputs all read and checked above; the store is opened last
   SqliteStore store(o.database);
   OutputFolderLock lock(o.out);
   remove_stale_temporaries(o.out);

@@ -1,14 +1,12 @@
 #include "harness/cluster/slurm_submit.h"
 
-#include <sys/stat.h>
-#include <sys/wait.h>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "errors.h"
+#include "estimators/plugins/plugin_process.h"
 #include "exr_io.h"
 #include "harness/results/results_store.h"
 #include "harness/sweep/shard_plan.h"
@@ -39,33 +37,63 @@ void write_script(const fs::path& path, const std::string& body) {
                             fs::perms::others_read | fs::perms::others_exec);
 }
 
-// Runs sbatch --parsable with `args` and returns the job id.
-std::string sbatch(const std::vector<std::string>& args, const fs::path& log_dir) {
-  const fs::path err = log_dir / ".sbatch-stderr";
-  const std::string cmd =
-      "sbatch --parsable" + join_quoted(args) + " 2>" + shell_quote(err.string()) + " </dev/null";
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  if (!pipe) throw std::runtime_error("--slurm: cannot run sbatch");
+// Runs sbatch --parsable with `args` (argv, no shell) for at most `timeout_s` and returns the job
+// id. Every way it can fail is the user's Slurm set-up (not installed, not configured, the
+// controller unreachable or refusing), so each is an InputError (exit 2) quoting sbatch.
+std::string sbatch(const std::vector<std::string>& args, const fs::path& scratch,
+                   double timeout_s) {
+  std::vector<std::string> argv = {"sbatch", "--parsable"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  const fs::path out_file = scratch / ".sbatch-stdout", err_file = scratch / ".sbatch-stderr";
+  const ProcessOutcome r = run_process(argv, ".", timeout_s, out_file, err_file);
   std::string out;
-  char buf[256];
-  while (std::fgets(buf, sizeof buf, pipe)) out += buf;
-  const int status = ::pclose(pipe);
-  std::ifstream e(err);
-  std::string message, line;
-  while (std::getline(e, line)) message = line.empty() ? message : line;
-  std::error_code ec;
-  fs::remove(err, ec);
-  if (status != 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    throw std::runtime_error(
-        "--slurm: sbatch failed" +
-        (code == 127 ? std::string(" (sbatch is not on PATH: Slurm's client tools are needed)")
-                     : ": " + (message.empty() ? "exit " + std::to_string(code) : message)));
+  {
+    std::ifstream in(out_file);
+    std::getline(in, out);
   }
-  const std::string id = out.substr(0, out.find_first_of(";\n"));
-  if (id.empty() || id.find_first_not_of("0123456789") != std::string::npos)
-    throw std::runtime_error("--slurm: sbatch printed no job id (got '" + out + "')");
+  const std::string message = last_line_of(err_file);
+  std::error_code ec;
+  fs::remove(out_file, ec);
+  fs::remove(err_file, ec);
+  if (!r.started) throw InputError("--slurm: cannot run sbatch: " + r.error);
+  if (r.timed_out) {
+    char seconds[32];
+    std::snprintf(seconds, sizeof seconds, "%g", timeout_s);
+    throw InputError(std::string("--slurm: sbatch did not answer within ") + seconds +
+                     " s (--sbatch-timeout) and was stopped: is the Slurm controller reachable "
+                     "(`sinfo`)?");
+  }
+  if (r.exit_code == 127)
+    throw InputError("--slurm: cannot run sbatch (Slurm's client tools are needed on PATH)" +
+                     (message.empty() ? std::string() : ": " + message));
+  if (r.exit_code != 0) {
+    const std::string how = r.signal ? "killed by signal " + std::to_string(r.signal)
+                                     : "exit " + std::to_string(r.exit_code);
+    throw InputError("--slurm: sbatch failed (" + how + ")" +
+                     (message.empty() ? std::string() : ": " + message));
+  }
+  // --parsable prints "<id>" or "<id>;<cluster>".
+  const std::string id = out.substr(0, out.find(';'));
+  if (id.empty() || id.size() > 20 || id.find_first_not_of("0123456789") != std::string::npos) {
+    std::string shown = out.size() > 60 ? out.substr(0, 57) + "..." : out;
+    for (char& c : shown)
+      if (static_cast<unsigned char>(c) < 0x20) c = '?';
+    throw InputError("--slurm: sbatch printed no job id (its first line: '" + shown + "')");
+  }
   return id;
+}
+
+// Cancels jobs submitted before a later submission failed (best effort, bounded like sbatch), so a
+// half-submitted run does not go on without its merge.
+void cancel(const std::vector<std::string>& jobs, const fs::path& scratch, double timeout_s) {
+  if (jobs.empty()) return;
+  std::vector<std::string> argv = {"scancel"};
+  argv.insert(argv.end(), jobs.begin(), jobs.end());
+  const fs::path out_file = scratch / ".scancel-stdout", err_file = scratch / ".scancel-stderr";
+  run_process(argv, ".", timeout_s, out_file, err_file);
+  std::error_code ec;
+  fs::remove(out_file, ec);
+  fs::remove(err_file, ec);
 }
 
 std::string self_exe() {
@@ -80,16 +108,12 @@ std::string array_spec(const std::vector<int>& tasks) {
   return s;
 }
 
-}  // namespace
-
-void submit_to_slurm(const SlurmSubmission& s) {
-  if (s.cluster.shards < 1) throw InputError("--shards: must be at least 1");
-  const fs::path out = fs::weakly_canonical(fs::absolute(s.out.empty() ? "out/" + s.name : s.out));
+// The submission itself; `jobs` collects the ids submitted, for submit_to_slurm to cancel when a
+// later step fails.
+void submit(const SlurmSubmission& s, const fs::path& out, std::vector<std::string>& jobs) {
   const fs::path slurm_dir = out / "slurm", logs = slurm_dir / "logs";
   const fs::path plan_path = slurm_dir / "plan.json";
-  if (!s.resume && (fs::exists(out / "results.json") || fs::exists(plan_path)))
-    throw InputError(out.string() +
-                     ": already holds a run; pass --resume to continue it, or choose --out");
+  const double timeout_s = s.cluster.sbatch_timeout_s;
   fs::create_directories(logs);
   const std::string db = fs::weakly_canonical(fs::absolute(s.database)).string();
 
@@ -138,7 +162,8 @@ void submit_to_slurm(const SlurmSubmission& s) {
                                        "--output=" + (logs / "references-%a.log").string()};
       args.insert(args.end(), extra.begin(), extra.end());
       args.push_back((slurm_dir / "references.sh").string());
-      references_job = sbatch(args, logs);
+      references_job = sbatch(args, logs, timeout_s);
+      jobs.push_back(references_job);
       std::printf("references: job %s (array of %d over %zu distinct references)\n",
                   references_job.c_str(), tasks, refs);
     }
@@ -172,7 +197,8 @@ void submit_to_slurm(const SlurmSubmission& s) {
     }
     args.insert(args.end(), extra.begin(), extra.end());
     args.push_back((slurm_dir / "shard.sh").string());
-    shards_job = sbatch(args, logs);
+    shards_job = sbatch(args, logs, timeout_s);
+    jobs.push_back(shards_job);
     std::printf("shards: job %s (array %s of %d, planned slowest/mean %.3f)\n", shards_job.c_str(),
                 array_spec(unfinished_shards).c_str(), n, plan.planned_ratio());
   }
@@ -186,9 +212,49 @@ void submit_to_slurm(const SlurmSubmission& s) {
   if (!shards_job.empty()) args.push_back("--dependency=afterany:" + shards_job);
   args.insert(args.end(), extra.begin(), extra.end());
   args.push_back((slurm_dir / "merge.sh").string());
-  const std::string merge_job = sbatch(args, logs);
+  const std::string merge_job = sbatch(args, logs, timeout_s);
+  jobs.push_back(merge_job);
   std::printf("merge: job %s (log %s)\n", merge_job.c_str(), (logs / "merge.log").c_str());
   std::printf("%s\n", (out / (s.suite ? "index.html" : "results.csv")).c_str());
+}
+
+}  // namespace
+
+void submit_to_slurm(const SlurmSubmission& s) {
+  if (s.cluster.shards < 1) throw InputError("--shards: must be at least 1");
+  const fs::path out = fs::weakly_canonical(fs::absolute(s.out.empty() ? "out/" + s.name : s.out));
+  if (!s.resume && (fs::exists(out / "results.json") || fs::exists(out / "slurm" / "plan.json")))
+    throw InputError(out.string() +
+                     ": already holds a run; pass --resume to continue it, or choose --out");
+  // A submission that fails leaves nothing behind (else the retry would find plan.json and say
+  // "already holds a run"): what this call created is removed, what it submitted cancelled.
+  std::error_code ec;
+  const bool out_existed = fs::exists(out, ec), slurm_existed = fs::exists(out / "slurm", ec);
+  fs::path created = out;  // the topmost folder a submission into a new `out` creates
+  while (!fs::exists(created.parent_path(), ec) && created.parent_path() != created)
+    created = created.parent_path();
+  std::vector<std::string> jobs;
+  auto undo = [&] {
+    cancel(jobs, out / "slurm" / "logs", s.cluster.sbatch_timeout_s);  // jobs: the folder exists
+    if (!out_existed) {
+      fs::remove_all(created, ec);
+    } else if (!slurm_existed) {
+      fs::remove_all(out / "slurm", ec);
+    }
+  };
+  try {
+    submit(s, out, jobs);
+  } catch (const InputError& e) {
+    std::string cancelled;
+    for (const auto& id : jobs)
+      cancelled.append(cancelled.empty() ? " (cancelled: job " : ", ").append(id);
+    if (!cancelled.empty()) cancelled += ")";
+    undo();
+    throw InputError(e.what() + cancelled);
+  } catch (...) {
+    undo();
+    throw;
+  }
 }
 
 }  // namespace aoeval

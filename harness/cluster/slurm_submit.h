@@ -29,6 +29,9 @@ struct ClusterOptions {
   int shards = 4;
   bool references_only = false;  // the reference stage's job (hidden option)
   bool resume = false;           // `run --resume` (sweep has its own --resume)
+  // Each sbatch (and the scancel of a failed submission) is stopped after this long: a controller
+  // that does not answer must not hang aoeval.
+  double sbatch_timeout_s = 60.0;
 };
 
 struct SlurmSubmission {
@@ -47,8 +50,10 @@ struct SlurmSubmission {
 
 // Plans, writes OUT/slurm/{plan.json,*.sh}, submits, prints the job ids and, last on stdout, the
 // path of the merged report (OUT/index.html for a suite, OUT/results.csv for a sweep). InputError
-// for an output folder that already holds results without --resume; std::runtime_error quoting
-// sbatch's message when a submission fails.
+// (exit 2) for an output folder that already holds results without --resume, and when sbatch
+// cannot be run, fails, prints no job id or does not answer within sbatch_timeout_s (quoting
+// sbatch's last stderr line). A failed submission leaves nothing behind: the folders it created
+// are removed, the jobs it had already submitted cancelled (scancel), so a retry starts afresh.
 void submit_to_slurm(const SlurmSubmission& submission);
 
 // POSIX shell quoting: 'text' with each ' written '\''.

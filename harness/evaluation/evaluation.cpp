@@ -276,6 +276,17 @@ Measurement EvaluationSession::measure(const EvaluationRequest& req) {
   row.backend = backend_name(e.backend);
   row.device = backend_device(e.backend);  // "" = the CPU; runners fill in the machine's
   row.aoeval_version = kAoevalVersion;
+  // A view that shows no surface at this size (the camera looks past the scene) has nothing to
+  // score: its row says so, and the sweep or suite goes on with the other points.
+  bool any_covered = false;
+  for (size_t k = 0; k < g.pixel_count() && !any_covered; ++k) any_covered = g.covered(k);
+  if (!any_covered) {
+    row.status = "skipped: scene " + s.scene.name + " view " + view.name + " covers no pixel at " +
+                 std::to_string(w) + "x" + std::to_string(h) +
+                 " (nothing of the scene is in front of its camera)";
+    row.timestamp = utc_now();
+    return m;
+  }
 
   const EstimateContext context{s.scene, *s.embree, g};
   std::unique_ptr<Estimator> estimator;

@@ -16,6 +16,17 @@ namespace aoeval {
 
 namespace fs = std::filesystem;
 
+void check_output_folder(const std::string& dir, const std::string& option) {
+  fs::path p = fs::absolute(dir.empty() ? "." : dir).lexically_normal();
+  std::error_code ec;
+  while (!fs::exists(p, ec) && p.has_parent_path() && p != p.parent_path()) p = p.parent_path();
+  if (!fs::is_directory(p, ec))
+    throw InputError(option + " " + dir + ": " + p.string() + " is a file, not a folder");
+  if (::access(p.c_str(), W_OK | X_OK) != 0)
+    throw InputError(option + " " + dir + ": cannot write into " + p.string() + ": " +
+                     std::strerror(errno));
+}
+
 OutputFolderLock::OutputFolderLock(const std::string& dir) {
   fs::create_directories(dir.empty() ? "." : dir);
   const std::string path = (fs::path(dir.empty() ? "." : dir) / ".aoeval.lock").string();

@@ -7,6 +7,11 @@
 
 namespace aoeval {
 
+// Validates an output folder before anything is created (so a bad --out leaves no empty database
+// or folder behind): InputError naming `option` and the path when it, or the nearest existing
+// folder above it, is a file, or when that folder cannot be written into. Creates nothing.
+void check_output_folder(const std::string& dir, const std::string& option = "--out");
+
 class OutputFolderLock {
  public:
   // Creates `dir` and takes an exclusive flock on <dir>/.aoeval.lock (released by the kernel when

@@ -19,9 +19,13 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <limits>
 #include <set>
 #include <stdexcept>
+#include <type_traits>
 
+#include "errors.h"
 #include "harness/results/summary.h"
 
 namespace aoeval {
@@ -53,32 +57,76 @@ std::string parameter_column(const std::string& name) {
   return fixed_columns().count(name) ? "param_" + name : name;
 }
 
-std::string string_of(const nlohmann::json& flat, const char* key) {
-  const auto it = flat.find(key);
-  if (it == flat.end() || it->is_null()) return "";
-  return it->is_string() ? it->get<std::string>() : it->dump();
-}
+// Every row read from disk (results.json, the SQLite history) passes through unflatten(), which
+// checks it here, column by column: a hand-edited or foreign file fails with its place named
+// ("results.json: rows[1].run_name: ...") instead of becoming a blank row or a raw library error.
+class FlatRow {
+ public:
+  FlatRow(const nlohmann::json& flat, const std::string& where) : flat_(flat), where_(where) {}
 
-template <typename T>
-T number_of(const nlohmann::json& flat, const char* key) {
-  const auto it = flat.find(key);
-  if (it == flat.end() || !it->is_number()) return T{};
-  return it->get<T>();
-}
-
-// A JSON-valued column: stored as a JSON string, accepted as an object too.
-nlohmann::json json_of(const nlohmann::json& flat, const char* key) {
-  const auto it = flat.find(key);
-  if (it == flat.end() || it->is_null()) return nlohmann::json::object();
-  if (!it->is_string()) return *it;
-  const std::string& text = it->get_ref<const std::string&>();
-  if (text.empty()) return nlohmann::json::object();
-  try {
-    return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(std::string("results column ") + key + " is not JSON: " + e.what());
+  [[noreturn]] void fail(const std::string& key, const std::string& problem) const {
+    throw InputError(where_ + (key.empty() ? "" : "." + key) + ": " + problem);
   }
-}
+  // nullptr when absent or null (blank in CSV, NULL in SQLite).
+  const nlohmann::json* find(const std::string& key) const {
+    const auto it = flat_.find(key);
+    return it == flat_.end() || it->is_null() ? nullptr : &*it;
+  }
+  std::string text(const char* key, bool required = false) const {
+    const nlohmann::json* v = find(key);
+    if (!v) {
+      if (required) fail(key, "required field is missing");
+      return "";
+    }
+    if (!v->is_string()) fail(key, "expected a string, got " + describe(*v));
+    if (required && v->get_ref<const std::string&>().empty()) fail(key, "must not be empty");
+    return v->get<std::string>();
+  }
+  template <typename T>
+  T number(const char* key) const {
+    const nlohmann::json* v = find(key);
+    if (!v) return T{};
+    if (std::is_integral_v<T> ? !v->is_number_integer() : !v->is_number())
+      fail(key, std::string("expected ") + (std::is_integral_v<T> ? "an integer" : "a number") +
+                    ", got " + describe(*v));
+    const double d = v->get<double>();
+    if (!std::isfinite(d) || d < 0.0 || d > static_cast<double>(std::numeric_limits<T>::max()))
+      fail(key, "value " + describe(*v) + " is out of range");
+    return v->get<T>();
+  }
+  // A JSON-valued column of `kind` (object or array): stored as JSON text, accepted as the value.
+  nlohmann::json json(const char* key, nlohmann::json::value_t kind) const {
+    const nlohmann::json* v = find(key);
+    nlohmann::json out =
+        kind == nlohmann::json::value_t::array ? nlohmann::json::array() : nlohmann::json::object();
+    if (!v) return out;
+    if (v->is_string()) {
+      const std::string& text = v->get_ref<const std::string&>();
+      if (text.empty()) return out;
+      out = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
+      if (out.is_discarded()) fail(key, "is not JSON text");
+    } else {
+      out = *v;
+    }
+    if (out.type() != kind)
+      fail(key, std::string("expected ") +
+                    (kind == nlohmann::json::value_t::array ? "an array" : "an object") + ", got " +
+                    describe(out));
+    return out;
+  }
+  // Metrics hold a number, or null for +infinity (psnr of identical images).
+  void check_metric(const std::string& key, const nlohmann::json& v) const {
+    if (!v.is_null() && !v.is_number()) fail(key, "expected a number or null, got " + describe(v));
+  }
+
+ private:
+  static std::string describe(const nlohmann::json& v) {
+    std::string s = v.dump();
+    return s.size() > 40 ? s.substr(0, 37) + "..." : s;
+  }
+  const nlohmann::json& flat_;
+  const std::string& where_;
+};
 
 }  // namespace
 
@@ -157,56 +205,59 @@ nlohmann::json flatten(const ResultRow& row) {
   return flat;
 }
 
-ResultRow unflatten(const nlohmann::json& flat) {
-  if (!flat.is_object()) throw std::runtime_error("results row is not a JSON object");
+ResultRow unflatten(const nlohmann::json& flat, const std::string& where) {
+  if (!flat.is_object()) {
+    std::string got = flat.dump();
+    if (got.size() > 40) got = got.substr(0, 37) + "...";
+    throw InputError(where + ": expected a results row (a JSON object), got " + got);
+  }
+  const FlatRow f(flat, where);
   ResultRow row;
-  row.run_id = string_of(flat, "run_id");
-  row.run_name = string_of(flat, "run_name");
-  row.estimator = string_of(flat, "estimator");
-  row.scene = string_of(flat, "scene");
-  row.view = string_of(flat, "view");
-  row.width = number_of<int>(flat, "width");
-  row.height = number_of<int>(flat, "height");
-  row.definition = string_of(flat, "definition");
-  row.backend = string_of(flat, "backend");
-  row.status = flat.contains("status") ? string_of(flat, "status") : "ok";
-  row.params = json_of(flat, "params");
+  row.run_id = f.text("run_id");
+  row.run_name = f.text("run_name", /*required=*/true);
+  row.estimator = f.text("estimator", /*required=*/true);
+  row.scene = f.text("scene");
+  row.view = f.text("view");
+  row.width = f.number<int>("width");
+  row.height = f.number<int>("height");
+  row.definition = f.text("definition");
+  row.backend = f.text("backend");
+  row.status = f.find("status") ? f.text("status") : "ok";
+  row.params = f.json("params", nlohmann::json::value_t::object);
 
   auto get_metrics = [&](const std::string& prefix) {
     nlohmann::json metrics = nlohmann::json::object();
     for (const auto& k : metric_names()) {
       const auto it = flat.find(prefix + k);
-      if (it != flat.end()) metrics[k] = *it;
+      if (it == flat.end()) continue;
+      f.check_metric(prefix + k, *it);
+      metrics[k] = *it;
     }
     return metrics;
   };
   row.metrics = get_metrics("");
   row.true_metrics = get_metrics("true_");
-  row.time_ms_median = number_of<double>(flat, "time_ms_median");
-  row.time_ms_min = number_of<double>(flat, "time_ms_min");
-  row.time_ms_max = number_of<double>(flat, "time_ms_max");
-  row.repetitions = number_of<int>(flat, "repetitions");
-  {
-    const nlohmann::json samples = json_of(flat, "time_ms_samples");
-    if (samples.is_array())
-      for (const auto& v : samples)
-        if (v.is_number()) row.time_ms_samples.push_back(v.get<double>());
+  row.time_ms_median = f.number<double>("time_ms_median");
+  row.time_ms_min = f.number<double>("time_ms_min");
+  row.time_ms_max = f.number<double>("time_ms_max");
+  row.repetitions = f.number<int>("repetitions");
+  for (const auto& v : f.json("time_ms_samples", nlohmann::json::value_t::array)) {
+    if (!v.is_number()) f.fail("time_ms_samples", "expected numbers, got " + v.dump());
+    row.time_ms_samples.push_back(v.get<double>());
   }
-  row.precompute_ms = number_of<double>(flat, "precompute_ms");
-  row.reference = json_of(flat, "reference");
-  row.machine = string_of(flat, "machine");
-  row.device = string_of(flat, "device");
-  row.git_commit = string_of(flat, "git_commit");
-  row.aoeval_version = string_of(flat, "aoeval_version");
-  row.timestamp = string_of(flat, "timestamp");
-  row.estimate_file = string_of(flat, "estimate_file");
-  row.timing_source = string_of(flat, "timing_source");
+  row.precompute_ms = f.number<double>("precompute_ms");
+  row.reference = f.json("reference", nlohmann::json::value_t::object);
+  row.machine = f.text("machine");
+  row.device = f.text("device");
+  row.git_commit = f.text("git_commit");
+  row.aoeval_version = f.text("aoeval_version");
+  row.timestamp = f.text("timestamp");
+  row.estimate_file = f.text("estimate_file");
+  row.timing_source = f.text("timing_source");
 
   std::set<std::string> parameter_columns;
-  if (row.params.is_object()) {
-    for (const auto& item : row.params.items())
-      parameter_columns.insert(parameter_column(item.key()));
-  }
+  for (const auto& item : row.params.items())
+    parameter_columns.insert(parameter_column(item.key()));
   for (const auto& [key, value] : flat.items()) {
     if (value.is_number() && !fixed_columns().count(key) && !parameter_columns.count(key)) {
       row.pass_ms[key] = value.get<double>();

@@ -47,7 +47,11 @@ struct ResultRow {
 // The row as one flat JSON object whose keys are exactly the CSV/SQLite column names: fixed
 // columns, then one column per parameter (named after it), metrics, "true_" metrics, timings.
 nlohmann::json flatten(const ResultRow& row);
-ResultRow unflatten(const nlohmann::json& flat);
+// The one way a row read from disk becomes a ResultRow: it is checked (run_name and estimator
+// present and non-empty, every fixed column of its type, metrics numbers or null), and a row that
+// fails is an InputError "<where>.<column>: <problem>" (`where` names the file and the row, e.g.
+// "out/x/results.json: rows[3]").
+ResultRow unflatten(const nlohmann::json& flat, const std::string& where = "results row");
 
 // The fixed columns in order, for writers that need a stable header. Parameter columns come
 // between the identifying columns and the metrics; pass-time columns at the end.

@@ -127,6 +127,33 @@ std::string column_type(const std::string& column) {
 
 constexpr int kBusyTimeoutMs = 60000;
 
+// Why the open database is not an aoeval results database, or "" when it is one. With `new_ok`, a
+// database without a schema version and without tables (a new file) is accepted too. The one check
+// for the dashboard's read-only opening and the writers' (another application's file is refused by
+// both, and never converted).
+std::string not_an_aoeval_database(sqlite3* db, const std::string& path, bool new_ok) {
+  Statement version(db, path, "PRAGMA user_version");
+  const int v = version.step() ? sqlite3_column_int(version.get(), 0) : 0;
+  if (v == 0 && new_ok) {
+    Statement tables(db, path,
+                     "SELECT group_concat(name, ', ') FROM sqlite_master WHERE type = 'table'");
+    const std::string names = tables.step() ? tables.text(0) : "";
+    return names.empty() ? ""
+                         : "not an aoeval results database (it holds other tables: " + names + ")";
+  }
+  if (new_ok && v > kResultsSchemaVersion) return "";  // the writer names it: a newer aoeval's
+  if (v != kResultsSchemaVersion) {
+    return "not an aoeval results database (schema version " + std::to_string(v) + ", expected " +
+           std::to_string(kResultsSchemaVersion) + ")";
+  }
+  Statement tables(db, path,
+                   "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name IN "
+                   "('runs', 'results', 'meta')");
+  if (!tables.step() || sqlite3_column_int(tables.get(), 0) != 3)
+    return "not an aoeval results database (tables runs, results and meta missing)";
+  return "";
+}
+
 }  // namespace
 
 void SqliteStore::open_read_only() {
@@ -160,17 +187,8 @@ void SqliteStore::open_read_only() {
   try {
     // The first read of the schema is where a corrupt or non-SQLite file fails ("file is not a
     // database"); a foreign database has other tables or another user_version.
-    Statement version(db_, path_, "PRAGMA user_version");
-    const int v = version.step() ? sqlite3_column_int(version.get(), 0) : 0;
-    if (v != kResultsSchemaVersion) {
-      reject("not an aoeval results database (schema version " + std::to_string(v) + ", expected " +
-             std::to_string(kResultsSchemaVersion) + ")");
-    }
-    Statement tables(db_, path_,
-                     "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name IN "
-                     "('runs', 'results', 'meta')");
-    if (!tables.step() || sqlite3_column_int(tables.get(), 0) != 3)
-      reject("not an aoeval results database (tables runs, results and meta missing)");
+    if (const std::string why = not_an_aoeval_database(db_, path_, false); !why.empty())
+      reject(why);
     // Reads the whole file's b-tree structure once, so a corrupt page is found here, not halfway
     // through building a page of results.
     Statement check(db_, path_, "PRAGMA quick_check");
@@ -192,6 +210,9 @@ SqliteStore::SqliteStore(const std::string& path, Mode mode) : path_(path) {
   }
   const fs::path parent = fs::path(path).parent_path();
   if (!parent.empty()) fs::create_directories(parent);
+  std::error_code ec;
+  const bool existed = fs::exists(path, ec);
+  if (existed && !fs::is_regular_file(path, ec)) throw InputError("--db " + path + ": not a file");
   if (sqlite3_open_v2(path.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) !=
       SQLITE_OK) {
     const std::string message = db_ ? sqlite3_errmsg(db_) : "out of memory";
@@ -200,6 +221,17 @@ SqliteStore::SqliteStore(const std::string& path, Mode mode) : path_(path) {
   }
   try {
     sqlite3_busy_timeout(db_, kBusyTimeoutMs);
+    // Before the first write (journal_mode writes the header): another application's database,
+    // or a file that is no database at all, is the user's mistake and stays byte-identical.
+    std::string why;
+    try {
+      why = not_an_aoeval_database(db_, path_, /*new_ok=*/true);
+    } catch (const std::runtime_error&) {
+      const int code = sqlite3_errcode(db_);
+      if (code != SQLITE_NOTADB && code != SQLITE_CORRUPT) throw;
+      why = std::string("not a readable SQLite database (") + sqlite3_errmsg(db_) + ")";
+    }
+    if (!why.empty()) throw InputError("--db " + path + ": " + why);
     exec(db_, path_, "PRAGMA journal_mode = WAL");
     Transaction t(db_, path_);
     Statement version(db_, path_, "PRAGMA user_version");
@@ -235,6 +267,10 @@ SqliteStore::SqliteStore(const std::string& path, Mode mode) : path_(path) {
     t.commit();
   } catch (...) {
     sqlite3_close(db_);
+    if (!existed) {  // a file this call created is not left behind
+      fs::remove(path, ec);
+      for (const char* side : {"-wal", "-shm", "-journal"}) fs::remove(path + side, ec);
+    }
     throw;
   }
 }
@@ -310,9 +346,13 @@ std::vector<ResultRow> SqliteStore::select_rows(const std::string& sql, const st
   std::vector<ResultRow> out;
   while (s.step()) {
     nlohmann::json flat = nlohmann::json::object();
+    std::string id;
     for (int i = 0; i < sqlite3_column_count(s.get()); ++i) {
       const std::string name = sqlite3_column_name(s.get(), i);
-      if (name == "id") continue;
+      if (name == "id") {
+        id = s.text(i);
+        continue;
+      }
       switch (sqlite3_column_type(s.get(), i)) {
         case SQLITE_INTEGER:
           flat[name] = static_cast<int64_t>(sqlite3_column_int64(s.get(), i));
@@ -329,7 +369,7 @@ std::vector<ResultRow> SqliteStore::select_rows(const std::string& sql, const st
           flat[name] = s.text(i);
       }
     }
-    out.push_back(unflatten(flat));
+    out.push_back(unflatten(flat, "--db " + path_ + ": results[id=" + id + "]"));
   }
   return out;
 }

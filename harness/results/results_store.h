@@ -40,6 +40,12 @@ std::vector<std::string> result_columns(const std::vector<ResultRow>& rows);
 // True for the metric and "true_" metric columns, where null means +infinity (psnr).
 bool is_metric_column(const std::string& column);
 
+// Reads a results.json (the rows of ResultsFolder::write): every row checked by unflatten(), a
+// run name given twice refused; InputError naming the file and the row or key at fault. Fills
+// `context` (when given) from its "context" block.
+std::vector<ResultRow> read_results_file(const std::string& path,
+                                         std::optional<RunContext>* context = nullptr);
+
 // One output folder's results: <dir>/<stem>.csv and <dir>/<stem>.json, both rewritten atomically
 // (temporary + rename) after every added row, so an interrupted run never leaves a partial row.
 // `stem` defaults to "results"; give shards of one sweep that share a folder their own stem
@@ -47,9 +53,9 @@ bool is_metric_column(const std::string& column);
 class ResultsFolder {
  public:
   ResultsFolder(std::string dir, RunContext context, std::string stem = "results");
-  // Loads the rows already in <dir>/<stem>.json (for --resume) and returns their run names; no
-  // file: none. Throws std::runtime_error naming the file when it is unreadable, not results JSON,
-  // or of a newer schema version.
+  // Loads the rows already in <dir>/<stem>.json (for --resume, read_results_file) and returns
+  // their run names; no file: none. InputError naming the file and the row when it is unreadable,
+  // not results JSON, or of a newer schema version. The folder is created by the first write.
   std::vector<std::string> load_existing();
   // The context of <dir>/<stem>.json as load_existing() found it (a resumed sweep keeps its run
   // id, so one sweep is one run however often it was interrupted); empty before loading or when
@@ -90,8 +96,11 @@ class SqliteStore {
   // a file that is missing, corrupt, foreign (no aoeval tables) or of another schema version is an
   // InputError naming it, so the caller can exit 2 and leave the file byte-identical.
   enum class Mode { read_write, read_only };
-  // Throws std::runtime_error with sqlite's message on failure (read_write), and when the
-  // database's schema version is newer than this build's.
+  // read_write refuses, before writing a byte, a file that is not an aoeval results database
+  // (another application's tables, or no SQLite database at all): InputError "--db PATH: not an
+  // aoeval results database (...)", the same words as read_only. A new file it created is removed
+  // again when opening fails. Throws std::runtime_error with sqlite's message on other failures,
+  // and when the database's schema version is newer than this build's.
   explicit SqliteStore(const std::string& path, Mode mode = Mode::read_write);
   ~SqliteStore();
   SqliteStore(const SqliteStore&) = delete;

@@ -1,6 +1,7 @@
 // Tests of the results row (result_row.h) and the results store (results_store.h): flat round
 // trip, CSV/JSON/Markdown/console writers, the output folder with --resume, and SQLite.
 #include "harness/results/results_store.h"
+#include "errors.h"
 #include "harness/results/stage_times.h"
 #include "scenes/test_temp_dir.h"
 
@@ -481,6 +482,80 @@ TEST(Tables, MarkdownAndConsole) {
   EXPECT_EQ(l[1], "-----------  -------  -----------");
   EXPECT_EQ(l[2], "hbao         0.01235        12346");
   EXPECT_EQ(l[3], "raytraced|x      0.5        12346");
+}
+
+}  // namespace
+}  // namespace aoeval
+
+namespace aoeval {
+namespace {
+
+std::string unflatten_error(const nlohmann::json& flat) {
+  try {
+    unflatten(flat, "f.json: rows[2]");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Issue 28: one validator for every row read from disk, naming the file, the row and the column.
+TEST(ResultRow, RowsReadFromDiskAreCheckedNamingRowAndColumn) {
+  EXPECT_EQ(unflatten_error(1), "f.json: rows[2]: expected a results row (a JSON object), got 1");
+  EXPECT_EQ(unflatten_error(nlohmann::json::object()),
+            "f.json: rows[2].run_name: required field is missing");
+  nlohmann::json flat = flatten(make_row("hbao", {{"R", 0.5}}, "bunny", 0.1));
+  EXPECT_EQ(unflatten_error(flat), "");
+  auto with = [&](const char* key, nlohmann::json value) {
+    nlohmann::json f = flat;
+    f[key] = std::move(value);
+    return unflatten_error(f);
+  };
+  EXPECT_EQ(with("run_name", ""), "f.json: rows[2].run_name: must not be empty");
+  EXPECT_EQ(with("width", "x"), "f.json: rows[2].width: expected an integer, got \"x\"");
+  EXPECT_EQ(with("rmse", "x"), "f.json: rows[2].rmse: expected a number or null, got \"x\"");
+  EXPECT_EQ(with("params", "[1]"), "f.json: rows[2].params: expected an object, got [1]");
+  EXPECT_EQ(with("time_ms_median", -1), "f.json: rows[2].time_ms_median: value -1 is out of range");
+  EXPECT_EQ(with("status", 3), "f.json: rows[2].status: expected a string, got 3");
+}
+
+TEST(ResultsFolderTest, ARunNameTwiceIsRefused) {
+  const fs::path dir = fresh_dir("out");
+  const nlohmann::json row = flatten(make_row("hbao", {{"R", 0.5}}, "bunny", 0.1));
+  std::ofstream(dir / "results.json")
+      << nlohmann::json{{"schema_version", 1}, {"rows", {row, row}}}.dump();
+  try {
+    read_results_file((dir / "results.json").string());
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("rows[1].run_name"), std::string::npos) << e.what();
+  }
+}
+
+// The writers refuse another application's database before writing a byte (the dashboard's
+// read-only check, the same words), and leave no file where they created one and failed.
+TEST(SqliteStoreTest, AnotherApplicationsDatabaseIsRefusedAndLeftUnchanged) {
+  const fs::path dir = fresh_dir("db");
+  const std::string path = (dir / "notes.sqlite").string();
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  sqlite3_exec(db, "CREATE TABLE notes (text TEXT); INSERT INTO notes VALUES ('mine')", nullptr,
+               nullptr, nullptr);
+  sqlite3_close(db);
+  const std::string before = read(path);
+  try {
+    SqliteStore store(path);
+    FAIL() << "opened";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "--db " + path + ": not an aoeval results database (it holds other tables: notes)");
+  }
+  EXPECT_EQ(read(path), before);
+  size_t files = 0;
+  for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
+  EXPECT_EQ(files, 1u);  // no -wal or -shm beside it
+  std::ofstream(dir / "text.sqlite") << "not a database at all, but long enough to be read as one";
+  EXPECT_THROW(SqliteStore((dir / "text.sqlite").string()), InputError);
 }
 
 }  // namespace

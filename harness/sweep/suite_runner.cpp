@@ -63,11 +63,10 @@ class RunImages {
     session.reference(scene_name, view, w, h, definition);  // computes or reads the cache
     const std::string cached = reference_cache_path(
         reference_cache_key(data.content_hash, make_camera(view, w, h), spec.settings(definition)));
-    const fs::path target = fs::path(out_) / rel;
-    fs::create_directories(target.parent_path());
-    const fs::path temp = target.string() + ".tmp";
+    const std::string target = (fs::path(out_) / rel).string();
+    const std::string temp = temporary_path_for(target);  // one naming, so leftovers are found
     fs::copy_file(cached, temp, fs::copy_options::overwrite_existing);
-    fs::rename(temp, target);
+    commit_temporary(temp, target);
     return rel;
   }
 
@@ -231,6 +230,7 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
   const std::string out = o.out_dir.empty() ? "out/" + suite.name : o.out_dir;
   // Database first (an unwritable --db leaves no folder), then one writer per folder (see
   // sweep_runner.cpp for the order that makes results kill-safe).
+  check_output_folder(out);  // a bad --out fails before the database is created
   SqliteStore store(o.database);
   OutputFolderLock lock(out);
   remove_stale_temporaries(out);

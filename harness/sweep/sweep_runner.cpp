@@ -53,6 +53,17 @@ int run_sweep(const SweepOptions& o) {
       out += "/shard-" + std::to_string(index) + "-of-" + std::to_string(count);
     }
   }
+  // Inputs first: a bad --out, or a results.json that --resume cannot read, fails before the
+  // database or the folder is created.
+  check_output_folder(out);
+  const fs::path results_json = fs::path(out) / "results.json";
+  auto refuse_existing_results = [&] {
+    if (!o.resume && fs::exists(results_json))
+      throw InputError(out +
+                       ": already holds results; pass --resume to continue it, or choose --out");
+  };
+  refuse_existing_results();
+  if (o.resume && fs::exists(results_json)) read_results_file(results_json.string());
   // The order below is what makes a sweep safe to kill at any instant (SIGKILL included) and
   // resume without losing or duplicating a row:
   //  1. the database is opened first, so an unwritable --db fails before any folder exists;
@@ -90,9 +101,8 @@ int run_sweep(const SweepOptions& o) {
     for (const ResultRow& r : folder.rows())
       if (!in_database.count(r.run_name) && in_files.count(r.run_name)) store.add(r);
     for (const ResultRow& r : folder.rows()) done.insert(r.run_name);
-  } else if (fs::exists(fs::path(out) / "results.json")) {
-    throw InputError(out +
-                     ": already holds results; pass --resume to continue it, or choose --out");
+  } else {
+    refuse_existing_results();  // written between the first check and the lock
   }
   folder.write();  // also repairs a CSV that lagged behind results.json
   store.add_run(context);

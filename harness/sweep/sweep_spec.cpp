@@ -30,7 +30,8 @@ EvaluationRequest evaluation_request(const SweepPoint& p) {
 namespace fs = std::filesystem;
 
 std::vector<nlohmann::json> expand_grid_values(const ParamSpec& param, const nlohmann::json& entry,
-                                               const std::string& where) {
+                                               const std::string& file, const std::string& path) {
+  const std::string where = file + ": " + path;
   std::vector<nlohmann::json> values;
   if (entry.is_array()) {
     if (entry.empty()) throw InputError(where + ": the list of values is empty");
@@ -40,7 +41,7 @@ std::vector<nlohmann::json> expand_grid_values(const ParamSpec& param, const nlo
   if (!entry.is_object())
     throw InputError(where + ": expected a list of values or {\"range\": ...}");
   nlohmann::json copy = entry;
-  JsonReader r(copy, "", where);
+  JsonReader r(copy, file, path);
   const auto& range = r.raw("range");
   // Without "scale" a range is spaced as the parameter declares (ParamSpec::log_scale).
   const std::string scale = r.choice("scale", param.log_scale ? "log" : "lin", {"lin", "log"});
@@ -72,7 +73,15 @@ std::vector<nlohmann::json> expand_grid_values(const ParamSpec& param, const nlo
 SweepSpec parse_sweep_spec(const nlohmann::json& doc, const std::string& file) {
   JsonReader root(doc, file);
   SweepSpec spec;
+  // The name becomes a folder (out/<name>) and job names: one plain path component.
   spec.name = root.string("name");
+  if (spec.name.empty() || spec.name == "." || spec.name == ".." ||
+      spec.name.find_first_of("/\\") != std::string::npos ||
+      std::any_of(spec.name.begin(), spec.name.end(),
+                  [](char c) { return static_cast<unsigned char>(c) < 0x20; }))
+    root.fail("name", nlohmann::json(spec.name).dump() +
+                          " is not a plain name (it names the folder out/<name>: no '/', '\\', "
+                          "control characters, and not '.' or '..')");
   const auto& scenes = root.raw("scenes");
   if (!scenes.is_array() || scenes.empty())
     root.fail("scenes", "expected a non-empty list of scene names");
@@ -86,6 +95,8 @@ SweepSpec parse_sweep_spec(const nlohmann::json& doc, const std::string& file) {
     if (v.is_string() && v.get<std::string>() == "all") {
       spec.all_views = true;
     } else if (v.is_array()) {
+      if (v.empty())
+        root.fail("views", "the list is empty (omit \"views\" for each scene's first view)");
       for (const auto& x : v) {
         if (!x.is_string()) root.fail("views", "expected \"all\" or a list of view names");
         spec.views.push_back(x.get<std::string>());
@@ -148,7 +159,7 @@ SweepSpec parse_sweep_spec(const nlohmann::json& doc, const std::string& file) {
       // Declaration order, so run names and expansion order do not depend on the JSON's order.
       for (const auto& p : r.estimator->params) {
         if (!g.contains(p.name)) continue;
-        auto values = expand_grid_values(p, g[p.name], file + ": " + run.where("grid." + p.name));
+        auto values = expand_grid_values(p, g[p.name], file, run.where("grid." + p.name));
         for (const auto& v : values)  // validate every value now
           resolve_params(name, r.estimator->params, nlohmann::json{{p.name, v}},
                          file + ": " + run.where("grid"));

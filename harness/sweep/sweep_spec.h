@@ -43,9 +43,10 @@ SweepSpec parse_sweep_spec(const nlohmann::json& spec, const std::string& file);
 SweepSpec load_sweep_spec(const std::string& path);
 
 // The values of one grid entry: a list, or a range expanded linearly or logarithmically (integer
-// parameters are rounded and deduplicated).
+// parameters are rounded and deduplicated). Errors read "<file>: <path>.<key>: ...", path being
+// the entry's field path ("runs[0].grid.radius").
 std::vector<nlohmann::json> expand_grid_values(const ParamSpec& param, const nlohmann::json& entry,
-                                               const std::string& where);
+                                               const std::string& file, const std::string& path);
 
 // A sweep larger than this is almost always a typo in a range (two 100,000-step ranges make 1e10
 // points and would run for years with no output); `aoeval sweep --max-points N` raises it. The

@@ -42,31 +42,32 @@ TEST(Sweep, AllViewsMultiplies) {
 
 TEST(Sweep, RangesLinearLogAndIntegerDedup) {
   const ParamSpec real{"R", ParamType::real, 0.5, 0.0, 10.0, false, "", "r", {}};
-  auto v = expand_grid_values(real, {{"range", {0.0, 1.0, 5}}}, "w");
+  auto v = expand_grid_values(real, {{"range", {0.0, 1.0, 5}}}, "f.json", "w");
   ASSERT_EQ(v.size(), 5u);
   EXPECT_DOUBLE_EQ(v[2].get<double>(), 0.5);
-  v = expand_grid_values(real, {{"range", {0.1, 10.0, 3}}, {"scale", "log"}}, "w");
+  v = expand_grid_values(real, {{"range", {0.1, 10.0, 3}}, {"scale", "log"}}, "f.json", "w");
   ASSERT_EQ(v.size(), 3u);
   EXPECT_NEAR(v[1].get<double>(), 1.0, 1e-12);
   const ParamSpec integer{"N", ParamType::integer, 4, 1, 100, true, "", "n", {}};
-  v = expand_grid_values(integer, {{"range", {1, 4, 10}}, {"scale", "lin"}}, "w");
+  v = expand_grid_values(integer, {{"range", {1, 4, 10}}, {"scale", "lin"}}, "f.json", "w");
   EXPECT_EQ(v.size(), 4u);  // 1, 1.33, 1.67, 2, ... rounded and deduplicated
-  EXPECT_THROW(expand_grid_values(real, {{"range", {0.0, 1.0, 5}}, {"scale", "log"}}, "w"),
-               InputError);
-  EXPECT_THROW(expand_grid_values(real, {{"range", {0.0, 1.0}}}, "w"), InputError);
-  EXPECT_THROW(expand_grid_values(real, {{"rnage", {0.0, 1.0, 2}}}, "w"), InputError);
+  EXPECT_THROW(
+      expand_grid_values(real, {{"range", {0.0, 1.0, 5}}, {"scale", "log"}}, "f.json", "w"),
+      InputError);
+  EXPECT_THROW(expand_grid_values(real, {{"range", {0.0, 1.0}}}, "f.json", "w"), InputError);
+  EXPECT_THROW(expand_grid_values(real, {{"rnage", {0.0, 1.0, 2}}}, "f.json", "w"), InputError);
 }
 
 // A range without "scale" follows the parameter's declared spacing: geometric for a log_scale
 // parameter (1, 10, 100, 1000), arithmetic otherwise (1, 334, 667, 1000).
 TEST(Sweep, RangeWithoutScaleFollowsTheDeclaredScale) {
   const ParamSpec logp{"rays", ParamType::integer, 16, 1, 65536, true, "rays", "n", {}};
-  auto v = expand_grid_values(logp, {{"range", {1, 1000, 4}}}, "w");
+  auto v = expand_grid_values(logp, {{"range", {1, 1000, 4}}}, "f.json", "w");
   ASSERT_EQ(v.size(), 4u);
   EXPECT_EQ(v[1].get<int64_t>(), 10);
   EXPECT_EQ(v[2].get<int64_t>(), 100);
   const ParamSpec linp{"rays", ParamType::integer, 16, 1, 65536, false, "rays", "n", {}};
-  v = expand_grid_values(linp, {{"range", {1, 1000, 4}}}, "w");
+  v = expand_grid_values(linp, {{"range", {1, 1000, 4}}}, "f.json", "w");
   ASSERT_EQ(v.size(), 4u);
   EXPECT_EQ(v[1].get<int64_t>(), 334);
   EXPECT_EQ(v[2].get<int64_t>(), 667);

@@ -80,6 +80,7 @@ int run_tune(const TuneOptions& o) {
   // The sweep's order (sweep_runner.cpp): database, folder lock, leftovers of killed writes,
   // results.json with the run id before any row reaches the database, then each row to SQLite
   // first and to the files after.
+  check_output_folder(out);  // a bad --out fails before the database is created
   SqliteStore store(o.database);
   OutputFolderLock lock(out);
   remove_stale_temporaries(out);
