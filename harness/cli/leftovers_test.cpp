@@ -52,8 +52,10 @@ TEST(Leftovers, AKilledReferencesTemporariesAreRemovedByTheNextRun) {
   ASSERT_FALSE(entry.empty());
   fs::remove(entry);  // as if killed while writing it: the entry never appeared
   const std::string pid = std::to_string(dead_pid());
-  std::ofstream(entry.parent_path() / ("." + entry.stem().string() + ".tmp-" + pid + "-0.exr"))
-      << "half";
+  // Appended, not "." + ...: GCC 12 warns falsely on that (-Wrestrict, PR 105329).
+  std::string name(".");
+  name.append(entry.stem().string()).append(".tmp-").append(pid).append("-0.exr");
+  std::ofstream(entry.parent_path() / name) << "half";
   std::ofstream(d / "o" / (".ref.tmp-" + pid + "-1.exr")) << "half";
   ASSERT_EQ(temporaries_under(d).size(), 2u);
   const Result again = run(d, "", args);
@@ -69,7 +71,8 @@ TEST(Leftovers, EstimatePrintsOneLineNamingWhatItDid) {
       "estimate --estimator constant --scene cornell-box --res 16x12 -o " + (d / "e.exr").string());
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
-  for (const std::string s : {"constant", "cornell-box/", "16x12", " ms", (d / "e.exr").string()})
+  for (const std::string& s :
+       std::vector<std::string>{"constant", "cornell-box/", "16x12", " ms", (d / "e.exr").string()})
     EXPECT_NE(r.out.find(s), std::string::npos) << s << " not in: " << r.out;
 }
 
@@ -116,7 +119,7 @@ TEST(Leftovers, AFailedSlurmSubmissionCancelsItsJobsAndLeavesNoFolder) {
       "reference": {"spp": 4}, "runs": [{"estimator": "constant"}]})";
   const std::string args = "sweep " + (d / "spec.json").string() + " --slurm --out " +
                            (d / "o").string() + " --db " + (d / "r.sqlite").string();
-  const std::string env = "PATH=" + bin.string() + ":/usr/bin:/bin";
+  const std::string env = "PATH=" + bin.string() + ":/usr/bin:/bin ";
   const Result r = run(d, env, args);
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("QOSMaxSubmitJobPerUserLimit"), std::string::npos) << r.err;
