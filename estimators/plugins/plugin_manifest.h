@@ -34,7 +34,7 @@ struct PluginManifest {
   Falloff falloff = Falloff::none;
   double dmax = 0.0;
   std::string dmax_param;
-  bool bent = false;         // outputs holds "bent": bent.X/Y/Z are read back and kept
+  bool bent = false;  // outputs holds "bent": bent.X/Y/Z are read back and kept
   // The largest |AO - 1| the estimator promises on an open plane, which the registry-wide
   // conformance test holds it to; < 0: the backend's default (EstimatorInfo::conformance).
   double open_plane_tolerance = -1.0;
@@ -44,6 +44,10 @@ struct PluginManifest {
 
 // Reads and validates `folder`/estimator.json; InputError "<file>: <field>: <why>" otherwise.
 PluginManifest read_plugin_manifest(const std::string& folder);
+
+// The name a plug-in folder answers to even when its manifest is broken: estimator.json's "name"
+// when it can be read as a string, else the folder's own name. Never throws.
+std::string plugin_name_hint(const std::string& folder);
 
 // The AO definition the plug-in declares, at these parameter values.
 AoDefinition plugin_definition(const PluginManifest& m, const ParamSet& params);
