@@ -31,7 +31,7 @@ struct BrokenPlugin {
 
 struct Registry {
   std::vector<EstimatorInfo> entries;
-  std::vector<BrokenPlugin> broken;
+  std::vector<BrokenPlugin> broken = {};
   size_t builtins = 0;
   bool default_plugins_read = false;
 };
