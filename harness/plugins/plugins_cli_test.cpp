@@ -186,7 +186,8 @@ TEST(PluginsCli, AGlslCompileErrorStopsASweepBeforeAnything) {
   const fs::path d = temp_dir() / "sweep-compile";
   fs::remove_all(d);
   write(d / "plug" / "estimator.json", R"({"name": "late-error", "summary": "s", "kind": "glsl",
-      "shaders": ["ao.comp"], "definition": {"weighting": "cosine"}})");
+      "shaders": ["ao.comp"], "definition": {"weighting": "cosine"},
+      "params": [{"name": "r", "type": "real", "default": 0.5, "min": 0, "max": 1, "meaning": "m"}]})");
   write(d / "plug" / "ao.comp",
         "#version 450\nlayout(local_size_x = 8) in;\nvoid main() {\n  nope();\n}\n");
   write(d / "spec.json", R"({"name": "late", "scenes": ["cornell-box"], "res": [8, 6],
@@ -198,6 +199,19 @@ TEST(PluginsCli, AGlslCompileErrorStopsASweepBeforeAnything) {
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(lines(r.err), 1u) << r.err;
   EXPECT_NE(r.err.find((d / "plug" / "ao.comp").string() + ":4:"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d / "out"));
+  EXPECT_FALSE(fs::exists(d / "r.sqlite"));
+  // tune reads its estimator the same way.
+  write(d / "tune.json", R"({"name": "late-tune", "scenes": ["cornell-box"], "res": [8, 6],
+      "reference": {"spp": 1}, "timing": {"warmup": 0, "repetitions": 1},
+      "tune": {"estimator": "late-error", "params": {"r": [0.1, 0.9]}, "objective": "rmse_excess",
+               "budget_ms": 1000, "evaluations": 2}})");
+  const Result t =
+      run("tune " + (d / "tune.json").string() + " --out " + (d / "out").string() + " --db " +
+          (d / "r.sqlite").string() + " --plugins " + (d / "plug").string());
+  EXPECT_EQ(t.code, 2);
+  EXPECT_EQ(lines(t.err), 1u) << t.err;
+  EXPECT_NE(t.err.find((d / "plug" / "ao.comp").string() + ":4:"), std::string::npos) << t.err;
   EXPECT_FALSE(fs::exists(d / "out"));
   EXPECT_FALSE(fs::exists(d / "r.sqlite"));
 }
