@@ -1,6 +1,8 @@
 // GLSL plug-ins (CONTRACT §7): compute shaders compiled at run time with the glslang library (not
 // a subprocess) and run on aoeval's Vulkan device (estimators/vulkan: lavapipe by default, a real
 // GPU when present), one dispatch per shader in manifest order, a GPU timestamp span around each.
+// They use a Vulkan context of their own, so that a frame past the manifest's timeout_s can be
+// given up with its device (a skipped row) and the next frame gets a new one.
 //
 // The ABI (printed by `aoeval estimators abi`) is a preamble aoeval compiles in after the
 // shader's #version line: storage images for the linear depth, the eye-space normals and
