@@ -199,8 +199,8 @@ std::string glsl_abi_text() {
          "another), silently: more is cut short and an endless loop \"finishes\". Keep the total\n"
          "below that (put the work in the loop body, or in more passes). aoeval warns in the\n"
          "row's derived column (\"warning\") when a shader compares with a constant above it,\n"
-         "loops on the constant true, or its integer parameters (other than seed) or their\n"
-         "product exceed it; other bounds are not seen.\n\n"
+         "has a loop with no test of its own (while (true), for (;;)), or its integer parameters\n"
+         "(other than seed) or their product exceed it; other bounds are not seen.\n\n"
          "#version 450\n" +
          glsl_abi_preamble({});
 }
@@ -268,9 +268,8 @@ std::vector<std::string> lavapipe_loop_risks(const std::vector<uint32_t>& words)
   // SPIR-V opcodes (SPIR-V 1.3 specification, section 3.32).
   constexpr uint32_t kTypeInt = 21, kConstantTrue = 41, kConstant = 43, kLoopMerge = 246,
                      kBranchConditional = 250, kFirstIntCompare = 170, kLastIntCompare = 179;
-  std::set<uint32_t> int_types, signed_types, true_ids;
+  std::set<uint32_t> int_types, signed_types, true_ids, merges, tested_exits;
   std::map<uint32_t, int64_t> big;  // id -> value of an integer constant above the cap
-  bool loops = false, endless = false;
   int64_t compared = 0;
   for (size_t i = 5; i < words.size();) {
     const uint32_t count = words[i] >> 16, op = words[i] & 0xffffu;
@@ -285,10 +284,13 @@ std::vector<std::string> lavapipe_loop_risks(const std::vector<uint32_t>& words)
       const int64_t v = signed_types.count(w[1]) ? static_cast<int64_t>(static_cast<int32_t>(w[3]))
                                                  : static_cast<int64_t>(w[3]);
       if (v > kLavapipeLoopCap) big[w[2]] = v;
-    } else if (op == kLoopMerge) {
-      loops = true;
-    } else if (op == kBranchConditional && count >= 4 && true_ids.count(w[1])) {
-      endless = true;
+    } else if (op == kLoopMerge && count >= 3) {
+      merges.insert(w[1]);
+    } else if (op == kBranchConditional && count >= 4 && !true_ids.count(w[1])) {
+      // glslang branches straight to a loop's merge block only from the loop's own test (while,
+      // for, do-while); a break goes through a block of its own.
+      tested_exits.insert(w[2]);
+      tested_exits.insert(w[3]);
     } else if (op >= kFirstIntCompare && op <= kLastIntCompare && count >= 5) {
       for (uint32_t operand : {w[3], w[4]})
         if (big.count(operand)) compared = std::max(compared, big[operand]);
@@ -296,9 +298,13 @@ std::vector<std::string> lavapipe_loop_risks(const std::vector<uint32_t>& words)
     i += count;
   }
   std::vector<std::string> risks;
-  if (!loops) return risks;
+  if (merges.empty()) return risks;
   if (compared > 0) risks.push_back("a loop bound of " + std::to_string(compared));
-  if (endless) risks.push_back("an endless loop (left by a break)");
+  for (uint32_t m : merges) {
+    if (tested_exits.count(m)) continue;
+    risks.push_back("an endless loop (left by a break, if at all)");
+    break;
+  }
   return risks;
 }
 

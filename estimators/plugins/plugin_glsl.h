@@ -56,9 +56,9 @@ struct PassShader {
 std::vector<PassShader> compile_glsl_plugin(const PluginManifest& m);
 
 // What in a shader's SPIR-V lavapipe's loop cap can cut short, one phrase each: an integer constant
-// above kLavapipeLoopCap compared with something (a loop bound, most likely), a conditional branch
-// on the constant true (an endless loop left by a break). Empty when nothing is seen; a bound
-// computed at run time is not seen.
+// above kLavapipeLoopCap compared with something (a loop bound, most likely), a loop with no test
+// of its own (while (true), for (;;): endless unless a break leaves it). Empty when nothing is
+// seen; a bound computed at run time is not seen.
 std::vector<std::string> lavapipe_loop_risks(const std::vector<uint32_t>& spirv);
 
 std::unique_ptr<Estimator> make_glsl_estimator(const PluginManifest& m, const ParamSet& params);

@@ -341,7 +341,15 @@ TEST(GlslPlugin, LoopsThatLavapipeCutsShortAreWarnedAbout) {
   EXPECT_EQ(risks("  for (uint i = 0u; i < 70000u; ++i) a += 0.5;\n"),
             std::vector<std::string>{"a loop bound of 70000"});
   EXPECT_EQ(risks("  while (true) { a += 0.5; if (a > 1e30) break; }\n"),
-            std::vector<std::string>{"an endless loop (left by a break)"});
+            std::vector<std::string>{"an endless loop (left by a break, if at all)"});
+  EXPECT_EQ(risks("  while (true) a += 0.5;\n"),
+            std::vector<std::string>{"an endless loop (left by a break, if at all)"});
+  EXPECT_EQ(risks("  for (;;) { a += 0.5; }\n"),
+            std::vector<std::string>{"an endless loop (left by a break, if at all)"});
+  EXPECT_EQ(risks("  for (int i = 0; i < 65535; ++i) { if (a > 3.0) break; a += 0.5; }\n"),
+            std::vector<std::string>{});
+  EXPECT_EQ(risks("  int i = 0;\n  do { a += 0.5; } while (++i < 10);\n"),
+            std::vector<std::string>{});
   EXPECT_EQ(risks("  for (int i = 0; i < 65535; ++i) a += 0.5;\n"), std::vector<std::string>{});
   EXPECT_EQ(risks("  if (a < 100000.0) a = 1.0;\n"), std::vector<std::string>{});  // no loop
   REQUIRE_VULKAN();
