@@ -1,5 +1,8 @@
 #include "estimators/registry.h"
 
+#include <filesystem>
+#include <iostream>
+
 #include "errors.h"
 #include "estimators/constant/constant.h"
 #include "estimators/gtao/gtao.h"
@@ -20,8 +23,15 @@ namespace aoeval {
 
 namespace {
 
+// A plug-in folder that could not be read: skipped with a warning, and an error only for a
+// command that asks for it by `name` (its declared name, else the folder's name).
+struct BrokenPlugin {
+  std::string name, folder, error;
+};
+
 struct Registry {
   std::vector<EstimatorInfo> entries;
+  std::vector<BrokenPlugin> broken = {};
   size_t builtins = 0;
   bool default_plugins_read = false;
 };
@@ -62,6 +72,21 @@ void add_plugin_folder(Registry& r, const std::string& folder) {
   r.entries.push_back(plugin_estimator(m));
 }
 
+// One broken plug-in must not take the others, or the built-ins, down (issue 28): its error is a
+// warning now, naming the folder, and becomes the error of any command that asks for it.
+void add_plugin_folder_or_warn(Registry& r, const std::string& folder) {
+  try {
+    add_plugin_folder(r, folder);
+  } catch (const InputError& e) {
+    const std::string absolute = std::filesystem::absolute(folder).lexically_normal().string();
+    for (const auto& b : r.broken)
+      if (b.folder == absolute) return;  // warned once
+    r.broken.push_back({plugin_name_hint(folder), absolute, e.what()});
+    std::cerr << "aoeval: warning: plug-in \"" << r.broken.back().name << "\" (" << absolute
+              << ") is skipped: " << e.what() << "\n";
+  }
+}
+
 }  // namespace
 
 const std::vector<EstimatorInfo>& estimator_registry() {
@@ -71,20 +96,30 @@ const std::vector<EstimatorInfo>& estimator_registry() {
     // The shipped examples, then $AOEVAL_PLUGINS (CONTRACT §7).
     std::vector<std::string> dirs = {shipped_plugins_dir()};
     for (const auto& d : env_plugin_dirs()) dirs.push_back(d);
-    for (const auto& d : dirs)
-      for (const auto& folder : plugin_folders_in(d)) add_plugin_folder(r, folder);
+    for (const auto& d : dirs) {
+      try {
+        for (const auto& folder : plugin_folders_in(d)) add_plugin_folder_or_warn(r, folder);
+      } catch (const InputError& e) {  // an $AOEVAL_PLUGINS entry that is no plug-in folder
+        std::cerr << "aoeval: warning: $AOEVAL_PLUGINS: " << e.what() << "\n";
+      }
+    }
   }
   return r.entries;
 }
 
 void add_plugin_dir(const std::string& dir) {
   estimator_registry();
-  for (const auto& folder : plugin_folders_in(dir)) add_plugin_folder(registry_storage(), folder);
+  for (const auto& folder : plugin_folders_in(dir))
+    add_plugin_folder_or_warn(registry_storage(), folder);
 }
 
 const EstimatorInfo& find_estimator(const std::string& name) {
   std::string known;
-  for (const auto& e : estimator_registry()) {
+  const std::vector<EstimatorInfo>& entries = estimator_registry();
+  for (const BrokenPlugin& b : registry_storage().broken)
+    if (b.name == name)
+      throw InputError("--estimator: plug-in \"" + name + "\" cannot be used: " + b.error);
+  for (const auto& e : entries) {
     if (e.name == name) return e;
     known += (known.empty() ? "" : ", ") + e.name;
   }

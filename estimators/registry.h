@@ -11,12 +11,15 @@
 namespace aoeval {
 
 // Built-ins, then plug-ins (CONTRACT §7): the shipped examples and $AOEVAL_PLUGINS are read on the
-// first call, --plugins folders by add_plugin_dir(). A bad manifest is an InputError.
+// first call, --plugins folders by add_plugin_dir(). A plug-in folder that cannot be read (a bad
+// manifest, a name clash) is skipped with a warning on stderr naming it; find_estimator() of its
+// name is then an InputError quoting why (exit 2 before any work).
 const std::vector<EstimatorInfo>& estimator_registry();
 // Adds the plug-ins of `dir` (a plug-in folder or a folder of them; see plugin_registry.h). Call
 // it before taking references into the registry (commands do, while parsing --plugins).
 void add_plugin_dir(const std::string& dir);
-// InputError listing the known estimators when `name` is unknown.
+// InputError listing the known estimators when `name` is unknown, or quoting the error of the
+// broken plug-in that declares `name`.
 const EstimatorInfo& find_estimator(const std::string& name);
 // The device an estimator of backend `b` runs on, for the results' `device` column: the Vulkan
 // device's description for vulkan (e.g. "llvmpipe (LLVM 15.0.6, 256 bits) [cpu, Mesa 22.3.6]"),

@@ -9,8 +9,12 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <future>
+#include <map>
 #include <mutex>
+#include <set>
 #include <sstream>
+#include <thread>
 
 #include "errors.h"
 #include "estimators/plugins/plugin_process.h"
@@ -187,6 +191,16 @@ std::string glsl_abi_text() {
          "boolean -> bool, choice -> int (the index into its choices). The G-buffer is the\n"
          "shared Embree one (CONTRACT §4), uploaded once per view outside the timed frame.\n"
          "`aoeval estimators abi NAME` prints a plug-in's preamble with its parameters.\n\n"
+         "Limits. A frame longer than the manifest's timeout_s is not waited for: the row is\n"
+         "`skipped: ... timed out after N s` and the next frame gets a new Vulkan device (on\n"
+         "lavapipe the abandoned work keeps the CPU busy until it ends or aoeval exits).\n"
+         "lavapipe (Mesa's CPU device, the default) STOPS LOOPS AFTER 65,535 ITERATIONS PER\n"
+         "INVOCATION, all loops of the invocation counted together (nested or one after\n"
+         "another), silently: more is cut short and an endless loop \"finishes\". Keep the total\n"
+         "below that (put the work in the loop body, or in more passes). aoeval warns in the\n"
+         "row's derived column (\"warning\") when a shader compares with a constant above it,\n"
+         "has a loop with no test of its own (while (true), for (;;)), or its integer parameters\n"
+         "(other than seed) or their product exceed it; other bounds are not seen.\n\n"
          "#version 450\n" +
          glsl_abi_preamble({});
 }
@@ -250,30 +264,142 @@ CompiledShader compile_glsl_compute(const std::string& file, const std::string& 
   return out;
 }
 
+std::vector<std::string> lavapipe_loop_risks(const std::vector<uint32_t>& words) {
+  // SPIR-V opcodes (SPIR-V 1.3 specification, section 3.32).
+  constexpr uint32_t kTypeInt = 21, kConstantTrue = 41, kConstant = 43, kLoopMerge = 246,
+                     kBranchConditional = 250, kFirstIntCompare = 170, kLastIntCompare = 179;
+  std::set<uint32_t> int_types, signed_types, true_ids, merges, tested_exits;
+  std::map<uint32_t, int64_t> big;  // id -> value of an integer constant above the cap
+  int64_t compared = 0;
+  for (size_t i = 5; i < words.size();) {
+    const uint32_t count = words[i] >> 16, op = words[i] & 0xffffu;
+    if (count == 0 || i + count > words.size()) break;
+    const uint32_t* w = &words[i];
+    if (op == kTypeInt && count >= 4) {
+      int_types.insert(w[1]);
+      if (w[3]) signed_types.insert(w[1]);
+    } else if (op == kConstantTrue && count >= 3) {
+      true_ids.insert(w[2]);
+    } else if (op == kConstant && count == 4 && int_types.count(w[1])) {
+      const int64_t v = signed_types.count(w[1]) ? static_cast<int64_t>(static_cast<int32_t>(w[3]))
+                                                 : static_cast<int64_t>(w[3]);
+      if (v > kLavapipeLoopCap) big[w[2]] = v;
+    } else if (op == kLoopMerge && count >= 3) {
+      merges.insert(w[1]);
+    } else if (op == kBranchConditional && count >= 4 && !true_ids.count(w[1])) {
+      // glslang branches straight to a loop's merge block only from the loop's own test (while,
+      // for, do-while); a break goes through a block of its own.
+      tested_exits.insert(w[2]);
+      tested_exits.insert(w[3]);
+    } else if (op >= kFirstIntCompare && op <= kLastIntCompare && count >= 5) {
+      for (uint32_t operand : {w[3], w[4]})
+        if (big.count(operand)) compared = std::max(compared, big[operand]);
+    }
+    i += count;
+  }
+  std::vector<std::string> risks;
+  if (merges.empty()) return risks;
+  if (compared > 0) risks.push_back("a loop bound of " + std::to_string(compared));
+  for (uint32_t m : merges) {
+    if (tested_exits.count(m)) continue;
+    risks.push_back("an endless loop (left by a break, if at all)");
+    break;
+  }
+  return risks;
+}
+
+std::vector<PassShader> compile_glsl_plugin(const PluginManifest& m) {
+  std::vector<PassShader> shaders;
+  const std::vector<std::string> passes = plugin_pass_names(m);
+  for (size_t i = 0; i < m.shaders.size(); ++i) {
+    const std::string path = (fs::path(m.folder) / m.shaders[i]).string();
+    shaders.push_back({passes[i], compile_glsl_compute(path, read_text_file(path), m.params)});
+  }
+  return shaders;
+}
+
 namespace {
+
+// GLSL plug-ins run on a Vulkan context of their own, not the shared one: a shader that overruns
+// its timeout_s cannot be stopped (Vulkan has no way to cancel a dispatch, and lavapipe runs it on
+// CPU threads to its end), so its context is abandoned with everything made from it, never
+// destroyed (destroying a busy device is invalid), and the next frame gets a fresh context, while
+// the built-in estimators' shared context is untouched. Abandoned contexts stay reachable here.
+struct PluginContexts {
+  std::mutex mutex;
+  std::unique_ptr<vk::Context> current;
+  std::vector<std::unique_ptr<vk::Context>>* abandoned =
+      new std::vector<std::unique_ptr<vk::Context>>;
+};
+PluginContexts& plugin_contexts() {
+  static PluginContexts contexts;
+  return contexts;
+}
+
+vk::Context& plugin_context() {
+  PluginContexts& c = plugin_contexts();
+  std::lock_guard lock(c.mutex);
+  if (!c.current) {
+    std::string reason;
+    c.current = vk::Context::create({}, &reason);
+    if (!c.current) throw EstimatorUnavailable("no Vulkan device (" + reason + ")");
+  }
+  return *c.current;
+}
+
+void abandon_plugin_context(const vk::Context* context) {
+  PluginContexts& c = plugin_contexts();
+  std::lock_guard lock(c.mutex);
+  if (c.current.get() == context) c.abandoned->push_back(std::move(c.current));
+}
 
 struct Mat4 {
   float m[16] = {};  // column-major, as GLSL reads a mat4 in std140
   float& at(int row, int col) { return m[col * 4 + row]; }
 };
 
-struct PassShader {
-  std::string name;
-  CompiledShader code;
-};
-
 class GlslEstimator : public Estimator {
  public:
-  GlslEstimator(const PluginManifest& m, const ParamSet& params) : manifest_(m), params_(params) {
-    const std::vector<std::string> passes = plugin_pass_names(m);
-    for (size_t i = 0; i < m.shaders.size(); ++i) {
-      const std::string path = (fs::path(m.folder) / m.shaders[i]).string();
-      shaders_.push_back({passes[i], compile_glsl_compute(path, read_text_file(path), m.params)});
+  GlslEstimator(const PluginManifest& m, const ParamSet& params)
+      : manifest_(m), params_(params), shaders_(compile_glsl_plugin(m)) {
+    for (const PassShader& s : shaders_)
+      for (const std::string& risk : lavapipe_loop_risks(s.code.spirv))
+        loop_risks_.push_back(s.name + ": " + risk);
+    // Integer parameters are the usual loop bounds (samples, steps, taps): their product is what
+    // nested loops run ("seed" is a number, never a bound).
+    std::string names;
+    int64_t product = 1;
+    for (const ParamSpec& p : m.params) {
+      if (p.type != ParamType::integer || p.name == "seed") continue;
+      const int64_t v = params.json().at(p.name).get<int64_t>();
+      if (v <= 1) continue;
+      names += (names.empty() ? "" : " x ") + p.name;
+      product = std::min(product * std::min(v, kLavapipeLoopCap + 1), int64_t{1} << 40);
+      if (v > kLavapipeLoopCap)
+        loop_risks_.push_back("parameter " + p.name + " = " + std::to_string(v));
     }
+    if (loop_risks_.empty() && product > kLavapipeLoopCap && names.find(" x ") != std::string::npos)
+      loop_risks_.push_back("parameters " + names + " = " + std::to_string(product));
+  }
+
+  // The row's warning when lavapipe's loop cap may have cut this estimate short (see
+  // lavapipe_loop_risks); other devices have no such cap.
+  nlohmann::json derived() const override {
+    nlohmann::json d = nlohmann::json::object();
+    if (on_lavapipe_ && !loop_risks_.empty()) {
+      std::string list;
+      for (const std::string& r : loop_risks_) list += (list.empty() ? "" : "; ") + r;
+      d["warning"] = "lavapipe ends loops after " + std::to_string(kLavapipeLoopCap) +
+                     " iterations per invocation (all loops together), and this shader may need "
+                     "more (" +
+                     list + ")";
+    }
+    return d;
   }
 
   void prepare(const EstimateContext& context) override {
-    vk::Context& vk = vk::require_shared_context();
+    vk::Context& vk = plugin_context();
+    on_lavapipe_ = vk.device_name().find("llvmpipe") != std::string::npos;
     const GBuffer& g = context.gbuffer;
     device_ = std::make_unique<Device>(vk, g, static_cast<uint32_t>(shaders_.size()));
     Device& d = *device_;
@@ -305,28 +431,39 @@ class GlslEstimator : public Estimator {
   }
 
   EstimateResult run(const EstimateContext& context) override {
-    if (prepared_for_ != &context.gbuffer) prepare(context);
+    if (prepared_for_ != &context.gbuffer || !device_) prepare(context);
     Device& d = *device_;
     const GBuffer& g = context.gbuffer;
-    d.vk.submit([&](VkCommandBuffer cmd) {
+    // What the recording needs, by value: after a time-out the recording thread outlives this
+    // call (and maybe the estimator); only `d`, then abandoned and never freed, is shared.
+    struct Pass {
+      std::string name;
+      uint32_t groups_x, groups_y;
+    };
+    std::vector<Pass> passes;
+    for (const PassShader& s : shaders_)
+      passes.push_back({s.name,
+                        vk::group_count(static_cast<uint32_t>(g.width), s.code.local_size[0]),
+                        vk::group_count(static_cast<uint32_t>(g.height), s.code.local_size[1])});
+    const bool bent = manifest_.bent;
+    auto record = [&d, passes, bent](VkCommandBuffer cmd) {
       d.timer.reset(cmd);
       // A frame starts from zeros, whatever the last frame left.
       const VkClearColorValue zero{};
       VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
       for (const vk::Image2D* image : {&d.ping[0], &d.ping[1], &d.bent})
-        if (image != &d.bent || manifest_.bent)
+        if (image != &d.bent || bent)
           vkCmdClearColorImage(cmd, image->handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
       vk::pass_barrier(cmd);
-      for (size_t i = 0; i < shaders_.size(); ++i) {
-        const uint32_t* local = shaders_[i].code.local_size;
-        d.timer.begin(cmd, shaders_[i].name);
+      for (size_t i = 0; i < passes.size(); ++i) {
+        d.timer.begin(cmd, passes[i].name);
         d.pipelines[i]->dispatch(cmd, d.sets[i], static_cast<const void*>(nullptr), size_t{0},
-                                 vk::group_count(static_cast<uint32_t>(g.width), local[0]),
-                                 vk::group_count(static_cast<uint32_t>(g.height), local[1]));
+                                 passes[i].groups_x, passes[i].groups_y);
         d.timer.end(cmd);
         vk::pass_barrier(cmd);
       }
-    });
+    };
+    submit_within_timeout(record);
     EstimateResult r;
     r.pass_ms = d.timer.read();
     if (!r.pass_ms.empty()) r.timing_source = "gpu-timestamps";
@@ -406,6 +543,37 @@ class GlslEstimator : public Estimator {
     }
   };
 
+  // Submits the frame and waits for it at most the manifest's timeout_s. The wait runs on a
+  // thread of its own because a driver may execute the work inside vkQueueSubmit (lavapipe may)
+  // or never signal the fence; on a time-out that thread, the device objects and the context are
+  // abandoned (see plugin_context()), and the frame is an EstimatorUnavailable: a skipped row.
+  void submit_within_timeout(const std::function<void(VkCommandBuffer)>& record) {
+    Device& d = *device_;
+    auto done = std::make_shared<std::promise<void>>();
+    std::future<void> finished = done->get_future();
+    std::thread worker([&vk = d.vk, record, done] {
+      try {
+        vk.submit(record);
+        done->set_value();
+      } catch (...) {
+        done->set_exception(std::current_exception());
+      }
+    });
+    const auto limit = std::chrono::duration<double>(manifest_.timeout_s);
+    if (finished.wait_for(limit) == std::future_status::timeout) {
+      worker.detach();
+      abandon_plugin_context(&d.vk);
+      (void)device_.release();  // its objects belong to the abandoned device: never destroyed
+      prepared_for_ = nullptr;
+      throw EstimatorUnavailable("plug-in " + manifest_.name + " timed out after " +
+                                 format_param_value(manifest_.timeout_s) +
+                                 " s (its Vulkan device was abandoned; the next frame gets a new "
+                                 "one)");
+    }
+    worker.join();
+    finished.get();  // a VulkanError of the submit, rethrown here
+  }
+
   // The std140 bytes of the aoeval block: 4 mat4, 3 vec4, 1 ivec4, then one 4-byte scalar per
   // parameter in manifest order (a struct of scalars: 4-byte alignment, 16-byte size rounding).
   // The noise seed: the parameter "seed" when the plug-in declares an integer one, else 0.
@@ -481,6 +649,8 @@ class GlslEstimator : public Estimator {
   std::vector<PassShader> shaders_;
   std::unique_ptr<Device> device_;
   const GBuffer* prepared_for_ = nullptr;
+  std::vector<std::string> loop_risks_;
+  bool on_lavapipe_ = false;
 };
 
 }  // namespace

@@ -1,13 +1,17 @@
 // estimator.json -> PluginManifest, field by field, every error naming the file and the field.
 #include "estimators/plugins/plugin_manifest.h"
 
+#include <unistd.h>
+
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
 
 #include "errors.h"
+#include "input_limits.h"
 
 namespace aoeval {
 
@@ -21,6 +25,16 @@ namespace {
 
 using nlohmann::json;
 
+// A value for an error message, bounded: scalars as written (at most 40 characters), containers
+// by kind, so that no message walks (or copies) a large or deep value.
+std::string describe(const json& v) {
+  if (v.is_object()) return "an object";
+  if (v.is_array()) return "an array";
+  std::string s = v.dump();
+  if (s.size() > 40) s = s.substr(0, 37) + "...";
+  return s;
+}
+
 class Reader {
  public:
   explicit Reader(std::string file) : file_(std::move(file)) {}
@@ -33,13 +47,13 @@ class Reader {
     return *it;
   }
   std::string string_of(const json& v, const std::string& field, bool allow_empty = false) const {
-    if (!v.is_string()) fail(field, "expected a string, got " + v.dump());
+    if (!v.is_string()) fail(field, "expected a string, got " + describe(v));
     std::string s = v.get<std::string>();
     if (!allow_empty && s.empty()) fail(field, "must not be empty");
     return s;
   }
   double number_of(const json& v, const std::string& field) const {
-    if (!v.is_number()) fail(field, "expected a number, got " + v.dump());
+    if (!v.is_number()) fail(field, "expected a number, got " + describe(v));
     const double d = v.get<double>();
     if (!std::isfinite(d)) fail(field, "expected a finite number");
     return d;
@@ -116,7 +130,7 @@ ParamSpec read_param(const Reader& r, const json& p, const std::string& field) {
     r.fail(field + ".choices", "only for choice parameters");
   switch (s.type) {
     case ParamType::boolean:
-      if (!d.is_boolean()) r.fail(field + ".default", "expected true or false, got " + d.dump());
+      if (!d.is_boolean()) r.fail(field + ".default", "expected true or false, got " + describe(d));
       s.default_value = d;
       break;
     case ParamType::choice: {
@@ -141,7 +155,8 @@ ParamSpec read_param(const Reader& r, const json& p, const std::string& field) {
                                        format_param_value(s.min) + ", " +
                                        format_param_value(s.max) + "]");
       if (s.type == ParamType::integer) {
-        if (v != std::floor(v)) r.fail(field + ".default", "expected an integer, got " + d.dump());
+        if (v != std::floor(v))
+          r.fail(field + ".default", "expected an integer, got " + describe(d));
         if (s.min != std::floor(s.min) || s.max != std::floor(s.max))
           r.fail(field + ".min", "an integer parameter's range must have integer ends");
         s.default_value = static_cast<int64_t>(v);
@@ -208,6 +223,72 @@ void read_definition(const Reader& r, const json& d, PluginManifest& m) {
     r.fail(field + ".falloff", "falloff " + f + " needs a finite dmax");
 }
 
+bool is_executable_file(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_regular_file(p, ec) && access(p.c_str(), X_OK) == 0;
+}
+
+// command[0] -> the program that will run, checked now rather than as an exit status 127 later: a
+// path with '/' is relative to the plug-in folder; a bare name is looked up in the plug-in folder
+// first (so ["prog.sh"] runs the folder's prog.sh), then on PATH.
+std::string resolve_command(const Reader& r, const fs::path& folder, const std::string& program) {
+  const std::string field = "command[0]";
+  auto checked = [&](const fs::path& p) {
+    if (!is_executable_file(p))
+      r.fail(field, p.string() + " is not an executable file (chmod +x it, or name its " +
+                        "interpreter first: [\"python3\", \"" + program + "\"])");
+    return p.string();
+  };
+  if (program.find('/') != std::string::npos) return checked((folder / program).lexically_normal());
+  std::error_code ec;
+  if (fs::exists(folder / program, ec)) return checked(folder / program);
+  const char* env = std::getenv("PATH");
+  const std::string path = env ? env : "/usr/local/bin:/usr/bin:/bin";
+  for (size_t start = 0; start <= path.size();) {
+    const size_t end = std::min(path.find(':', start), path.size());
+    const fs::path candidate =
+        fs::path(end > start ? path.substr(start, end - start) : ".") / program;
+    if (is_executable_file(candidate)) return program;  // execvp finds the same one
+    start = end + 1;
+  }
+  r.fail(field,
+         "\"" + program + "\" is neither a file in the plug-in folder nor a program on PATH");
+}
+
+// estimator.json's text -> JSON (comments allowed), held to the limits of every other JSON input
+// (input_limits.h): at most kMaxJsonBytes, nested at most kMaxJsonDepth deep (deeper values are
+// dropped while parsing, so nothing recursive ever walks them), and a number no double holds
+// (1e400) named by its key instead of nlohmann's exception text.
+// With `truncated`, a too-deep document is no error: *truncated is set and the value returned
+// without its deeper parts (what plugin_name_hint needs of a broken manifest).
+json parse_manifest_json(const std::string& file, const std::string& text,
+                         bool* truncated = nullptr) {
+  if (text.size() > kMaxJsonBytes)
+    throw InputError(file + ": " + std::to_string(text.size()) + " bytes, more than the limit of " +
+                     std::to_string(kMaxJsonBytes));
+  bool too_deep = false;
+  std::string last_key = "(top level)";
+  const json::parser_callback_t check = [&](int depth, json::parse_event_t event, json& value) {
+    if (depth > kMaxJsonDepth) too_deep = true;
+    if (event == json::parse_event_t::key && depth <= kMaxJsonDepth && value.is_string())
+      last_key = value.get<std::string>();
+    return depth <= kMaxJsonDepth;  // drops only the too-deep parts
+  };
+  json j;
+  try {
+    j = json::parse(text, check, true, /*ignore_comments=*/true);
+  } catch (const json::parse_error& e) {
+    throw InputError(file + ": not JSON: " + e.what());
+  } catch (const json::out_of_range&) {
+    // Raised only for a number that overflows a double (406), inside the value of `last_key`.
+    throw InputError(file + ": " + last_key + ": a number too large for a double");
+  }
+  if (truncated) *truncated = too_deep;
+  if (too_deep && !truncated)
+    throw InputError(file + ": nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+  return j;
+}
+
 }  // namespace
 
 PluginManifest read_plugin_manifest(const std::string& folder_text) {
@@ -222,12 +303,7 @@ PluginManifest read_plugin_manifest(const std::string& folder_text) {
   if (!in) throw InputError(m.file + ": cannot read (a plug-in folder holds estimator.json)");
   std::stringstream text;
   text << in.rdbuf();
-  json j;
-  try {
-    j = json::parse(text.str(), nullptr, true, /*ignore_comments=*/true);
-  } catch (const json::parse_error& e) {
-    throw InputError(m.file + ": not JSON: " + e.what());
-  }
+  const json j = parse_manifest_json(m.file, text.str());
   if (!j.is_object()) r.fail("(top level)", "expected an object");
   r.only_known(j,
                {"name", "summary", "paper", "kind", "command", "shaders", "params", "definition",
@@ -305,7 +381,28 @@ PluginManifest read_plugin_manifest(const std::string& folder_text) {
       r.fail("frames", "must be an integer in [1, 10000]");
     m.frames = static_cast<int>(f);
   }
+  // Last: the fields' own errors come first, then whether the program is there to run.
+  if (m.kind == PluginKind::process) m.command[0] = resolve_command(r, folder, m.command[0]);
   return m;
+}
+
+std::string plugin_name_hint(const std::string& folder) {
+  std::error_code ec;
+  const fs::path path = fs::absolute(folder, ec).lexically_normal();
+  std::string name = (path.has_filename() ? path : path.parent_path()).filename().string();
+  try {
+    std::ifstream in(path / "estimator.json");
+    std::stringstream text;
+    text << in.rdbuf();
+    bool truncated = false;
+    const json j = parse_manifest_json("", text.str(), &truncated);
+    if (j.is_object() && j.contains("name") && j["name"].is_string() &&
+        !j["name"].get<std::string>().empty())
+      name = j["name"].get<std::string>();
+  } catch (const std::exception&) {
+    // Unreadable: the folder's name stands for it.
+  }
+  return name;
 }
 
 AoDefinition plugin_definition(const PluginManifest& m, const ParamSet& params) {

@@ -7,6 +7,9 @@
 // range or not among its choices, an empty meaning, duplicate names, a log scale on a range that
 // is not positive, a definition whose dmax names no positive numeric parameter, a falloff without
 // dmax, a missing command or shader: each is an InputError "<file>: <field>: <why>" (exit 2).
+// The file is held to aoeval's JSON limits (input_limits.h: nesting depth, size), and command[0]
+// is resolved when read: a bare name in the plug-in folder first, then on PATH; it must be an
+// executable file.
 #pragma once
 
 #include <string>
@@ -25,7 +28,7 @@ struct PluginManifest {
   std::string file;    // folder + "/estimator.json", the name every error starts with
   std::string name, summary, paper;
   PluginKind kind = PluginKind::process;
-  std::vector<std::string> command;  // process: argv, run in `folder`, no shell
+  std::vector<std::string> command;  // process: argv (command[0] resolved), run in `folder`
   std::vector<std::string> shaders;  // glsl: compute shaders (paths relative to `folder`), in order
   std::vector<ParamSpec> params;
   // definition: weighting and falloff as declared; dmax a number (infinity = null) or, when
@@ -34,16 +37,21 @@ struct PluginManifest {
   Falloff falloff = Falloff::none;
   double dmax = 0.0;
   std::string dmax_param;
-  bool bent = false;         // outputs holds "bent": bent.X/Y/Z are read back and kept
+  bool bent = false;  // outputs holds "bent": bent.X/Y/Z are read back and kept
   // The largest |AO - 1| the estimator promises on an open plane, which the registry-wide
   // conformance test holds it to; < 0: the backend's default (EstimatorInfo::conformance).
   double open_plane_tolerance = -1.0;
-  double timeout_s = 120.0;  // process: the whole process group is killed after this long
+  double timeout_s = 120.0;  // process: its processes are killed after this long; glsl: a frame's
+                             // wait ends and its Vulkan device is abandoned
   int frames = 1;            // process: the N of --frames N (frames the program times itself)
 };
 
 // Reads and validates `folder`/estimator.json; InputError "<file>: <field>: <why>" otherwise.
 PluginManifest read_plugin_manifest(const std::string& folder);
+
+// The name a plug-in folder answers to even when its manifest is broken: estimator.json's "name"
+// when it can be read as a string, else the folder's own name. Never throws.
+std::string plugin_name_hint(const std::string& folder);
 
 // The AO definition the plug-in declares, at these parameter values.
 AoDefinition plugin_definition(const PluginManifest& m, const ParamSet& params);

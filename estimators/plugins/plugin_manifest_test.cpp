@@ -132,26 +132,97 @@ TEST(PluginManifest, ShippedExamplesAreValidAndRegistered) {
   EXPECT_EQ(find_estimator("constant").kind, "built-in");
 }
 
-TEST(PluginManifest, ANameClashWithABuiltInIsAnError) {
+// A clash is a warning when the plug-ins are read and an error for whoever asks for the name
+// (tree-volume: a built-in no other test of this binary uses).
+TEST(PluginManifest, ANameClashWithABuiltInIsAnErrorWhenUsed) {
   const auto dir = test_temp_dir("manifest") / "clash";
-  make_plugin(dir, edited("\"name\": \"my-ssao\"", "\"name\": \"constant\""));
+  make_plugin(dir, edited("\"name\": \"my-ssao\"", "\"name\": \"tree-volume\""));
+  testing::internal::CaptureStderr();
+  add_plugin_dir(dir.string());
+  const std::string warning = testing::internal::GetCapturedStderr();
+  EXPECT_NE(warning.find("warning: plug-in \"tree-volume\" (" + dir.string() + ") is skipped"),
+            std::string::npos)
+      << warning;
   try {
-    add_plugin_dir(dir.string());
+    find_estimator("tree-volume");
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
     EXPECT_NE(
-        std::string(e.what()).find("estimator.json: name: \"constant\" is already a built-in"),
+        std::string(e.what()).find("estimator.json: name: \"tree-volume\" is already a built-in"),
         std::string::npos)
         << e.what();
   }
-  // The same folder twice is read once; another folder with the same name is an error.
+  // The same folder twice is read once; another folder with the same name is skipped.
   const auto a = test_temp_dir("manifest") / "a", b = test_temp_dir("manifest") / "b";
   make_plugin(a, edited("\"name\": \"my-ssao\"", "\"name\": \"twice\""));
   make_plugin(b, edited("\"name\": \"my-ssao\"", "\"name\": \"twice\""));
   add_plugin_dir(a.string());
   add_plugin_dir(a.string());
   EXPECT_EQ(find_estimator("twice").folder, a.string());
-  EXPECT_THROW(add_plugin_dir(b.string()), InputError);
+  testing::internal::CaptureStderr();
+  add_plugin_dir(b.string());
+  EXPECT_NE(testing::internal::GetCapturedStderr().find("is already the plug-in of " + a.string()),
+            std::string::npos);
+}
+
+// Values nested 100,000 deep (a crash before: the error message recursed through them) and a
+// number no double holds are one-line InputErrors naming the file (and the key).
+TEST(PluginManifest, ADeepValueOrAHugeNumberIsAClearError) {
+  const std::string file = (test_temp_dir("manifest") / "p" / "estimator.json").string();
+  const std::string deep = std::string(100000, '[') + std::string(100000, ']');
+  for (const std::string where : {"\"frames\": 4", "\"default\": 0.5"}) {
+    const std::string e = error_of(edited(where, where.substr(0, where.find(':') + 1) + deep));
+    EXPECT_EQ(e, file + ": nested deeper than 64 levels");
+  }
+  std::string deep_object;
+  for (int i = 0; i < 100000; ++i) deep_object += "{\"a\": ";
+  deep_object += "0" + std::string(100000, '}');
+  EXPECT_EQ(error_of(deep_object), file + ": nested deeper than 64 levels");
+  EXPECT_EQ(error_of(edited("\"max\": 5", "\"max\": 1e400")),
+            file + ": max: a number too large for a double");
+  // Within the limit, a container where a scalar belongs is named by kind, not printed.
+  EXPECT_NE(error_of(edited("\"frames\": 4", "\"frames\": [[[[1]]]]"))
+                .find("frames: expected a number, got an array"),
+            std::string::npos);
+}
+
+// One broken plug-in folder does not take the others down: each is a warning naming it (all of
+// them, not the first), the good one and the built-ins work, and asking for a broken one is the
+// InputError that says why.
+TEST(PluginManifest, BrokenPluginsAreWarningsUntilUsed) {
+  const auto root = test_temp_dir("manifest") / "mixed";
+  std::filesystem::remove_all(root);
+  make_plugin(root / "good", edited("\"name\": \"my-ssao\"", "\"name\": \"mixed-good\""));
+  make_plugin(root / "not-json", "{\"name\": ");
+  make_plugin(root / "deep", "{\"name\": \"mixed-deep\", \"x\": " + std::string(100000, '[') +
+                                 std::string(100000, ']') + "}");
+  std::string range = edited("\"name\": \"my-ssao\"", "\"name\": \"mixed-range\"");
+  range.replace(range.find("\"default\": 0.5"), 14, "\"default\": 7");
+  make_plugin(root / "bad-range", range);
+  testing::internal::CaptureStderr();
+  add_plugin_dir(root.string());
+  const std::string err = testing::internal::GetCapturedStderr();
+  for (const std::string& named : {"\"not-json\" (" + (root / "not-json").string() + ")",
+                                   "\"mixed-deep\" (" + (root / "deep").string() + ")",
+                                   "\"mixed-range\" (" + (root / "bad-range").string() + ")"})
+    EXPECT_NE(err.find("warning: plug-in " + named + " is skipped: "), std::string::npos)
+        << named << " in: " << err;
+  EXPECT_EQ(find_estimator("mixed-good").folder, (root / "good").string());
+  EXPECT_EQ(find_estimator("constant").kind, "built-in");
+  for (const auto& [name, why] : std::vector<std::pair<std::string, std::string>>{
+           {"not-json", "not JSON"},
+           {"mixed-deep", "nested deeper than 64 levels"},
+           {"mixed-range", "params[0].default: 7 is outside"}}) {
+    try {
+      find_estimator(name);
+      ADD_FAILURE() << name;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("plug-in \"" + name + "\" cannot be used: "),
+                std::string::npos)
+          << e.what();
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(PluginManifest, AFolderOfPluginsOrNoneAtAll) {

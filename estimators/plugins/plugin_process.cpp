@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -16,6 +17,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <mutex>
+#include <set>
 #include <sstream>
 
 #include "exr_io.h"
@@ -67,6 +71,85 @@ bool wait_for_exit(pid_t pid, double timeout_ms) {
   }
   if (pidfd >= 0) close(pidfd);
   return ended;
+}
+
+// The leaders of the plug-in processes running now (another thread's plug-in is not an orphan).
+std::mutex& leaders_mutex() {
+  static std::mutex m;
+  return m;
+}
+std::set<pid_t>& running_leaders() {
+  static std::set<pid_t> leaders;
+  return leaders;
+}
+
+// A plug-in's descendants can leave its process group (setsid) and, once their parent exits,
+// would be adopted by init and outlive aoeval. As a child subreaper (prctl, Linux 3.4) aoeval
+// adopts them instead, so that they can be found and killed: the descendants of the leader, and
+// any adopted child of aoeval outside aoeval's own process group (aoeval's own helpers, the plot
+// workers and popen's children, stay in its group).
+void become_subreaper() {
+  static std::once_flag once;
+  std::call_once(once, [] { prctl(PR_SET_CHILD_SUBREAPER, 1, 0, 0, 0); });
+}
+
+struct ProcStat {
+  pid_t ppid = 0, pgid = 0;
+  char state = '?';
+};
+
+std::map<pid_t, ProcStat> process_table() {
+  std::map<pid_t, ProcStat> table;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator("/proc", ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream in(entry.path() / "stat");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const size_t close_paren = text.rfind(')');  // the command name may hold ')' itself
+    if (close_paren == std::string::npos) continue;
+    std::istringstream fields(text.substr(close_paren + 1));
+    ProcStat st;
+    if (fields >> st.state >> st.ppid >> st.pgid) table[std::stoi(name)] = st;
+  }
+  return table;
+}
+
+// Kills (SIGKILL) and reaps every descendant of `leader` (0: none; never a reaped leader, whose id
+// may be reused) and every orphan aoeval adopted, until a scan of /proc finds none alive: a
+// process forking meanwhile is caught by the next round.
+void kill_descendants(pid_t leader) {
+  const pid_t self = getpid(), own_group = getpgrp();
+  for (int round = 0; round < 1000; ++round) {
+    const std::map<pid_t, ProcStat> table = process_table();
+    std::set<pid_t> roots;
+    if (leader > 0) roots.insert(leader);
+    {
+      std::lock_guard lock(leaders_mutex());
+      for (const auto& [pid, st] : table)
+        if (st.ppid == self && st.pgid != own_group && !running_leaders().count(pid))
+          roots.insert(pid);
+    }
+    bool alive = false;
+    for (const auto& [pid, st] : table) {
+      bool target = roots.count(pid) > 0;
+      // Walk up the parent chain (bounded: a cycle cannot occur, but the table is a snapshot).
+      for (pid_t p = st.ppid; !target && p > 1 && p != self;) {
+        if (roots.count(p)) target = true;
+        const auto it = table.find(p);
+        if (it == table.end()) break;
+        p = it->second.ppid;
+      }
+      if (!target || pid == leader) continue;
+      if (st.state != 'Z') {
+        alive = true;
+        kill(pid, SIGKILL);
+      }
+      if (st.ppid == self) waitpid(pid, nullptr, WNOHANG);
+    }
+    if (!alive) return;
+    usleep(1000);
+  }
 }
 
 float median_of(std::vector<double> v) {
@@ -148,7 +231,9 @@ ProcessOutcome run_process(const std::vector<std::string>& argv, const std::stri
       if (fd >= 0) close(fd);
     return o;
   }
+  become_subreaper();
   const auto t0 = std::chrono::steady_clock::now();
+  std::unique_lock leaders_lock(leaders_mutex());  // registered before any scan can see it
   const pid_t pid = fork();
   if (pid == 0) {
     setpgid(0, 0);
@@ -161,6 +246,8 @@ ProcessOutcome run_process(const std::vector<std::string>& argv, const std::stri
     execvp(args[0], args.data());
     child_fail("cannot run", args[0]);
   }
+  if (pid > 0) running_leaders().insert(pid);
+  leaders_lock.unlock();
   close(out_fd);
   close(err_fd);
   close(null_fd);
@@ -174,9 +261,15 @@ ProcessOutcome run_process(const std::vector<std::string>& argv, const std::stri
   // The leader is not reaped yet, so its id (the group's) cannot have been reused: kill the whole
   // group, on time-out and after a normal end alike (background children die with it).
   kill(-pid, SIGKILL);
+  kill_descendants(pid);  // those that left the group (setsid) too
   int status = 0;
   while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
+  {
+    std::lock_guard lock(leaders_mutex());
+    running_leaders().erase(pid);
+  }
+  kill_descendants(0);  // reaps what the leader's end reparented meanwhile
   o.wall_ms = ms_between(t0, std::chrono::steady_clock::now());
   if (!o.timed_out) {
     if (WIFEXITED(status)) o.exit_code = WEXITSTATUS(status);
@@ -186,11 +279,26 @@ ProcessOutcome run_process(const std::vector<std::string>& argv, const std::stri
 }
 
 std::string last_line_of(const std::string& path) {
-  std::ifstream in(path);
-  std::string line, last;
-  while (std::getline(in, line)) {
-    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
-    if (!line.empty()) last = line;
+  // Only the file's last 64 KiB are read: a program may write gigabytes to stderr (or one endless
+  // line), and its last words are at the end. A last line longer than that is cut at its start.
+  constexpr std::streamoff kTail = 64 * 1024;
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) return "";
+  const std::streamoff size = in.tellg();
+  const std::streamoff start = size > kTail ? size - kTail : 0;
+  in.seekg(start);
+  std::string tail(static_cast<size_t>(size - start), '\0');
+  in.read(tail.data(), static_cast<std::streamsize>(tail.size()));
+  tail.resize(static_cast<size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  size_t end = tail.size();
+  std::string last;
+  while (end > 0 && last.empty()) {
+    const size_t begin = tail.rfind('\n', end - 1);
+    const size_t from = begin == std::string::npos ? 0 : begin + 1;
+    last = tail.substr(from, end - from);
+    while (!last.empty() && (last.back() == '\r' || last.back() == ' ')) last.pop_back();
+    if (from == 0 && start > 0 && !last.empty()) last = "..." + last;  // cut by the 64 KiB window
+    end = begin == std::string::npos ? 0 : begin;
   }
   if (last.size() > 300) last = last.substr(0, 297) + "...";
   return last;

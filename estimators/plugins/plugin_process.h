@@ -7,8 +7,11 @@
 // (absolute paths; argv, no shell; working folder = the plug-in folder; stdin /dev/null, stdout
 // and stderr to files in the private folder) as the leader of its own process group, waits at
 // most timeout_s and then kills the whole group; after a normal exit it kills the group too, so
-// nothing the program left running in the background survives. The private folder is removed
-// when the estimator is destroyed.
+// nothing the program left running in the background survives. Descendants that left the group
+// (setsid) are killed as well: aoeval makes itself their child subreaper (PR_SET_CHILD_SUBREAPER)
+// and kills and reaps every descendant of the program, and every orphan it adopted outside its own
+// process group, until none is left. Only the last 64 KiB of stderr are read for the quoted line.
+// The private folder is removed when the estimator is destroyed.
 //
 // Output checks, each a failure that becomes EstimatorUnavailable("plug-in NAME: <reason>: <last
 // stderr line>"), i.e. a "skipped: ..." results row, and the run carries on: non-zero exit, death
@@ -51,8 +54,8 @@ struct ProcessOutcome {
 
 // Runs argv[0] (searched on PATH unless it holds a '/', then relative to `cwd`) with argv in `cwd`
 // as a new process group, stdin from /dev/null, stdout and stderr appended to the two files, for
-// at most timeout_s; kills the group (SIGKILL) on time-out and after it ends. Never throws for the
-// program's failures.
+// at most timeout_s; kills the group and every descendant (SIGKILL) on time-out and after it ends.
+// Never throws for the program's failures.
 ProcessOutcome run_process(const std::vector<std::string>& argv, const std::string& cwd,
                            double timeout_s, const std::string& stdout_path,
                            const std::string& stderr_path);

@@ -10,6 +10,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <functional>
+#include <sstream>
+
+#include "errors.h"
 
 #include "estimators/plugins/plugin_test_util.h"
 
@@ -150,12 +153,38 @@ TEST(ProcessPlugin, ACrashBySignal) {
                 {"killed by signal 11 (SEGV): about to crash"});
 }
 
-TEST(ProcessPlugin, ACommandThatCannotRun) {
-  const fs::path dir = test_temp_dir("process") / "missing";
-  make_plugin(dir, R"({"name": "missing", "summary": "s", "kind": "process",
+// The program is checked when the manifest is read: a bare name is looked up in the plug-in
+// folder first, then on PATH; a missing or non-executable program is an InputError naming it.
+TEST(ProcessPlugin, ACommandIsResolvedInTheFolderThenOnPathAndCheckedAtLoad) {
+  const fs::path dir = test_temp_dir("process") / "bare";
+  const std::string manifest = R"({"name": "bare", "summary": "s", "kind": "process",
+      "command": ["prog.sh"], "definition": {"weighting": "cosine"}})";
+  make_plugin(dir, manifest,
+              {{"prog.sh", "#!/bin/sh\ncp \"$(dirname \"$0\")/ao_one.exr\" \"$6\"\n"}});
+  auto error_of = [&]() -> std::string {
+    try {
+      read_plugin_manifest(dir.string());
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  expect_reason(error_of(), {"command[0]: " + (dir / "prog.sh").string() +
+                             " is not an executable file (chmod +x it"});
+  fs::permissions(dir / "prog.sh", fs::perms::owner_exec, fs::perm_options::add);
+  write_ao(dir.string(), "ao_one.exr", 32, 24, {"AO"}, [](int, int) { return 1.0f; });
+  EXPECT_EQ(read_plugin_manifest(dir.string()).command[0], (dir / "prog.sh").string());
+  EXPECT_EQ(run_plugin(dir.string(), floor_view()).ao.back(), 1.0f);
+  fs::remove(dir / "prog.sh");
+  expect_reason(error_of(), {"command[0]: \"prog.sh\" is neither a file in the plug-in folder "
+                             "nor a program on PATH"});
+  make_plugin(dir, R"({"name": "bare", "summary": "s", "kind": "process",
       "command": ["./no-such-program"], "definition": {"weighting": "cosine"}})");
-  expect_reason(failure_of(dir.string()),
-                {"exited with status 127", "cannot run './no-such-program'"});
+  expect_reason(error_of(), {"command[0]: " + (dir / "no-such-program").string() +
+                             " is not an executable file"});
+  make_plugin(dir, R"({"name": "bare", "summary": "s", "kind": "process",
+      "command": ["sh", "-c", "true"], "definition": {"weighting": "cosine"}})");
+  EXPECT_EQ(read_plugin_manifest(dir.string()).command[0], "sh");  // on PATH
 }
 
 bool process_with_argument_exists_now(const std::string& marker) {
@@ -199,6 +228,59 @@ TEST(ProcessPlugin, ABackgroundChildDiesWithANormalExitToo) {
   write_ao(dir, "ao_one.exr", 32, 24, {"AO"}, [](int, int) { return 1.0f; });
   run_plugin(dir, floor_view());
   EXPECT_FALSE(process_with_argument_exists(marker));
+}
+
+// The processes whose parent is this one (zombies included): none may be left by a plug-in.
+std::vector<std::string> children_of_this_process() {
+  std::vector<std::string> found;
+  for (const auto& entry : fs::directory_iterator("/proc")) {
+    const std::string name = entry.path().filename().string();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream in(entry.path() / "stat");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const size_t paren = text.rfind(')');
+    if (paren == std::string::npos) continue;
+    std::istringstream fields(text.substr(paren + 1));
+    char state = 0;
+    pid_t ppid = 0;
+    if (fields >> state >> ppid && ppid == getpid()) found.push_back(text.substr(0, paren + 1));
+  }
+  return found;
+}
+
+// A grandchild that leaves the process group and the session (setsid) is killed too, whether the
+// plug-in ends normally, times out, or its shell has already exited: aoeval is the subreaper.
+TEST(ProcessPlugin, ASetsidGrandchildIsKilledAndReaped) {
+  const std::string a = "3600.3" + std::to_string(getpid() % 1000);
+  const std::string b = "3600.4" + std::to_string(getpid() % 1000);
+  const std::string c = "3600.5" + std::to_string(getpid() % 1000);
+  std::string dir = shell_plugin("escapes", "setsid sleep " + a + " &\ncp ao_one.exr \"$6\"\n");
+  write_ao(dir, "ao_one.exr", 32, 24, {"AO"}, [](int, int) { return 1.0f; });
+  run_plugin(dir, floor_view());
+  EXPECT_FALSE(process_with_argument_exists(a)) << "a setsid grandchild survived a normal exit";
+  // Its parent (a subshell) exits at once: the grandchild is an orphan before the plug-in ends.
+  dir = shell_plugin("escapes-orphan",
+                     "(setsid sleep " + b + " &)\nsleep 0.2\ncp ao_one.exr \"$6\"\n");
+  write_ao(dir, "ao_one.exr", 32, 24, {"AO"}, [](int, int) { return 1.0f; });
+  run_plugin(dir, floor_view());
+  EXPECT_FALSE(process_with_argument_exists(b)) << "an orphaned setsid grandchild survived";
+  dir = shell_plugin("escapes-slow", "setsid sleep " + c + " &\nsleep 30\n", /*timeout_s=*/1.0);
+  expect_reason(failure_of(dir), {"timed out after 1 s"});
+  EXPECT_FALSE(process_with_argument_exists(c)) << "a setsid grandchild survived a time-out";
+  EXPECT_EQ(children_of_this_process(), std::vector<std::string>{}) << "unreaped children";
+}
+
+// 50 MB on stderr: the reason still quotes the last line, read from the file's tail only (a
+// bounded read: the last 64 KiB), and a last line longer than the tail is cut, not loaded.
+TEST(ProcessPlugin, FiftyMegabytesOfStderrKeepTheLastLine) {
+  expect_reason(failure_of(shell_plugin("chatty",
+                                        "head -c 50000000 /dev/zero | tr '\\0' 'x' >&2\n"
+                                        "echo >&2\necho 'the last words' >&2\nexit 3\n")),
+                {"exited with status 3: the last words"});
+  const std::string reason = failure_of(
+      shell_plugin("one-line", "head -c 50000000 /dev/zero | tr '\\0' 'y' >&2\nexit 3\n"));
+  expect_reason(reason, {"exited with status 3: ...yyyy"});
+  EXPECT_LT(reason.size(), 400u) << "the quoted line is bounded";
 }
 
 TEST(ProcessPlugin, NoOutput) {

@@ -61,6 +61,11 @@ void read_every_param(const PluginManifest& m, const ParamSet& p) {
 }
 }  // namespace
 
+void prepare_plugin_for_run(const EstimatorInfo& e) {
+  if (e.kind != plugin_kind_name(PluginKind::glsl)) return;
+  compile_glsl_plugin(read_plugin_manifest(e.folder));
+}
+
 EstimatorInfo plugin_estimator(const PluginManifest& m) {
   EstimatorInfo info;
   info.name = m.name;

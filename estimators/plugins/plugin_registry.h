@@ -25,4 +25,9 @@ std::vector<std::string> plugin_folders_in(const std::string& dir);
 // The registry entry of a validated manifest: backend process or vulkan, kind "process"/"glsl".
 EstimatorInfo plugin_estimator(const PluginManifest& m);
 
+// What a suite, sweep or tune calls for each estimator it will run, before its first point: a GLSL
+// plug-in's shaders are compiled (and cached), so that a compile error is exit 2 before anything
+// is written, not a failure halfway through the points. Nothing for other estimators.
+void prepare_plugin_for_run(const EstimatorInfo& e);
+
 }  // namespace aoeval

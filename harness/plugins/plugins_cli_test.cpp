@@ -81,20 +81,31 @@ TEST(PluginsCli, PluginsOptionAndEnvironmentAndNameClash) {
   shell_plugin(d / "env" / "from-env", "from-env", "exit 0\n");
   Result r = run("estimators list --plugins " + (d / "mine").string(),
                  "AOEVAL_PLUGINS=/nonexistent-but-skipped-no:" + (d / "env").string() + " ");
-  // A missing folder in AOEVAL_PLUGINS is bad input too.
-  EXPECT_EQ(r.code, 2) << r.out;
-  EXPECT_NE(r.err.find("/nonexistent-but-skipped-no"), std::string::npos) << r.err;
+  // A missing folder in AOEVAL_PLUGINS is a warning: the other plug-ins and built-ins still work.
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: $AOEVAL_PLUGINS: plug-in folder /nonexistent-but-skipped-no"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.out.find("from-env "), std::string::npos) << r.out;
   r = run("estimators list --plugins " + (d / "mine").string(),
           "AOEVAL_PLUGINS=" + (d / "env").string() + " ");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("mine "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("from-env "), std::string::npos) << r.out;
 
+  // A clash with a built-in: a warning for a command that does not use the name, exit 2 for one
+  // that does.
   shell_plugin(d / "clash", "raytraced", "exit 0\n");
   r = run("estimators list --plugins " + (d / "clash").string());
-  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.code, 0);
   EXPECT_EQ(lines(r.err), 1u) << r.err;
   EXPECT_NE(r.err.find((d / "clash" / "estimator.json").string() + ": name: \"raytraced\""),
+            std::string::npos)
+      << r.err;
+  r = run("estimators show raytraced --plugins " + (d / "clash").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("error: --estimator: plug-in \"raytraced\" cannot be used: " +
+                       (d / "clash" / "estimator.json").string() + ": name: \"raytraced\""),
             std::string::npos)
       << r.err;
   write(d / "badparam" / "estimator.json", R"({"name": "bad", "summary": "s", "kind": "process",
@@ -119,6 +130,90 @@ TEST(PluginsCli, AGlslCompileErrorExitsTwoNamingFileAndLine) {
   EXPECT_EQ(lines(r.err), 1u) << r.err;
   EXPECT_NE(r.err.find((d / "ao.comp").string() + ":4:"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out));
+}
+
+// Must-show 2 of issue 28: one good and three broken plug-ins in one folder. `estimators list`
+// lists the good one and warns about each broken one by name; a sweep of built-ins runs; a sweep
+// that uses a broken one exits 2 before writing anything.
+TEST(PluginsCli, OneGoodAndThreeBrokenPlugins) {
+  const fs::path d = temp_dir() / "mixed";
+  fs::remove_all(d);
+  shell_plugin(d / "plugs" / "fine", "fine", "exit 0\n");
+  write(d / "plugs" / "not-json" / "estimator.json", "{\"name\": ");
+  write(d / "plugs" / "deep" / "estimator.json",
+        "{\"name\": \"deep\", \"x\": " + std::string(100000, '[') + std::string(100000, ']') + "}");
+  write(d / "plugs" / "no-program" / "estimator.json",
+        R"({"name": "no-program", "summary": "s", "kind": "process", "command": ["prog.sh"],
+            "definition": {"weighting": "cosine"}})");
+  const std::string plugs = " --plugins " + (d / "plugs").string();
+  Result r = run("estimators list" + plugs);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("fine "), std::string::npos) << r.out;
+  EXPECT_EQ(lines(r.err), 3u) << r.err;
+  for (const char* name : {"\"not-json\"", "\"deep\"", "\"no-program\""})
+    EXPECT_NE(r.err.find(std::string("warning: plug-in ") + name), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("nested deeper than 64 levels"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("\"prog.sh\" is neither a file in the plug-in folder nor a program on PATH"),
+            std::string::npos)
+      << r.err;
+
+  auto spec = [&](const std::string& estimator) {
+    write(d / (estimator + ".json"), R"({"name": "mixed", "scenes": ["cornell-box"], "res": [8, 6],
+      "reference": {"spp": 1, "sampler": "sobol"}, "timing": {"warmup": 0, "repetitions": 1},
+      "runs": [{"estimator": "constant"}, {"estimator": ")" +
+                                         estimator + R"("}]})");
+    return "sweep " + (d / (estimator + ".json")).string() + " --out " +
+           (d / ("out-" + estimator)).string() + " --db " + (d / (estimator + ".sqlite")).string() +
+           plugs;
+  };
+  r = run(spec("raytraced"));
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(d / "out-raytraced" / "results.json"));
+  for (const char* broken : {"deep", "no-program", "not-json"}) {
+    r = run(spec(broken));
+    EXPECT_EQ(r.code, 2) << broken << ": " << r.err;
+    EXPECT_NE(r.err.find(std::string("plug-in \"") + broken + "\" cannot be used"),
+              std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(d / (std::string("out-") + broken))) << broken;
+    EXPECT_FALSE(fs::exists(d / (std::string(broken) + ".sqlite"))) << broken;
+  }
+}
+
+// A GLSL plug-in that does not compile stops a sweep before its first point: exit 2 naming the
+// shader's file and line, no output folder, no database (issue 28: it used to abort halfway).
+TEST(PluginsCli, AGlslCompileErrorStopsASweepBeforeAnything) {
+  const fs::path d = temp_dir() / "sweep-compile";
+  fs::remove_all(d);
+  write(d / "plug" / "estimator.json", R"({"name": "late-error", "summary": "s", "kind": "glsl",
+      "shaders": ["ao.comp"], "definition": {"weighting": "cosine"},
+      "params": [{"name": "r", "type": "real", "default": 0.5, "min": 0, "max": 1, "meaning": "m"}]})");
+  write(d / "plug" / "ao.comp",
+        "#version 450\nlayout(local_size_x = 8) in;\nvoid main() {\n  nope();\n}\n");
+  write(d / "spec.json", R"({"name": "late", "scenes": ["cornell-box"], "res": [8, 6],
+      "reference": {"spp": 1, "sampler": "sobol"}, "timing": {"warmup": 0, "repetitions": 1},
+      "runs": [{"estimator": "constant"}, {"estimator": "late-error"}]})");
+  const Result r =
+      run("sweep " + (d / "spec.json").string() + " --out " + (d / "out").string() + " --db " +
+          (d / "r.sqlite").string() + " --plugins " + (d / "plug").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find((d / "plug" / "ao.comp").string() + ":4:"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d / "out"));
+  EXPECT_FALSE(fs::exists(d / "r.sqlite"));
+  // tune reads its estimator the same way.
+  write(d / "tune.json", R"({"name": "late-tune", "scenes": ["cornell-box"], "res": [8, 6],
+      "reference": {"spp": 1}, "timing": {"warmup": 0, "repetitions": 1},
+      "tune": {"estimator": "late-error", "params": {"r": [0.1, 0.9]}, "objective": "rmse_excess",
+               "budget_ms": 1000, "evaluations": 2}})");
+  const Result t =
+      run("tune " + (d / "tune.json").string() + " --out " + (d / "out").string() + " --db " +
+          (d / "r.sqlite").string() + " --plugins " + (d / "plug").string());
+  EXPECT_EQ(t.code, 2);
+  EXPECT_EQ(lines(t.err), 1u) << t.err;
+  EXPECT_NE(t.err.find((d / "plug" / "ao.comp").string() + ":4:"), std::string::npos) << t.err;
+  EXPECT_FALSE(fs::exists(d / "out"));
+  EXPECT_FALSE(fs::exists(d / "r.sqlite"));
 }
 
 TEST(PluginsCli, AbiPrintsTheBindingsAndAPluginsPreamble) {

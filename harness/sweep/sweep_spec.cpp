@@ -11,6 +11,7 @@
 
 #include "corpus.h"
 #include "errors.h"
+#include "estimators/plugins/plugin_registry.h"
 #include "estimators/registry.h"
 #include "json_reader.h"
 
@@ -137,6 +138,7 @@ SweepSpec parse_sweep_spec(const nlohmann::json& doc, const std::string& file) {
     const std::string name = run.string("estimator");
     try {
       r.estimator = &find_estimator(name);
+      prepare_plugin_for_run(*r.estimator);  // a shader's compile error: exit 2, nothing written
     } catch (const InputError& e) {
       run.fail("estimator", e.what());
     }

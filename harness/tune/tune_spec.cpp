@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "errors.h"
+#include "estimators/plugins/plugin_registry.h"
 #include "estimators/registry.h"
 #include "harness/scoring/bent_metrics.h"
 #include "harness/scoring/metrics.h"
@@ -123,6 +124,7 @@ TuneSpec parse_tune_spec(const nlohmann::json& doc, const std::string& file,
   const std::string estimator = tune.string("estimator");
   try {
     spec.estimator = lookup ? &lookup(estimator) : &find_estimator(estimator);
+    prepare_plugin_for_run(*spec.estimator);  // a shader's compile error: exit 2, nothing written
   } catch (const InputError& e) {
     tune.fail("estimator", e.what());
   }
