@@ -204,6 +204,8 @@ TEST_F(DiskAbovePlane, PowerOneIsLinearAndPowerHalfIsSqrt) {
   linear.definition.falloff = Falloff::linear;
   ReferenceSettings one = linear;
   one.definition.falloff = parse_falloff("power:1");
+  EXPECT_EQ(one.definition, linear.definition);
+  EXPECT_EQ(one.definition.to_json(), linear.definition.to_json());  // the cache key's part
   EXPECT_EQ(one.definition.label(), linear.definition.label());
   const GBuffer g = probe({0, 0, 0}, {0, 1, 0}, 16);
   EXPECT_EQ(compute_reference(es_, g, one).ao, compute_reference(es_, g, linear).ao);
