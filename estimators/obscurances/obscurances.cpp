@@ -62,7 +62,8 @@ ObscuranceSettings obscurance_settings_of(const ParamSet& p) {
   ObscuranceSettings s{};
   s.rays = static_cast<int>(p.integer("rays"));
   s.dmax = p.real("dmax");
-  s.rho = p.choice("rho") == "power" ? Falloff::power(p.real("rho_k")) : parse_rho(p.choice("rho"));
+  const double k = p.real("rho_k");  // read always: every declared parameter is read
+  s.rho = p.choice("rho") == "power" ? Falloff::power(k) : parse_rho(p.choice("rho"));
   s.sampling = p.choice("sampling") == "systematic" ? SamplerKind::stratified : SamplerKind::random;
   s.seed = static_cast<uint64_t>(p.integer("seed"));
   return s;

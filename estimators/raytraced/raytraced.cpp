@@ -12,8 +12,8 @@ AoDefinition definition_of(const ParamSet& p) {
   const double dmax = p.real("dmax");
   d.dmax = dmax > 0.0 ? dmax : std::numeric_limits<double>::infinity();
   const std::string falloff = p.choice("falloff");
-  d.falloff =
-      falloff == "power" ? Falloff::power(p.real("falloff_k")) : parse_falloff(falloff, "falloff");
+  const double k = p.real("falloff_k");  // read always: every declared parameter is read
+  d.falloff = falloff == "power" ? Falloff::power(k) : parse_falloff(falloff, "falloff");
   validate_definition(d);
   return d;
 }
