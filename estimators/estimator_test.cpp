@@ -33,6 +33,12 @@ TEST(Params, TextValuesAreParsedByType) {
   const AoDefinition d = e.definition(p);
   EXPECT_EQ(d.falloff, Falloff::linear);
   EXPECT_DOUBLE_EQ(d.dmax, 0.5);
+  // power:K through falloff = power and its exponent falloff_k (CONTRACT §3).
+  const AoDefinition cubic = e.definition(
+      resolve_params(e.name, e.params,
+                     parse_set_arguments({"dmax=0.5", "falloff=power", "falloff_k=3"}), "--set"));
+  EXPECT_EQ(cubic.falloff, Falloff::power(3.0));
+  EXPECT_EQ(cubic.label(), "cosine/dmax:0.5/power:3");
 }
 
 TEST(Params, ErrorsNameTheKeyAndTheAllowedRange) {

@@ -158,6 +158,59 @@ TEST_F(DiskAbovePlane, DmaxCuttingTheRimMatchesItsClosedForms) {
   }
 }
 
+// power:K (CONTRACT §3, rho(x) = x^K). Derivation, with c = cos(theta) of a direction, the disk of
+// radius a at height h (cos(alpha) = h / sqrt(a^2 + h^2)) and q = h / dmax: a direction with
+// c > cos(alpha) hits the disk at t = h / c, which counts when t < dmax, i.e. c > q. So the rays
+// with c in [c0, 1], c0 = max(cos(alpha), q), are worth rho(t / dmax) = (q / c)^K, all others 1.
+//   cosine:  (1/pi) Int v cos dw = Int_0^1 v 2c dc
+//            AO = c0^2 + 2 q^K Int_c0^1 c^(1-K) dc
+//               = c0^2 + 2 q^K (1 - c0^(2-K)) / (2 - K)    (K != 2),  c0^2 - 2 q^2 ln(c0)  (K = 2)
+//   uniform: (1/2pi) Int v dw = Int_0^1 v dc
+//            AO = c0 + q^K (1 - c0^(1-K)) / (1 - K)        (K != 1),  c0 - q ln(c0)     (K = 1)
+// (K = 1 with c0 = q gives the linear case above, 2q - q^2.)
+double power_cosine_ao(double k, double c0, double q) {
+  if (k == 2.0) return c0 * c0 - 2.0 * q * q * std::log(c0);
+  return c0 * c0 + 2.0 * std::pow(q, k) * (1.0 - std::pow(c0, 2.0 - k)) / (2.0 - k);
+}
+double power_uniform_ao(double k, double c0, double q) {
+  if (k == 1.0) return c0 - q * std::log(c0);
+  return c0 + std::pow(q, k) * (1.0 - std::pow(c0, 1.0 - k)) / (1.0 - k);
+}
+
+TEST_F(DiskAbovePlane, PowerFalloffsMatchTheirClosedForms) {
+  const double cos_alpha = h / std::sqrt(a * a + h * h);
+  // 0.85 cuts the rim (c0 = q); 2.5 lies beyond it (c0 = cos(alpha), the whole disk counts).
+  for (double d : {0.85, 2.5})
+    for (double k : {2.0, 3.0})
+      for (auto sampler : kSamplers) {
+        const double q = h / d, c0 = std::max(cos_alpha, q);
+        ReferenceSettings c = settings(Weighting::cosine, sampler);
+        ReferenceSettings u = settings(Weighting::uniform, sampler);
+        c.definition.dmax = u.definition.dmax = d;
+        c.definition.falloff = u.definition.falloff = Falloff::power(k);
+        expect(c, power_cosine_ao(k, c0, q));
+        expect(u, power_uniform_ao(k, c0, q));
+      }
+}
+
+TEST_F(DiskAbovePlane, PowerOneIsLinearAndPowerHalfIsSqrt) {
+  // One definition, one name: the same label (the reference cache key) and the same bits.
+  EXPECT_EQ(Falloff::power(1.0), Falloff::linear);
+  EXPECT_EQ(Falloff::power(0.5), Falloff::sqrt);
+  EXPECT_EQ(parse_falloff("power:1"), Falloff::linear);
+  EXPECT_EQ(parse_falloff("power:0.5"), Falloff::sqrt);
+  ReferenceSettings linear = settings(Weighting::cosine, SamplerKind::sobol, 16);
+  linear.definition.dmax = 0.85;
+  linear.definition.falloff = Falloff::linear;
+  ReferenceSettings one = linear;
+  one.definition.falloff = parse_falloff("power:1");
+  EXPECT_EQ(one.definition, linear.definition);
+  EXPECT_EQ(one.definition.to_json(), linear.definition.to_json());  // the cache key's part
+  EXPECT_EQ(one.definition.label(), linear.definition.label());
+  const GBuffer g = probe({0, 0, 0}, {0, 1, 0}, 16);
+  EXPECT_EQ(compute_reference(es_, g, one).ao, compute_reference(es_, g, linear).ao);
+}
+
 TEST(Reference, ConvexObjectsOutsideIsOpenEverywhere) {
   // Every covered pixel of a convex object, with the geometric hemisphere, sees no occluder: AO is
   // exactly 1. This also pins the origin offset: one self-intersection would show as AO < 1.
@@ -292,6 +345,18 @@ TEST(AoDefinition, RayValuesAtTheEnds) {
   EXPECT_FLOAT_EQ(d.ray_value(0.5f), 0.25f);
   d.falloff = Falloff::sqrt;
   EXPECT_FLOAT_EQ(d.ray_value(0.5f), 0.5f);
+  d.falloff = Falloff::power(3.0);
+  EXPECT_FLOAT_EQ(d.ray_value(1.0f), 0.125f);
+  EXPECT_EQ(d.ray_value(2.0f), 1.0f);
+  EXPECT_EQ(falloff_name(d.falloff), "power:3");
+  EXPECT_EQ(d.label(), "cosine/dmax:2/power:3");
+  for (const char* text : {"power:3", "power:0.25", "power:2.5", "power:1.5"})
+    EXPECT_EQ(falloff_name(parse_falloff(text)), text);
+  for (const char* bad : {"power:0", "power:-1", "power:nan", "power:inf", "power:x",
+                          "power:", "power:2 ", "power", "cubic"})
+    EXPECT_THROW(parse_falloff(bad), InputError) << bad;
+  EXPECT_THROW(Falloff::power(0.0), InputError);
+  EXPECT_THROW(Falloff::power(std::nan("")), InputError);
   AoDefinition unbounded;
   unbounded.falloff = Falloff::linear;
   EXPECT_THROW(validate_definition(unbounded), InputError);

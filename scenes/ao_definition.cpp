@@ -1,5 +1,6 @@
 #include "ao_definition.h"
 
+#include <charconv>
 #include <cstdlib>
 #include <sstream>
 
@@ -11,16 +12,28 @@ const char* weighting_name(Weighting w) {
   return w == Weighting::cosine ? "cosine" : "uniform";
 }
 
-const char* falloff_name(Falloff f) {
-  switch (f) {
-    case Falloff::none:
+Falloff Falloff::power(double k) {
+  if (!(k > 0.0) || !std::isfinite(k)) throw InputError("power:K needs K a positive finite number");
+  if (k == 1.0) return Falloff::linear;
+  if (k == 0.5) return Falloff::sqrt;
+  return Falloff{Kind::power, k};
+}
+
+std::string falloff_name(Falloff f) {
+  switch (f.kind) {
+    case Falloff::Kind::none:
       return "none";
-    case Falloff::linear:
+    case Falloff::Kind::linear:
       return "linear";
-    case Falloff::sqrt:
+    case Falloff::Kind::sqrt:
       return "sqrt";
-    case Falloff::exp:
+    case Falloff::Kind::exp:
       return "exp";
+    case Falloff::Kind::power: {
+      char k[32];  // shortest text that reads back as the same double: one name per definition
+      const auto end = std::to_chars(k, k + sizeof(k), f.k).ptr;
+      return "power:" + std::string(k, end);
+    }
   }
   return "none";
 }
@@ -34,7 +47,17 @@ Weighting parse_weighting(const std::string& text, const std::string& option) {
 Falloff parse_falloff(const std::string& text, const std::string& option) {
   for (Falloff f : {Falloff::none, Falloff::linear, Falloff::sqrt, Falloff::exp})
     if (text == falloff_name(f)) return f;
-  throw InputError(option + ": '" + text + "' is not one of: none, linear, sqrt, exp");
+  const std::string prefix = "power:";
+  if (text.compare(0, prefix.size(), prefix) == 0) {
+    const std::string k = text.substr(prefix.size());
+    double v = 0.0;
+    const auto [end, ec] = std::from_chars(k.data(), k.data() + k.size(), v);
+    if (k.empty() || ec != std::errc() || end != k.data() + k.size() || !std::isfinite(v) ||
+        !(v > 0.0))
+      throw InputError(option + ": '" + text + "': K in power:K must be a positive finite number");
+    return Falloff::power(v);
+  }
+  throw InputError(option + ": '" + text + "' is not one of: none, linear, sqrt, exp, power:K");
 }
 
 double parse_dmax(const std::string& text, const std::string& option) {

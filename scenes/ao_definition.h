@@ -16,13 +16,32 @@ enum class Weighting {
   uniform,  // (1/2pi) Int V(w) dw: Hegeman et al. 2006 eq. 3, GPU Gems ch. 17 "accessibility"
 };
 
-enum class Falloff {
-  none,    // an occluder closer than dmax counts fully, beyond it not at all
-  linear,  // rho(x) = x: the linear attenuation of Dimitrov et al. 2008 §3.5, W(r) = 1 - r/R
-  sqrt,    // rho(x) = sqrt(x): the square-root obscurance function of Mendez et al. 2003 §3
-  exp,     // rho(x) = (1 - e^(-4x)) / (1 - e^(-4)): Mendez et al.'s exponential shape, normalised
-           // so that rho(1) = 1 (continuous at dmax)
+// The obscurance function rho of an occluder's distance x = d / dmax (CONTRACT §3). A kind, and
+// for `power` the exponent K. Built only from the constants below and power(K), which
+// canonicalises power:1 to linear and power:0.5 to sqrt: one definition has one name, one label
+// and one reference cache key, so a plug-in declaring power:1 is scored against the very
+// reference (cached or not) that a linear one is.
+struct Falloff {
+  enum class Kind {
+    none,    // an occluder closer than dmax counts fully, beyond it not at all
+    linear,  // rho(x) = x: the linear attenuation of Dimitrov et al. 2008 §3.5, W(r) = 1 - r/R
+    sqrt,    // rho(x) = sqrt(x): the square-root obscurance function of Mendez et al. 2003 §3
+    exp,     // rho(x) = (1 - e^(-4x)) / (1 - e^(-4)): Mendez et al.'s exponential shape,
+             // normalised so that rho(1) = 1 (continuous at dmax)
+    power,   // rho(x) = x^K, K > 0 (K = 1, 0.5 are stored as linear, sqrt)
+  };
+  Kind kind = Kind::none;
+  double k = 1.0;  // the exponent K of `power`; 1 for every other kind
+
+  static const Falloff none, linear, sqrt, exp;
+  // power:K; InputError unless K is a positive finite number.
+  static Falloff power(double k);
+  bool operator==(const Falloff&) const = default;
 };
+inline constexpr Falloff Falloff::none{Falloff::Kind::none, 1.0};
+inline constexpr Falloff Falloff::linear{Falloff::Kind::linear, 1.0};
+inline constexpr Falloff Falloff::sqrt{Falloff::Kind::sqrt, 1.0};
+inline constexpr Falloff Falloff::exp{Falloff::Kind::exp, 1.0};
 
 struct AoDefinition {
   Weighting weighting = Weighting::cosine;
@@ -37,15 +56,17 @@ struct AoDefinition {
   float ray_value(float d) const {
     if (!(d < dmax)) return 1.0f;
     const float x = static_cast<float>(d / dmax);
-    switch (falloff) {
-      case Falloff::none:
+    switch (falloff.kind) {
+      case Falloff::Kind::none:
         return 0.0f;
-      case Falloff::linear:
+      case Falloff::Kind::linear:
         return x;
-      case Falloff::sqrt:
+      case Falloff::Kind::sqrt:
         return std::sqrt(x);
-      case Falloff::exp:
+      case Falloff::Kind::exp:
         return (1.0f - std::exp(-4.0f * x)) / (1.0f - std::exp(-4.0f));
+      case Falloff::Kind::power:
+        return std::pow(x, static_cast<float>(falloff.k));
     }
     return 0.0f;
   }
@@ -58,8 +79,11 @@ struct AoDefinition {
 };
 
 const char* weighting_name(Weighting w);
-const char* falloff_name(Falloff f);
-// Parse the command-line words; InputError naming `option` and the choices otherwise.
+// "none", "linear", "sqrt", "exp" or "power:K" with K in its shortest round-trip form ("power:3").
+std::string falloff_name(Falloff f);
+// Parse the command-line words; InputError naming `option` and the choices otherwise. A falloff
+// is one of the names above; "power:K" needs K a positive finite number (power:1 -> linear,
+// power:0.5 -> sqrt).
 Weighting parse_weighting(const std::string& text, const std::string& option = "--weighting");
 Falloff parse_falloff(const std::string& text, const std::string& option = "--falloff");
 // "inf", "none" or "" -> unbounded; otherwise a positive finite number.

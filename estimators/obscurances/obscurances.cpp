@@ -62,7 +62,8 @@ ObscuranceSettings obscurance_settings_of(const ParamSet& p) {
   ObscuranceSettings s{};
   s.rays = static_cast<int>(p.integer("rays"));
   s.dmax = p.real("dmax");
-  s.rho = parse_rho(p.choice("rho"));
+  const double k = p.real("rho_k");  // read always: every declared parameter is read
+  s.rho = p.choice("rho") == "power" ? Falloff::power(k) : parse_rho(p.choice("rho"));
   s.sampling = p.choice("sampling") == "systematic" ? SamplerKind::stratified : SamplerKind::random;
   s.seed = static_cast<uint64_t>(p.integer("seed"));
   return s;
@@ -220,8 +221,17 @@ EstimatorInfo obscurances_estimator() {
        false,
        "",
        "obscurance function (§3): sqrt = sqrt(d/dmax), exp = (1-e^(-4d/dmax))/(1-e^-4), "
-       "constant = 0 within dmax (AO)",
-       {"exp", "sqrt", "constant"}},
+       "constant = 0 within dmax (AO), power = (d/dmax)^rho_k (CONTRACT §3 power:K)",
+       {"exp", "sqrt", "constant", "power"}},
+      {"rho_k",
+       ParamType::real,
+       2.0,
+       1e-3,
+       1e3,
+       false,
+       "",
+       "the exponent K of rho = power, rho(x) = x^K (1 = linear, 0.5 = sqrt); unused otherwise",
+       {}},
       {"sampling",
        ParamType::choice,
        "systematic",
@@ -242,7 +252,8 @@ EstimatorInfo obscurances_estimator() {
        {}},
   };
   info.definition_doc =
-      "cosine weighting, dmax = dmax, falloff = rho (sqrt -> sqrt, exp -> exp, constant -> none): "
+      "cosine weighting, dmax = dmax, falloff = rho (sqrt -> sqrt, exp -> exp, constant -> none, "
+      "power -> power:rho_k): "
       "ray value rho(d/dmax) for d < dmax, else 1 (AoDefinition::ray_value). obscurance.R/G/B: "
       "mean over rays of R(Q) rho(d/dmax) for a hit Q within dmax (R(Q) = the hit object's "
       "albedo), else R_ave = area-weighted mean albedo of the scene (eq. 3); below-surface "

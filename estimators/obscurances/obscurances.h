@@ -16,6 +16,7 @@
 //   §3      rho families, normalised to d / dmax (the falloffs of CONTRACT §3, AoDefinition):
 //           sqrt: rho(x) = sqrt(x); exp: rho(x) = (1 - e^(-4x)) / (1 - e^(-4));
 //           constant: rho(x) = 0 for x < 1, i.e. ambient occlusion with range dmax (Fig. 4 (3)).
+//           power (not Mendez et al.'s; CONTRACT §3 power:K): rho(x) = x^K with K = rho_k.
 //
 // Estimator: Nobs = `rays` directions per pixel drawn with pdf cos(theta)/pi around the shading
 // normal, so W = mean of the ray values (the cos/pi cancels). Sampling: i.i.d. (`random`) or the
@@ -41,7 +42,7 @@ struct ObscuranceSettings {
   // from a ParamSet (default_params(...) for "every parameter at its default").
   int rays;              // Nobs, §4.1 (Fig. 6 uses 16)
   double dmax;           // scene units, eq. 2 (Fig. 4: 1.0 m)
-  Falloff rho;           // §3; none = the constant function
+  Falloff rho;           // §3; none = the constant function, power = x^rho_k
   SamplerKind sampling;  // stratified = systematic, §4.2
   uint64_t seed;
 };

@@ -42,7 +42,7 @@ ObscuranceSettings settings(Falloff rho, SamplerKind sampling, double dmax, int 
   return s;
 }
 
-const Falloff kRhos[] = {Falloff::none, Falloff::sqrt, Falloff::exp};
+const Falloff kRhos[] = {Falloff::none, Falloff::sqrt, Falloff::exp, Falloff::power(3.0)};
 const SamplerKind kSamplings[] = {SamplerKind::random, SamplerKind::stratified};
 
 // A floor, a sphere and a box, seen from above: occluders at every distance.
@@ -150,12 +150,14 @@ class DiskAbovePlane : public ::testing::Test {
         es_(scene_),
         g_(probe({0, 0, 0}, {0, 1, 0}, kPixels)) {}
   static double exact(Falloff rho) {
-    switch (rho) {
-      case Falloff::none:
+    switch (rho.kind) {
+      case Falloff::Kind::none:
         return c * c;
-      case Falloff::sqrt:
+      case Falloff::Kind::sqrt:
         return 4.0 / 3.0 * std::sqrt(c) - c * c / 3.0;
-      case Falloff::exp: {
+      case Falloff::Kind::power:  // K != 2; derived in references/reference_test.cpp (c0 = q = c)
+        return c * c + 2.0 * std::pow(c, rho.k) * (1.0 - std::pow(c, 2.0 - rho.k)) / (2.0 - rho.k);
+      case Falloff::Kind::exp: {
         const int n = 20000;  // even; the integrand is smooth on [c, 1]
         const double step = (1.0 - c) / n;
         auto f = [](double u) {
@@ -350,6 +352,9 @@ TEST(Obscurances, DeclarationMapsRhoOntoTheFalloffs) {
   EXPECT_EQ(definition({"rho=constant", "dmax=0.3"}).falloff, Falloff::none);
   EXPECT_DOUBLE_EQ(definition({"rho=constant", "dmax=0.3"}).dmax, 0.3);
   EXPECT_EQ(definition({"rho=exp"}).falloff, Falloff::exp);
+  EXPECT_EQ(definition({"rho=power", "rho_k=3"}).falloff, Falloff::power(3.0));
+  EXPECT_EQ(definition({"rho=power", "rho_k=1"}).falloff, Falloff::linear);
+  EXPECT_THROW(definition({"rho=power", "rho_k=0"}), InputError);
   EXPECT_THROW(definition({"rho=linear"}), InputError);
   EXPECT_THROW(definition({"dmax=0"}), InputError);
   EXPECT_THROW(definition({"sampling=sobol"}), InputError);

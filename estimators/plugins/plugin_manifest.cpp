@@ -193,16 +193,12 @@ void read_definition(const Reader& r, const json& d, PluginManifest& m) {
     r.fail(field + ".weighting", "\"" + w + "\" is not cosine or uniform");
   const std::string f =
       d.contains("falloff") ? r.string_of(d["falloff"], field + ".falloff") : std::string("none");
-  if (f == "none")
-    m.falloff = Falloff::none;
-  else if (f == "linear")
-    m.falloff = Falloff::linear;
-  else if (f == "sqrt")
-    m.falloff = Falloff::sqrt;
-  else if (f == "exp")
-    m.falloff = Falloff::exp;
-  else
-    r.fail(field + ".falloff", "\"" + f + "\" is not none, linear, sqrt or exp");
+  try {
+    m.falloff = parse_falloff(f, field + ".falloff");  // CONTRACT §3, power:K included
+  } catch (const InputError&) {
+    r.fail(field + ".falloff",
+           "\"" + f + "\" is not none, linear, sqrt, exp or power:K (K a positive number)");
+  }
   const json dmax = d.contains("dmax") ? d["dmax"] : json(nullptr);
   if (dmax.is_null()) {
     m.dmax = std::numeric_limits<double>::infinity();

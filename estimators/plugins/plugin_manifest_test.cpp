@@ -69,6 +69,22 @@ TEST(PluginManifest, ReadsEveryField) {
   EXPECT_EQ(d.falloff, Falloff::linear);
 }
 
+// CONTRACT §3 power:K in a manifest: what a volumetric-obscurance plug-in declares.
+TEST(PluginManifest, DeclaresAPowerFalloff) {
+  const PluginManifest m = read_plugin_manifest(
+      make_plugin(test_temp_dir("manifest") / "p",
+                  edited("\"falloff\": \"linear\"", "\"falloff\": \"power:3\"")));
+  const AoDefinition d = plugin_definition(m, resolve_params(m.name, m.params, {}, "test"));
+  EXPECT_EQ(d.falloff, Falloff::power(3.0));
+  EXPECT_EQ(d.to_json()["falloff"], "power:3");
+  EXPECT_NE(plugin_definition_doc(m).find("falloff power:3"), std::string::npos);
+  for (const char* bad : {"power:0", "power:-1", "power:nan", "power:x"}) {
+    const std::string e =
+        error_of(edited("\"falloff\": \"linear\"", std::string("\"falloff\": \"") + bad + "\""));
+    EXPECT_NE(e.find(std::string("definition.falloff: \"") + bad + "\""), std::string::npos) << e;
+  }
+}
+
 TEST(PluginManifest, EachErrorNamesTheFileAndTheField) {
   const std::string file = (test_temp_dir("manifest") / "p" / "estimator.json").string();
   const std::vector<std::pair<std::string, std::string>> cases = {

@@ -11,7 +11,9 @@ AoDefinition definition_of(const ParamSet& p) {
   d.weighting = parse_weighting(p.choice("weighting"), "weighting");
   const double dmax = p.real("dmax");
   d.dmax = dmax > 0.0 ? dmax : std::numeric_limits<double>::infinity();
-  d.falloff = parse_falloff(p.choice("falloff"), "falloff");
+  const std::string falloff = p.choice("falloff");
+  const double k = p.real("falloff_k");  // read always: every declared parameter is read
+  d.falloff = falloff == "power" ? Falloff::power(k) : parse_falloff(falloff, "falloff");
   validate_definition(d);
   return d;
 }
@@ -73,8 +75,18 @@ EstimatorInfo raytraced_estimator() {
        0,
        false,
        "",
-       "occluder weight 1 - rho(d/dmax): none, linear, sqrt or exp (CONTRACT §3)",
-       {"none", "linear", "sqrt", "exp"}},
+       "occluder weight 1 - rho(d/dmax): none, linear, sqrt, exp or power (rho(x) = x^falloff_k) "
+       "(CONTRACT §3)",
+       {"none", "linear", "sqrt", "exp", "power"}},
+      {"falloff_k",
+       ParamType::real,
+       2.0,
+       1e-3,
+       1e3,
+       false,
+       "",
+       "the exponent K of falloff power, rho(x) = x^K (1 = linear, 0.5 = sqrt); unused otherwise",
+       {}},
       {"sampler",
        ParamType::choice,
        "random",

@@ -56,7 +56,8 @@ void main() {
     const vec3 d = l.d.xyz;
     const float cg = dot(ng, d);
     // The shadow test, shared by both sides: the receiver's map depth against the stored nearest
-    // depth, less the receiver-side bias of bias + slope_bias · tan θ texels.
+    // depth, less the receiver-side bias of bias + slope_bias · tan θ texels (l.d.w: this map's
+    // texel in units of the sphere fit's, shadowmap_common.glsl).
     const vec3 q = light_space(p, pc.centre_radius, l);
     const ivec2 texel = clamp(ivec2(floor((q.xy * 0.5 + 0.5) * res)), ivec2(0),
                               ivec2(int(pc.resolution) - 1));
@@ -64,7 +65,8 @@ void main() {
     const float stored = imageLoad(atlas, texel + ivec2(int(k * pc.resolution), 0)).x;
     const float ac = abs(cg);
     const float tan_theta = min(sqrt(max(0.0, 1.0 - ac * ac)) / max(ac, 1e-6), pc.max_tan);
-    const float lit = q.z - (pc.bias + pc.slope_bias * tan_theta) / res <= stored ? 1.0 : 0.0;
+    const float slack = (pc.bias + pc.slope_bias * tan_theta) * l.d.w / res;
+    const float lit = q.z - slack <= stored ? 1.0 : 0.0;
     const vec3 mirror = vec3(d.x, -d.y, d.z);
     for (uint s = 0; s < sides; ++s) {
       const float sign_s = s == 0 ? 1.0 : -1.0;

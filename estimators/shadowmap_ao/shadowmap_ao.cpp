@@ -2,8 +2,10 @@
 #include "estimators/shadowmap_ao/shadowmap_ao.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <glm/vec4.hpp>
@@ -83,15 +85,14 @@ class ShadowmapDevice {
     vertex_count_ = static_cast<uint32_t>(idx.size());
     positions_ = vk::storage_buffer(vk, p);
     indices_ = vk::storage_buffer(vk, idx);
-    // Each light's frame: d towards the light, u and v spanning its map.
-    std::vector<glm::vec4> frames;
+    // Each light's frame: d towards the light, u and v spanning its map; the maps fitted to the
+    // sphere until the receivers are known (set_gbuffer, set_receivers).
     for (const glm::vec3& d : light_directions(s.lights, s.distribution, s.dome, s.seed)) {
       const glm::vec3 a = std::abs(d.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
       const glm::vec3 u = glm::normalize(glm::cross(a, d));
-      const glm::vec3 v = glm::cross(d, u);
-      frames.insert(frames.end(), {glm::vec4(u, 0.0f), glm::vec4(v, 0.0f), glm::vec4(d, 0.0f)});
+      basis_.push_back({u, glm::cross(d, u), d});
     }
-    lights_ = vk::storage_buffer(vk, frames);
+    lights_ = vk::storage_buffer(vk, light_frames({}));
 
     vk::GraphicsDesc desc;
     desc.name = "shadowmap depth";
@@ -127,6 +128,10 @@ class ShadowmapDevice {
 
   // Mode pixel: receivers are the G-buffer's covered pixels (P, N, Ng read on the device).
   void set_gbuffer(const GBuffer& g) {
+    std::vector<glm::vec3> points;
+    for (size_t k = 0; k < g.pixel_count(); ++k)
+      if (g.covered(k)) points.push_back(g.position[k]);
+    lights_.upload(light_frames(points));
     gbuffer_ = vk::upload_gbuffer(vk_, g);
     width_ = static_cast<uint32_t>(g.width);
     receiver_count_ = static_cast<uint32_t>(g.pixel_count());
@@ -138,6 +143,10 @@ class ShadowmapDevice {
 
   // Mode vertex: receivers are points with face normals (position w = 1; 0 = skip).
   void set_receivers(const std::vector<glm::vec4>& position_normal) {
+    std::vector<glm::vec3> points;
+    for (size_t k = 0; k + 1 < position_normal.size(); k += 2)
+      if (position_normal[k].w != 0.0f) points.push_back(glm::vec3(position_normal[k]));
+    lights_.upload(light_frames(points));
     receiver_count_ = static_cast<uint32_t>(position_normal.size() / 2);
     width_ = 1;
     receivers_ = vk::Buffer(vk_, std::max<size_t>(1, position_normal.size()) * sizeof(glm::vec4),
@@ -207,6 +216,42 @@ class ShadowmapDevice {
   }
 
  private:
+  // The lights' buffer (struct Light of shadowmap_common.glsl): u, v, (d, texel scale), fit. With
+  // fit = receivers and receivers given, each map spans the receivers' extent along its u and v,
+  // widened by two texels a side (and by 1e-6 R for the device's rounding of the same dot
+  // products) so that every receiver falls inside; a receiver set narrower than 1e-3 R (one
+  // probe point) gets that width. Depth keeps the sphere: every occluder between a receiver and
+  // the light is drawn. Otherwise (fit = scene, or no receiver) the sphere, as before.
+  std::vector<glm::vec4> light_frames(const std::vector<glm::vec3>& receivers) const {
+    const glm::vec3 c(centre_radius_);
+    const float radius = centre_radius_.w;
+    const bool fit = s_.fit_receivers && !receivers.empty();
+    std::vector<glm::vec4> out(4 * basis_.size());
+    tbb::parallel_for(size_t(0), basis_.size(), [&](size_t i) {
+      const auto& [u, v, d] = basis_[i];
+      glm::vec4 extent(0.0f, 0.0f, radius, radius);  // centre u, centre v, half-widths
+      if (fit) {
+        const float inf = std::numeric_limits<float>::infinity();
+        glm::vec2 lo(inf), hi(-inf);
+        for (const glm::vec3& p : receivers) {
+          const glm::vec2 uv(glm::dot(p - c, u), glm::dot(p - c, v));
+          lo = glm::min(lo, uv);
+          hi = glm::max(hi, uv);
+        }
+        const float widen = 1.0f + 4.0f / static_cast<float>(s_.resolution);
+        const glm::vec2 half =
+            glm::max(0.5f * (hi - lo), glm::vec2(1e-3f * radius)) * widen + 1e-6f * radius;
+        extent = glm::vec4(0.5f * (lo + hi), half);
+      }
+      const float texel_scale = std::max(extent.z, extent.w) / radius;
+      out[4 * i] = glm::vec4(u, 0.0f);
+      out[4 * i + 1] = glm::vec4(v, 0.0f);
+      out[4 * i + 2] = glm::vec4(d, texel_scale);
+      out[4 * i + 3] = glm::vec4(extent.x, extent.y, 1.0f / extent.z, 1.0f / extent.w);
+    });
+    return out;
+  }
+
   void make_accumulators() {
     accumulators_ =
         vk::Buffer(vk_, std::max<VkDeviceSize>(1, receiver_count_) * 4 * sizeof(glm::vec4),
@@ -217,6 +262,7 @@ class ShadowmapDevice {
   ShadowmapSettings s_;
   vk::PassTimer timer_;
   glm::vec4 centre_radius_{0.0f};
+  std::vector<std::array<glm::vec3, 3>> basis_;  // per light: u, v, d
   uint32_t vertex_count_ = 0, receiver_count_ = 0, width_ = 1;
   vk::Buffer positions_, indices_, lights_, receivers_, accumulators_;
   std::unique_ptr<vk::GraphicsPipeline> depth_pipeline_;
@@ -391,6 +437,7 @@ ShadowmapSettings shadowmap_settings(const ParamSet& p) {
   s.lights_per_pass = static_cast<int>(p.integer("lights_per_pass"));
   s.weighting = parse_weighting(p.choice("weighting"), "weighting");
   s.mode = p.choice("mode") == "vertex" ? ShadowmapMode::vertex : ShadowmapMode::pixel;
+  s.fit_receivers = p.choice("fit") == "receivers";
   s.seed = static_cast<uint64_t>(p.integer("seed"));
   return s;
 }
@@ -424,9 +471,21 @@ EstimatorInfo shadowmap_ao_estimator() {
        4096,
        true,
        "texels",
-       "texels per side of each light's orthographic shadow map, fitted to the scene's bounding "
-       "sphere",
+       "texels per side of each light's orthographic shadow map (its extent: fit)",
        {}},
+      {"fit",
+       ParamType::choice,
+       "receivers",
+       0,
+       0,
+       false,
+       "",
+       "each light's map laterally: receivers = the extent of the receivers as that light sees "
+       "them (mode pixel: the covered G-buffer points; vertex: the baked triangle centres), as "
+       "cascaded shadow maps fit the view; scene = the scene's bounding sphere (GPU Gems' "
+       "whole-object map, which spends the texels on what no receiver needs). Depth covers the "
+       "sphere either way, so every occluder is drawn",
+       {"receivers", "scene"}},
       {"distribution",
        ParamType::choice,
        "uniform",

@@ -8,10 +8,14 @@
 //   either uniformly (the chapter's recommendation: a spherical Fibonacci lattice under a seeded
 //   random rotation) or at evenly spaced latitudes and longitudes (which "tends to concentrate too
 //   many samples at the poles"; the poles are ±Y).
-// - Per light, a depth-only orthographic shadow map fitted to the scene's bounding sphere
-//   (shadowmap_depth.vert/.frag). `lights_per_pass` maps share one atlas and are tested together in
-//   one accumulation pass (§17.3: "accumulate eight shadows in the shader at once ... only n + n/8
-//   renders"), shadowmap_accumulate.comp.
+// - Per light, a depth-only orthographic shadow map (shadowmap_depth.vert/.frag) whose depth range
+//   covers the scene's bounding sphere and whose lateral extent, with fit = receivers (default),
+//   is the receivers' extent as that light sees them (the camera's visible points, or the baked
+//   vertices' triangle centres), as cascaded shadow maps are fitted to the view: the texels go
+//   where they are read, so a small occluder over a large ground keeps its size in texels. fit =
+//   scene is the chapter's whole-scene map (the bounding sphere laterally too). `lights_per_pass`
+//   maps share one atlas and are tested together in one accumulation pass (§17.3: "accumulate eight
+//   shadows in the shader at once ... only n + n/8 renders"), shadowmap_accumulate.comp.
 // - Each receiver adds, per light above its surface, weight w (1, or n·l for cosine weighting) to
 //   its total and w·lit to its lit sum; lights below the surface are the chapter's "side of the
 //   surface facing away from the light is always black". AO = lit sum / total: a ratio
@@ -52,6 +56,7 @@ struct ShadowmapSettings {
   int lights_per_pass = 0;
   Weighting weighting = Weighting::uniform;
   ShadowmapMode mode = ShadowmapMode::pixel;
+  bool fit_receivers = true;  // false: every map spans the scene's bounding sphere
   uint64_t seed = 0;
 };
 

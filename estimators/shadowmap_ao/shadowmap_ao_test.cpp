@@ -168,6 +168,14 @@ TEST_F(ShadowmapDiskAbovePlane, ThousandUniformLightsMatchBothClosedForms) {
   // The dome puts all 1024 lights above the floor: the same answer.
   u["layout"] = "dome";
   EXPECT_NEAR(ao(u), uniform, 0.02 * uniform);
+  // Over a 20 x 20 floor instead of the tiny one, the receiver-fitted maps (the default) resolve
+  // the disk as well: the same bound.
+  const Scene wide =
+      scene_of({generated("floor", "plane", {{"size", {20, 20}}}),
+                generated("disk", "disk", {{"radius", r}, {"segments", 256}, {"facing", "down"}},
+                          {0.0f, static_cast<float>(h), 0.0f})});
+  EXPECT_NEAR(estimate(wide, probe_, base).ao[0], uniform, 0.02 * uniform);
+  EXPECT_NEAR(estimate(wide, probe_, c).ao[0], cosine, 0.02 * cosine);
 }
 
 // Lat-long rows are evenly spaced in θ from the pole +Y, straight above the disk, so the disk
@@ -202,6 +210,71 @@ TEST(ShadowmapAo, SameSeedSameBitsWhateverTheBatching) {
   EXPECT_EQ(a, b);
   EXPECT_EQ(b, c);
   EXPECT_NE(c, d);  // the seed turns the lattice: the box's shadows move
+}
+
+// The issue's case: a unit disk 1 above a 100 x 100 floor. Fitted to the scene's bounding sphere
+// (R = 70.7) a 512-texel map's texel is 0.28 wide and the disk about 7 texels across; fitted to
+// the receivers the disk fills what the receivers span. Uniform weighting, h = r = 1: cos α =
+// 1 / sqrt(2) = 0.7071 (the closed form above); the issue asks for 0.025 at the defaults.
+class ShadowmapDiskOverLargeFloor : public ::testing::Test {
+ protected:
+  static constexpr double r = 1.0, h = 1.0;
+  ShadowmapDiskOverLargeFloor()
+      : scene_(scene_of(
+            {generated("floor", "plane", {{"size", {100, 100}}}),
+             generated("disk", "disk", {{"radius", r}, {"segments", 256}, {"facing", "down"}},
+                       {0.0f, static_cast<float>(h), 0.0f})})) {}
+  Scene scene_;
+};
+
+TEST_F(ShadowmapDiskOverLargeFloor, DefaultsMatchTheClosedFormUnderTheDisk) {
+  REQUIRE_VULKAN();
+  const double exact = h / std::sqrt(r * r + h * h);
+  const GBuffer one = probe(glm::vec3(0.0f), glm::vec3(0, 1, 0), 1);
+  // The lattice's boundary error as above: 256 lights put about 128 above the floor and the
+  // cap's edge crosses about 2π sin 45° / sqrt(4π/256) = 20 cells, a few lights in 128; 1024
+  // lights halve it. 0.025 is the issue's bound.
+  for (int lights : {256, 1024})
+    EXPECT_NEAR(estimate(scene_, one, {{"lights", lights}}).ao[0], exact, 0.025) << lights;
+  // A camera below the disk's rim looking down at the floor under it: the receivers are what it
+  // sees (some 8 units of floor, the disk's underside), and the pixels whose floor point lies
+  // within 0.05 of the centre read the centre's value (the change is of order ρ² there).
+  const GBuffer g = view_of(scene_, {0.0f, 0.8f, 1.5f}, {0, 0, 0}, {0, 1, 0}, 96, 72);
+  const EstimateResult e = estimate(scene_, g, nlohmann::json::object());
+  double sum = 0.0;
+  int n = 0;
+  for (size_t k = 0; k < g.pixel_count(); ++k) {
+    const glm::vec3 p = g.position[k];
+    if (!g.covered(k) || std::abs(p.y) > 1e-4f || glm::length(glm::vec2(p.x, p.z)) > 0.05f)
+      continue;
+    EXPECT_NEAR(e.ao[k], exact, 0.025) << "pixel " << k;
+    sum += e.ao[k];
+    ++n;
+  }
+  ASSERT_GE(n, 4);
+  EXPECT_NEAR(sum / n, exact, 0.025);
+}
+
+// The old fit is kept as fit = scene, and it is what GPU Gems' whole-scene map gives: the disk a
+// few texels across. It reads the same where the receivers span the whole scene anyway (vertex mode
+// on an open plane): both fits give exactly 1 there (OpenPlaneIsOne runs the default fit; here the
+// old one).
+TEST_F(ShadowmapDiskOverLargeFloor, TheSceneFitIsKept) {
+  REQUIRE_VULKAN();
+  const EstimatorInfo& info = find_estimator("shadowmap-ao");
+  EXPECT_TRUE(shadowmap_settings(resolve_params(info.name, info.params, {}, "t")).fit_receivers);
+  EXPECT_FALSE(shadowmap_settings(resolve_params(info.name, info.params, {{"fit", "scene"}}, "t"))
+                   .fit_receivers);
+  const Scene s = scene_of({generated("floor", "plane", {{"size", {4, 4}}, {"subdivisions", 2}})});
+  const GBuffer g = view_of(s, {0.3f, 2.0f, 0.5f}, {0, 0, 0}, {0, 0, -1}, 16, 12);
+  for (const char* mode : {"pixel", "vertex"}) {
+    const EstimateResult e =
+        estimate(s, g, {{"lights", 64}, {"resolution", 64}, {"fit", "scene"}, {"mode", mode}});
+    for (size_t k = 0; k < g.pixel_count(); ++k) {
+      if (!g.covered(k)) continue;
+      ASSERT_NEAR(e.ao[k], 1.0f, 1e-6f) << mode;
+    }
+  }
 }
 
 TEST_F(ShadowmapDiskAbovePlane, AnAtlasWiderThanTheDeviceAllowsIsAnInputError) {

@@ -167,6 +167,33 @@ TEST(Cli, ReferenceIsCachedAndCarriesItsHeader) {
   EXPECT_EQ(spec.get_string_attribute("aoeval:spp"), "16");
 }
 
+// CONTRACT §3 power:K: the reference computes it and says so in its header; a bad K is exit 2 on
+// one line that quotes it.
+TEST(Cli, ReferenceTakesPowerFalloffAndRefusesABadK) {
+  const fs::path d = temp_dir();
+  const std::string out = (d / "power.exr").string();
+  Result ok =
+      run("reference --scene cornell-box --res 8x8 --spp 4 --no-cache --dmax 1 "
+          "--falloff power:3 -o " +
+          out);
+  ASSERT_EQ(ok.code, 0) << ok.err;
+  OIIO::ImageBuf image(out);
+  ASSERT_TRUE(image.read());
+  EXPECT_NE(image.spec().get_string_attribute("aoeval:definition").find("\"power:3\""),
+            std::string::npos)
+      << image.spec().get_string_attribute("aoeval:definition");
+  const std::string never = (d / "never-power.exr").string();
+  for (const char* k : {"power:0", "power:-2", "power:nan", "power:inf", "power:abc",
+                        "power:", "power:3x", "power:1e999"}) {
+    Result r = run("reference --scene cornell-box --res 8x8 --no-cache --dmax 1 --falloff " +
+                   std::string(k) + " -o " + never);
+    EXPECT_EQ(r.code, 2) << k << ": " << r.err;
+    EXPECT_EQ(lines(r.err), 1u) << k << ": " << r.err;
+    EXPECT_NE(r.err.find(std::string("'") + k + "'"), std::string::npos) << k << ": " << r.err;
+  }
+  EXPECT_FALSE(fs::exists(never));
+}
+
 TEST(Cli, ReferenceBadOptionsExitTwo) {
   const std::string out = (temp_dir() / "never.exr").string();
   for (const char* bad : {"--falloff linear", "--sampler halton", "--weighting area", "--dmax -1",

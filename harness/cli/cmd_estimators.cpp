@@ -3,9 +3,9 @@
 
 #include "errors.h"
 
-#include "harness/cli/commands.h"
 #include "estimators/plugins/plugin_glsl.h"
 #include "estimators/registry.h"
+#include "harness/cli/commands.h"
 #include "harness/plugins/plugin_options.h"
 
 namespace aoeval {
@@ -62,8 +62,9 @@ void show(const EstimatorInfo& e) {
               d["definition_at_defaults"].dump().c_str());
   std::printf(
       "  AO falloffs: none = occluders closer than dmax count fully; linear rho(x) = x;\n"
-      "  sqrt rho(x) = sqrt(x); exp rho(x) = (1 - e^(-4x)) / (1 - e^(-4)); an occluder at\n"
-      "  distance d < dmax weighs 1 - rho(d / dmax) (CONTRACT §3).\n");
+      "  sqrt rho(x) = sqrt(x); exp rho(x) = (1 - e^(-4x)) / (1 - e^(-4)); power:K rho(x) = x^K\n"
+      "  (K > 0; power:1 is linear, power:0.5 is sqrt); an occluder at distance d < dmax weighs\n"
+      "  1 - rho(d / dmax) (CONTRACT §3).\n");
   std::printf("  parameters\n    %-12s %-8s %-10s %-22s %-12s %s\n", "name", "type", "default",
               "range", "unit", "meaning");
   for (const auto& p : e.params)

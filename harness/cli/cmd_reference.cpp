@@ -1,5 +1,6 @@
 // `aoeval reference --scene S [--view V] [--res WxH] [--spp N] [--weighting cosine|uniform]
-//  [--dmax D] [--falloff none|linear|sqrt|exp] [--sampler random|stratified|sobol] [--seed K]
+//  [--dmax D] [--falloff none|linear|sqrt|exp|power:K] [--sampler random|stratified|sobol] [--seed
+//  K]
 //  [--normal shading|geometric] [--target-stderr E [--max-spp M]] [--no-cache] -o FILE.exr`
 #include <chrono>
 #include <cstdio>
@@ -118,7 +119,8 @@ void add_reference_command(CLI::App& app) {
       ->check(CLI::Range(1, 1 << 24));
   cmd->add_option("--weighting", o.weighting, "cosine or uniform");
   cmd->add_option("--dmax", o.dmax, "occluder range in scene units, or inf");
-  cmd->add_option("--falloff", o.falloff, "none, linear, sqrt or exp (CONTRACT §3)");
+  cmd->add_option("--falloff", o.falloff,
+                  "none, linear, sqrt, exp or power:K (rho(x) = x^K, K > 0) (CONTRACT §3)");
   cmd->add_option("--sampler", o.sampler, "random, stratified or sobol");
   // CLI11 reads "-1" into an unsigned as 2^64 - 1; a seed is a plain non-negative integer.
   cmd->add_option("--seed", o.seed, "random seed (a non-negative integer)")

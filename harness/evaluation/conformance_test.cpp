@@ -2,7 +2,9 @@
 // run as the harness runs it (declared defaults, prepare, run, estimate_to_image). A new estimator
 // is checked here without a line of test code; what it may be expected to do comes from its
 // EstimatorInfo::conformance, whose defaults follow from its backend.
-//   - An open plane: AO within open_plane_tolerance() of 1 (no occluder above a lone plane).
+//   - The corpus's open-plane: AO within open_plane_tolerance() of 1 (no occluder above a lone
+//     plane), the tolerance each estimator declares (EstimatorInfo::conformance, a plug-in's
+//     estimator.json open_plane_tolerance) or its backend's default.
 //   - Inside a closed box: AO at most the definition's ray value at the box's diagonal (every ray
 //     hits a wall no farther away), for estimators that see the whole enclosure.
 //   - Every scene, a tree scene included: AO finite and in [0, 1] on covered pixels, 0 on uncovered
@@ -17,6 +19,7 @@
 #include <optional>
 
 #include "analytic_scenes.h"
+#include "corpus.h"
 #include "embree_scene.h"
 #include "estimators/registry.h"
 #include "estimators/testing/registry_test_names.h"
@@ -34,24 +37,29 @@ struct Analytic {
   GBuffer gbuffer;
 };
 
-// Built in place and never moved: the Embree scene refers to the scene.
-std::unique_ptr<const Analytic> make(Scene scene, glm::vec3 eye, glm::vec3 target) {
+// Built in place and never moved: the Embree scene refers to the scene. Rendered from the scene's
+// first view at kW x kH.
+std::unique_ptr<const Analytic> make(Scene scene) {
   auto a = std::make_unique<Analytic>();
   a->scene = std::move(scene);
-  View& v = a->scene.views.front();
+  a->embree = std::make_unique<EmbreeScene>(a->scene);
+  a->gbuffer = render_gbuffer(*a->embree, make_camera(a->scene.views.front(), kW, kH));
+  return a;
+}
+
+std::unique_ptr<const Analytic> make(Scene scene, glm::vec3 eye, glm::vec3 target) {
+  View& v = scene.views.front();
   v.name = "main";
   v.eye = eye;
   v.target = target;
   v.fov_y_deg = 60.0f;
-  a->embree = std::make_unique<EmbreeScene>(a->scene);
-  a->gbuffer = render_gbuffer(*a->embree, make_camera(v, kW, kH));
-  return a;
+  return make(std::move(scene));
 }
 
-// A 4 x 4 plane seen from above at an angle: the far part of the image is sky (uncovered).
+// The corpus's open-plane (a 4 x 4 plane seen from above at an angle: the far part of the image is
+// sky, uncovered), so what users run `aoeval` on is what the registry is held to.
 const Analytic& open_plane() {
-  static const auto a =
-      make(scene_of({generated("floor", "plane", {{"size", {4, 4}}})}), {0, 1.2f, 2.2f}, {0, 0, 0});
+  static const auto a = make(load_scene("open-plane"));
   return *a;
 }
 
