@@ -55,6 +55,7 @@ struct GtaoSettings {
   bool jitter;
   int tile;
   uint64_t seed;
+  bool half_res;  // resolution = half (half_res.h)
 };
 
 // The parameter table shared by both twins (gtao adds `gbuffer`).
@@ -76,14 +77,15 @@ struct GtaoTables {
 GtaoTables gtao_tables(const GtaoSettings& settings);
 // The workgroup side of the compute shaders (local_size_x = local_size_y).
 inline constexpr int kGtaoGroupSize = 8;
-GtaoConstants gtao_constants(const GtaoSettings& settings, int width, int height, float focal);
+// The constants for a frame of `shape`'s size, focal length and principal point (pixels unread).
+GtaoConstants gtao_constants(const GtaoSettings& settings, const HbaoFrame& shape);
 // Checks what the parameter table cannot (a frame of at least 2 x 2 pixels with a finite focal
 // length); InputError otherwise.
 void validate_gtao_frame(const HbaoFrame& frame);
 
 struct GtaoOutput {
   std::vector<float> ao;        // final AO (denoised, then ^final_power), 0 where not covered
-  std::vector<float> raw_ao;    // before the denoise pass and the power
+  std::vector<float> raw_ao;    // before the denoise pass and the power (half-size at half res)
   std::vector<glm::vec3> bent;  // unit world-space bent normal, 0 where none (bent on only)
   std::map<std::string, double> pass_ms;
 };
