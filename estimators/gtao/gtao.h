@@ -15,6 +15,9 @@
 // here, and apply the final power and the world-space bent normal on the host with the same code,
 // so they agree bit for bit where the device rounds like IEEE 754 (gtao_test.cpp).
 //
+// resolution = half runs both twins' passes on the half-resolution frame and upsamples the AO and
+// bent normals with the shared joint bilateral filter (estimators/hbao_split/half_res.h).
+//
 // Declared AO definition: cosine weighting (eq. 1), dmax = R; falloff none when the falloff range
 // is 0 (an occluder counts fully within R: the horizon is the highest point seen within R), linear
 // otherwise (approximate: GTAO fades the horizon's cosine towards the tangent plane between
