@@ -8,8 +8,9 @@
 // (hbao-split-cpu, TBB over rows) and as GLSL for the Vulkan twin (hbao-split); both read the same
 // eye-space depth and normals, the same random texture bits generated here and the same direction
 // table, so they agree to 1e-3 (hbao_split_test.cpp). resolution = half runs the passes on the
-// half-resolution frame and upsamples the AO with the shared joint bilateral filter (half_res.h). Declared AO definition: cosine weighting,
-// dmax = R, linear falloff when attenuation is on (none otherwise).
+// half-resolution frame and upsamples the AO with the shared joint bilateral filter (half_res.h).
+// Declared AO definition: cosine weighting, dmax = R, linear falloff when attenuation is on (none
+// otherwise).
 #pragma once
 
 #include <cstdint>

@@ -119,8 +119,9 @@ FigureResult gtao_thickness(FigureContext& ctx) {
     if (p.name == "thickness") declared = p.default_value.get<double>();
   ThicknessNumbers n;
   n.declared_default = declared;
-  n.thickness = ctx.quick ? std::vector<double>{0.0, 0.5, 1.0}
-                          : std::vector<double>{0.0, 0.025, 0.05, 0.075, 0.1, 0.15, 0.2, 0.3, 0.5, 1.0};
+  n.thickness = ctx.quick
+                    ? std::vector<double>{0.0, 0.5, 1.0}
+                    : std::vector<double>{0.0, 0.025, 0.05, 0.075, 0.1, 0.15, 0.2, 0.3, 0.5, 1.0};
   if (std::find(n.thickness.begin(), n.thickness.end(), declared) == n.thickness.end()) {
     n.thickness.push_back(declared);
     std::sort(n.thickness.begin(), n.thickness.end());
