@@ -15,6 +15,9 @@
 // here, and apply the final power and the world-space bent normal on the host with the same code,
 // so they agree bit for bit where the device rounds like IEEE 754 (gtao_test.cpp).
 //
+// resolution = half runs both twins' passes on the half-resolution frame and upsamples the AO and
+// bent normals with the shared joint bilateral filter (estimators/hbao_split/half_res.h).
+//
 // Declared AO definition: cosine weighting (eq. 1), dmax = R; falloff none when the falloff range
 // is 0 (an occluder counts fully within R: the horizon is the highest point seen within R), linear
 // otherwise (approximate: GTAO fades the horizon's cosine towards the tangent plane between
@@ -55,6 +58,7 @@ struct GtaoSettings {
   bool jitter;
   int tile;
   uint64_t seed;
+  bool half_res;  // resolution = half (half_res.h)
 };
 
 // The parameter table shared by both twins (gtao adds `gbuffer`).
@@ -76,14 +80,15 @@ struct GtaoTables {
 GtaoTables gtao_tables(const GtaoSettings& settings);
 // The workgroup side of the compute shaders (local_size_x = local_size_y).
 inline constexpr int kGtaoGroupSize = 8;
-GtaoConstants gtao_constants(const GtaoSettings& settings, int width, int height, float focal);
+// The constants for a frame of `shape`'s size, focal length and principal point (pixels unread).
+GtaoConstants gtao_constants(const GtaoSettings& settings, const HbaoFrame& shape);
 // Checks what the parameter table cannot (a frame of at least 2 x 2 pixels with a finite focal
 // length); InputError otherwise.
 void validate_gtao_frame(const HbaoFrame& frame);
 
 struct GtaoOutput {
   std::vector<float> ao;        // final AO (denoised, then ^final_power), 0 where not covered
-  std::vector<float> raw_ao;    // before the denoise pass and the power
+  std::vector<float> raw_ao;    // before the denoise pass and the power (half-size at half res)
   std::vector<glm::vec3> bent;  // unit world-space bent normal, 0 where none (bent on only)
   std::map<std::string, double> pass_ms;
 };

@@ -6,16 +6,26 @@
 
 #include "estimators/gtao/gtao.h"
 #include "estimators/gtao/gtao_cpu_kernel.h"
+#include "estimators/hbao_split/half_res.h"
 
 namespace aoeval {
 
 using Clock = std::chrono::steady_clock;
 
-GtaoOutput gtao_cpu(const HbaoFrame& frame, const Camera& camera, const GtaoSettings& settings) {
-  validate_gtao_frame(frame);
+GtaoOutput gtao_cpu(const HbaoFrame& full, const Camera& camera, const GtaoSettings& settings) {
+  validate_gtao_frame(full);
+  GtaoOutput out;
+  auto t0 = Clock::now();
+  // resolution = half: the passes below run on the half-resolution frame (half_res.h).
+  const HbaoFrame low = settings.half_res ? half_resolution_frame(full) : HbaoFrame{};
+  if (settings.half_res) {
+    validate_gtao_frame(low);
+    out.pass_ms["downsample_ms"] = ms_since(t0);
+  }
+  const HbaoFrame& frame = settings.half_res ? low : full;
   const int w = frame.width, h = frame.height;
   const size_t pixels = static_cast<size_t>(w) * static_cast<size_t>(h);
-  const GtaoConstants c = gtao_constants(settings, w, h, frame.focal);
+  const GtaoConstants c = gtao_constants(settings, frame);
   const GtaoTables tables = gtao_tables(settings);
   std::vector<float> raw_ao(pixels, 0.0f);
   std::vector<glm::vec3> raw_bent(pixels, glm::vec3(0.0f));
@@ -32,8 +42,7 @@ GtaoOutput gtao_cpu(const HbaoFrame& frame, const Camera& camera, const GtaoSett
   images.raw_ao = raw_ao.data();
   images.raw_bent = raw_bent.data();
 
-  GtaoOutput out;
-  auto t0 = Clock::now();
+  t0 = Clock::now();
   for_each_pixel(w, h, [&](int i, int j) {
     const size_t k = static_cast<size_t>(j) * static_cast<size_t>(w) + static_cast<size_t>(i);
     raw_ao[k] = gtao_glsl::gtao_pixel(images, i, j, c, raw_bent[k]);
@@ -55,8 +64,14 @@ GtaoOutput gtao_cpu(const HbaoFrame& frame, const Camera& camera, const GtaoSett
     ao = raw_ao;
     bent = raw_bent;
   }
+  if (settings.half_res) {
+    t0 = Clock::now();
+    ao = upsample_half_res(full, ao);
+    if (settings.bent) bent = upsample_half_res(full, bent);
+    out.pass_ms["upsample_ms"] = ms_since(t0);
+  }
   out.raw_ao = std::move(raw_ao);
-  gtao_finish(settings, camera, frame, ao, bent, out);
+  gtao_finish(settings, camera, full, ao, bent, out);
   return out;
 }
 

@@ -4,6 +4,7 @@
 #include <glm/vec4.hpp>
 
 #include "estimators/hbao_split/frame_device.h"
+#include "estimators/hbao_split/half_res_device.h"
 #include "estimators/vulkan/vk_commands.h"
 #include "estimators/vulkan/vk_pipelines.h"
 #include "estimators/vulkan/vk_resources.h"
@@ -38,15 +39,22 @@ struct GtaoDevice::Impl {
   Camera camera;
   int width = 0, height = 0;
   std::unique_ptr<HbaoFrameDevice> frame;  // depth and eye normals, uploaded or rasterised
+  std::unique_ptr<HalfResDevice> half;     // resolution = half: the passes run on its frame
   vk::Image2D raw_ao, raw_bent, ao, bent;
   vk::Buffer rotation, steps, slices;
   std::unique_ptr<vk::ComputePipeline> main_pass, denoise;
   VkDescriptorSet main_set = VK_NULL_HANDLE, denoise_set = VK_NULL_HANDLE;
   vk::PassTimer timer;
 
-  Impl(vk::Context& context, const GtaoSettings& s, const Camera& cam, int w, int h, float focal)
-      : vk(context), settings(s), camera(cam), width(w), height(h), timer(context) {
-    constants = gtao_constants(s, w, h, focal);
+  // `full`: the frame's shape; the passes' images have the computed resolution's.
+  Impl(vk::Context& context, const GtaoSettings& s, const Camera& cam, const HbaoFrame& full)
+      : vk(context), settings(s), camera(cam), timer(context) {
+    const HbaoFrame shape = s.half_res ? half_resolution_shape(full) : full;
+    validate_gtao_frame(shape);
+    const int w = shape.width, h = shape.height;
+    width = w;
+    height = h;
+    constants = gtao_constants(s, shape);
     raw_ao = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
     raw_bent = vk::Image2D(vk, w, h, VK_FORMAT_R32G32B32A32_SFLOAT);
     ao = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
@@ -63,10 +71,17 @@ struct GtaoDevice::Impl {
                                                       kPassBindings, push);
     denoise = std::make_unique<vk::ComputePipeline>(vk, "gtao denoise", gtao_denoise_comp_spv,
                                                     kPassBindings, push);
-    const std::vector<vk::Resource> resources = {
-        frame->depth(), frame->normal(), rotation, steps, slices, raw_ao, raw_bent, ao, bent};
+    if (settings.half_res) half = std::make_unique<HalfResDevice>(vk, *frame, settings.bent);
+    const vk::Image2D& depth = half ? half->depth() : frame->depth();
+    const vk::Image2D& normal = half ? half->normal() : frame->normal();
+    const std::vector<vk::Resource> resources = {depth,  normal,   rotation, steps, slices,
+                                                 raw_ao, raw_bent, ao,       bent};
     main_set = main_pass->make_set(resources);
     denoise_set = denoise->make_set(resources);
+    if (half) {
+      const bool d = settings.denoise;
+      half->bind(d ? ao : raw_ao, settings.bent ? (d ? &bent : &raw_bent) : nullptr);
+    }
   }
 };
 
@@ -74,7 +89,7 @@ GtaoDevice::GtaoDevice(vk::Context& vk, const GtaoSettings& settings, const Hbao
                        const Camera& camera) {
   validate_gtao_frame(frame);
   check_frame_matches_camera(frame, camera);
-  impl_ = std::make_unique<Impl>(vk, settings, camera, frame.width, frame.height, frame.focal);
+  impl_ = std::make_unique<Impl>(vk, settings, camera, frame);
   impl_->frame = std::make_unique<HbaoFrameDevice>(vk, frame);
   impl_->make_pipelines();
 }
@@ -83,7 +98,7 @@ GtaoDevice::GtaoDevice(vk::Context& vk, const GtaoSettings& settings, const Scen
                        const Camera& camera) {
   const HbaoFrame shape = hbao_frame_shape(camera);
   validate_gtao_frame(shape);
-  impl_ = std::make_unique<Impl>(vk, settings, camera, shape.width, shape.height, shape.focal);
+  impl_ = std::make_unique<Impl>(vk, settings, camera, shape);
   impl_->frame = std::make_unique<HbaoFrameDevice>(vk, scene, camera);
   impl_->make_pipelines();
 }
@@ -97,18 +112,23 @@ GtaoOutput GtaoDevice::run() {
   m.vk.submit([&](VkCommandBuffer cmd) {
     m.timer.reset(cmd);
     m.frame->record(cmd, m.timer);  // the geometry stage with gbuffer=raster
+    if (m.half) m.half->record_downsample(cmd, m.timer);
     vk::timed_compute_pass(cmd, m.timer, "horizon", *m.main_pass, m.main_set, m.constants, gx, gy);
     if (m.settings.denoise)
       vk::timed_compute_pass(cmd, m.timer, "denoise", *m.denoise, m.denoise_set, m.constants, gx,
                              gy);
+    if (m.half) m.half->record_upsample(cmd, m.timer);
   });
   GtaoOutput out;
   out.pass_ms = m.timer.read();
   out.raw_ao = m.raw_ao.download<float>();
-  std::vector<float> ao = m.settings.denoise ? m.ao.download<float>() : out.raw_ao;
+  const vk::Image2D& final_ao = m.half ? m.half->ao() : m.settings.denoise ? m.ao : m.raw_ao;
+  const vk::Image2D& final_bent = m.half               ? m.half->vector()
+                                  : m.settings.denoise ? m.bent
+                                                       : m.raw_bent;
+  std::vector<float> ao = final_ao.download<float>();
   std::vector<glm::vec3> eye_bent;
-  if (m.settings.bent)
-    eye_bent = unpadded_texels((m.settings.denoise ? m.bent : m.raw_bent).download<float>());
+  if (m.settings.bent) eye_bent = unpadded_texels(final_bent.download<float>());
   const HbaoFrame seen = frame();
   gtao_finish(m.settings, m.camera, seen, ao, eye_bent, out);
   return out;

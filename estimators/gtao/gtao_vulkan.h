@@ -25,7 +25,8 @@ class GtaoDevice {
   GtaoDevice& operator=(const GtaoDevice&) = delete;
 
   // One frame: records and submits the passes, waits, reads the timestamps (geometry_ms with
-  // gbuffer=raster, horizon_ms, denoise_ms when on, total_ms) and downloads.
+  // gbuffer=raster, downsample_ms and upsample_ms at half resolution, horizon_ms, denoise_ms when
+  // on, total_ms) and downloads.
   GtaoOutput run();
   // The G-buffer the passes saw, for the CPU twin (gbuffer=raster: downloaded after a run()).
   HbaoFrame frame() const;

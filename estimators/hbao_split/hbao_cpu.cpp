@@ -6,6 +6,7 @@
 #include "estimators/pixel_loops.h"
 
 #include "errors.h"
+#include "estimators/hbao_split/half_res.h"
 #include "estimators/hbao_split/hbao_split.h"
 
 // The kernel, compiled twice: `plain` for frames, `counting` (the same text with a depth accessor
@@ -60,12 +61,14 @@ HbaoFrame hbao_frame_from_gbuffer(const GBuffer& g) {
   return f;
 }
 
-HbaoCpuResult hbao_split_cpu(const HbaoFrame& frame, const HbaoSettings& settings,
-                             bool count_fetches) {
-  validate_hbao_frame(frame);
+namespace {
+
+// The passes at the frame's own resolution.
+HbaoCpuResult hbao_passes(const HbaoFrame& frame, const HbaoSettings& settings,
+                          bool count_fetches) {
   const int w = frame.width, h = frame.height;
   const size_t pixels = static_cast<size_t>(w) * static_cast<size_t>(h);
-  const HbaoConstants c = hbao_constants(settings, w, h, frame.focal);
+  const HbaoConstants c = hbao_constants(settings, frame);
   const std::vector<glm::vec3> random = hbao_random_texture(settings);
   const std::vector<glm::vec2> directions = hbao_direction_table(settings.directions);
   std::vector<float> horizon(pixels * static_cast<size_t>(settings.directions), 0.0f);
@@ -143,6 +146,24 @@ HbaoCpuResult hbao_split_cpu(const HbaoFrame& frame, const HbaoSettings& setting
   return out;
 }
 
+}  // namespace
+
+HbaoCpuResult hbao_split_cpu(const HbaoFrame& frame, const HbaoSettings& settings,
+                             bool count_fetches) {
+  validate_hbao_frame(frame);
+  if (!settings.half_res) return hbao_passes(frame, settings, count_fetches);
+  auto t0 = Clock::now();
+  const HbaoFrame low = half_resolution_frame(frame);
+  const double downsample_ms = ms_since(t0);
+  HbaoCpuResult out = hbao_passes(low, settings, count_fetches);
+  out.downsample_ms = downsample_ms;
+  t0 = Clock::now();
+  out.ao = upsample_half_res(frame, out.ao);
+  out.upsample_ms = ms_since(t0);
+  out.horizon_ao = upsample_half_res(frame, out.horizon_ao);  // a diagnostic: not timed
+  return out;
+}
+
 namespace {
 
 class HbaoCpuEstimator : public Estimator {
@@ -161,6 +182,10 @@ class HbaoCpuEstimator : public Estimator {
     r.pass_ms = {{"horizon_ms", image.horizon_ms},
                  {"normal_ms", image.normal_ms},
                  {"blur_ms", image.blur_ms}};
+    if (settings_.half_res) {
+      r.pass_ms["downsample_ms"] = image.downsample_ms;
+      r.pass_ms["upsample_ms"] = image.upsample_ms;
+    }
     return r;
   }
 

@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "errors.h"
+#include "estimators/hbao_split/half_res.h"
 #include "estimators/hbao_split/hbao_split.h"
 #include "random.h"
 
@@ -117,6 +118,7 @@ std::vector<ParamSpec> hbao_param_specs() {
        "",
        "seed of the random texture (§4.1.2)",
        {}},
+      resolution_param(),
   };
 }
 
@@ -132,6 +134,7 @@ HbaoSettings hbao_settings_of(const ParamSet& p) {
   s.tile = static_cast<int>(p.integer("tile"));
   s.blur = p.boolean("blur");
   s.seed = static_cast<uint64_t>(p.integer("seed"));
+  s.half_res = half_resolution(p);
   return s;
 }
 
@@ -178,13 +181,15 @@ int hbao_row_stride(int rows) {
   }
 }
 
-HbaoConstants hbao_constants(const HbaoSettings& s, int width, int height, float focal) {
+HbaoConstants hbao_constants(const HbaoSettings& s, const HbaoFrame& shape) {
+  const int width = shape.width, height = shape.height;
+  const float focal = shape.focal;
   HbaoConstants c{};
   c.radius = static_cast<float>(s.radius);
   c.step = static_cast<float>(s.radius / s.steps);
   c.focal = focal;
-  c.half_width = 0.5f * static_cast<float>(width);
-  c.half_height = 0.5f * static_cast<float>(height);
+  c.half_width = 0.5f * static_cast<float>(width) + shape.centre_shift.x;
+  c.half_height = 0.5f * static_cast<float>(height) + shape.centre_shift.y;
   // eq. 13: the staircase step at depth z is z / (f res) with f = 1 / tan(fov/2) and res the
   // pixels across the (square-pixel) screen height: 1 / (f res) = tan(fov/2) / H = 1 / (2 focal).
   c.offset_scale = s.offset ? 0.5f / focal : 0.0f;

@@ -7,8 +7,10 @@
 // The per-pixel algorithm is one source, hbao_kernel.glsl, compiled as C++ for the CPU twin
 // (hbao-split-cpu, TBB over rows) and as GLSL for the Vulkan twin (hbao-split); both read the same
 // eye-space depth and normals, the same random texture bits generated here and the same direction
-// table, so they agree to 1e-3 (hbao_split_test.cpp). Declared AO definition: cosine weighting,
-// dmax = R, linear falloff when attenuation is on (none otherwise).
+// table, so they agree to 1e-3 (hbao_split_test.cpp). resolution = half runs the passes on the
+// half-resolution frame and upsamples the AO with the shared joint bilateral filter (half_res.h).
+// Declared AO definition: cosine weighting, dmax = R, linear falloff when attenuation is on (none
+// otherwise).
 #pragma once
 
 #include <cstdint>
@@ -40,6 +42,7 @@ struct HbaoSettings {
   int tile;
   bool blur;
   uint64_t seed;
+  bool half_res;  // resolution = half (half_res.h)
 };
 
 // The parameter table shared by both twins (hbao-split adds `gbuffer`).
@@ -58,6 +61,9 @@ struct HbaoFrame {
   float focal = 1.0f;  // pixels: height / (2 tan(fov_y / 2))
   std::vector<float> depth;
   std::vector<glm::vec3> normal;
+  // The principal point is (width / 2, height / 2) + centre_shift pixels: 0 for a frame drawn by a
+  // camera, a quarter pixel for a half-resolution frame of one (half_res.h).
+  glm::vec2 centre_shift{0.0f};
 };
 HbaoFrame hbao_frame_from_gbuffer(const GBuffer& gbuffer);
 // A frame's size and focal length for `camera`, without pixels (what the raster pass will draw).
@@ -74,7 +80,8 @@ inline constexpr int kHbaoGroupSize = 8;
 // A stride coprime with `rows` (tile rows of kHbaoGroupSize pixels) near rows times the golden
 // ratio: dispatch row r covers tile row (r * stride) mod rows (hbao_common.glsl says why).
 int hbao_row_stride(int rows);
-HbaoConstants hbao_constants(const HbaoSettings& settings, int width, int height, float focal);
+// The constants for a frame of `shape`'s size, focal length and principal point (pixels unread).
+HbaoConstants hbao_constants(const HbaoSettings& settings, const HbaoFrame& shape);
 
 // Checks what the parameter table cannot (a frame to work on); InputError otherwise.
 void validate_hbao_frame(const HbaoFrame& frame);
@@ -85,10 +92,11 @@ double hbao_max_abs_difference(const HbaoFrame& frame, const std::vector<float>&
 
 struct HbaoCpuResult {
   std::vector<float> ao;          // final AO (blurred when settings.blur), 0 where not covered
-  std::vector<float> raw_ao;      // before the blur
+  std::vector<float> raw_ao;      // before the blur (half-size with resolution = half)
   std::vector<float> horizon_ao;  // 1 - O_T: horizon occlusion alone (the paper's Fig. 10 (a))
   uint64_t depth_fetches = 0;     // fetches by the linear searches (counted only when asked)
   double horizon_ms = 0.0, normal_ms = 0.0, blur_ms = 0.0;  // wall time of each pass
+  double downsample_ms = 0.0, upsample_ms = 0.0;            // resolution = half only
 };
 
 // The CPU twin. Deterministic: same inputs, same bits, whatever the thread count.

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "estimators/hbao_split/frame_device.h"
+#include "estimators/hbao_split/half_res_device.h"
 #include "estimators/vulkan/vk_commands.h"
 #include "estimators/vulkan/vk_pipelines.h"
 #include "hbao_bare_fetch_comp_spv.h"
@@ -39,6 +40,7 @@ struct HbaoDevice::Impl {
   HbaoConstants constants{};
   int width = 0, height = 0;
   std::unique_ptr<HbaoFrameDevice> frame;  // depth and eye normals, uploaded or rasterised
+  std::unique_ptr<HalfResDevice> half;     // resolution = half: the passes run on its frame
   vk::Image2D ot, raw_ao, ao;
   vk::Buffer random, directions, horizons;
   std::unique_ptr<vk::ComputePipeline> horizon, normal_pass, blur;
@@ -46,9 +48,14 @@ struct HbaoDevice::Impl {
                   blur_set = VK_NULL_HANDLE;
   vk::PassTimer timer;
 
-  Impl(vk::Context& context, const HbaoSettings& s, int w, int h, float focal)
-      : vk(context), settings(s), width(w), height(h), timer(context) {
-    constants = hbao_constants(s, w, h, focal);
+  // `full`: the frame's shape; the passes' images have the computed resolution's.
+  Impl(vk::Context& context, const HbaoSettings& s, const HbaoFrame& full)
+      : vk(context), settings(s), timer(context) {
+    const HbaoFrame shape = s.half_res ? half_resolution_shape(full) : full;
+    const int w = shape.width, h = shape.height;
+    width = w;
+    height = h;
+    constants = hbao_constants(s, shape);
     ot = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
     raw_ao = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
     ao = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
@@ -66,11 +73,15 @@ struct HbaoDevice::Impl {
                                                         kPassBindings, push);
     blur = std::make_unique<vk::ComputePipeline>(vk, "hbao blur", hbao_blur_comp_spv, kPassBindings,
                                                  push);
-    const std::vector<vk::Resource> resources = {
-        frame->depth(), frame->normal(), random, directions, horizons, ot, raw_ao, ao};
+    if (settings.half_res) half = std::make_unique<HalfResDevice>(vk, *frame, false);
+    const vk::Image2D& depth = half ? half->depth() : frame->depth();
+    const vk::Image2D& normal = half ? half->normal() : frame->normal();
+    const std::vector<vk::Resource> resources = {depth,    normal, random, directions,
+                                                 horizons, ot,     raw_ao, ao};
     horizon_set = horizon->make_set(resources);
     normal_set = normal_pass->make_set(resources);
     blur_set = blur->make_set(resources);
+    if (half) half->bind(settings.blur ? ao : raw_ao, nullptr);
   }
 };
 
@@ -78,7 +89,7 @@ HbaoDevice::HbaoDevice(vk::Context& vk, const HbaoSettings& settings, const Hbao
                        const Camera& camera) {
   validate_hbao_frame(frame);
   check_frame_matches_camera(frame, camera);
-  impl_ = std::make_unique<Impl>(vk, settings, frame.width, frame.height, frame.focal);
+  impl_ = std::make_unique<Impl>(vk, settings, frame);
   impl_->frame = std::make_unique<HbaoFrameDevice>(vk, frame);
   impl_->make_pipelines();
 }
@@ -87,7 +98,7 @@ HbaoDevice::HbaoDevice(vk::Context& vk, const HbaoSettings& settings, const Scen
                        const Camera& camera) {
   const HbaoFrame shape = hbao_frame_shape(camera);
   validate_hbao_frame(shape);
-  impl_ = std::make_unique<Impl>(vk, settings, shape.width, shape.height, shape.focal);
+  impl_ = std::make_unique<Impl>(vk, settings, shape);
   impl_->frame = std::make_unique<HbaoFrameDevice>(vk, scene, camera);
   impl_->make_pipelines();
 }
@@ -105,20 +116,26 @@ HbaoGpuResult HbaoDevice::run() {
   m.vk.submit([&](VkCommandBuffer cmd) {
     m.timer.reset(cmd);
     m.frame->record(cmd, m.timer);  // the geometry stage with gbuffer=raster
+    if (m.half) m.half->record_downsample(cmd, m.timer);
     vk::timed_compute_pass(cmd, m.timer, "horizon", *m.horizon, m.horizon_set, m.constants, gx, gy);
     vk::timed_compute_pass(cmd, m.timer, "normal", *m.normal_pass, m.normal_set, m.constants, gx,
                            gy);
     if (m.settings.blur)
       vk::timed_compute_pass(cmd, m.timer, "blur", *m.blur, m.blur_set, m.constants, gx, gy);
+    if (m.half) m.half->record_upsample(cmd, m.timer);
   });
   HbaoGpuResult r;
   r.pass_ms = m.timer.read();
   r.raw_ao = m.raw_ao.download<float>();
-  r.ao = m.settings.blur ? m.ao.download<float>() : r.raw_ao;
+  r.ao = m.half            ? m.half->ao().download<float>()
+         : m.settings.blur ? m.ao.download<float>()
+                           : r.raw_ao;
   const std::vector<float> ot = m.ot.download<float>();
-  const std::vector<float> z = m.frame->depth().download<float>();
+  const std::vector<float> z = (m.half ? m.half->depth() : m.frame->depth()).download<float>();
   r.horizon_ao.assign(ot.size(), 0.0f);
   for (size_t k = 0; k < ot.size(); ++k) r.horizon_ao[k] = z[k] > 0.0f ? 1.0f - ot[k] : 0.0f;
+  // At half resolution the horizon term (a diagnostic channel) is upsampled on the host.
+  if (m.half) r.horizon_ao = upsample_half_res(m.frame->download(), r.horizon_ao);
   return r;
 }
 

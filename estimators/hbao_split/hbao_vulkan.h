@@ -21,7 +21,8 @@ struct HbaoGpuResult {
   std::vector<float> raw_ao;      // before the blur
   std::vector<float> horizon_ao;  // 1 - O_T where covered, else 0
   // GPU time per pass: geometry_ms (gbuffer=raster only: raster pass + normals to eye space),
-  // horizon_ms, normal_ms, blur_ms (blur on only), total_ms (first to last timestamp).
+  // horizon_ms, normal_ms, blur_ms (blur on only), downsample_ms and upsample_ms (resolution =
+  // half), total_ms (first to last timestamp).
   std::map<std::string, double> pass_ms;
 };
 

@@ -84,7 +84,7 @@ std::vector<float> raymarch_ssao(const GBuffer& gbuffer, const RaymarchSettings&
   const HbaoFrame frame = hbao_frame_from_gbuffer(gbuffer);
   validate_hbao_frame(frame);
   const HbaoSettings hs = march_settings(s);
-  const HbaoConstants c = hbao_constants(hs, frame.width, frame.height, frame.focal);
+  const HbaoConstants c = hbao_constants(hs, frame);
   const std::vector<glm::vec3> random = hbao_random_texture(hs);
   hbao_glsl::HbaoImages images;
   images.width = frame.width;

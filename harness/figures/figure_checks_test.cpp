@@ -6,23 +6,14 @@
 #include <gtest/gtest.h>
 
 #include "harness/figures/figure_checks.h"
+#include "harness/figures/figure_checks_testing.h"
 #include "harness/figures/figure_timing.h"
 
 namespace aoeval::figures {
 namespace {
 
-void expect_all(const std::vector<Check>& checks, bool passed, const char* what) {
-  ASSERT_FALSE(checks.empty()) << what;
-  for (const Check& c : checks)
-    EXPECT_EQ(c.passed, passed) << what << ": " << c.rule << " -> " << c.measured;
-}
-
-// n repetitions around `ms` with a small deterministic spread (+-1 %).
-std::vector<double> times(double ms, int n = 9) {
-  std::vector<double> v;
-  for (int i = 0; i < n; ++i) v.push_back(ms * (1.0 + 0.01 * ((i * 7) % 5 - 2) / 2.0));
-  return v;
-}
+using testing::expect_all;
+using testing::times;
 
 TEST(FigureTiming, RankTestDecidesBothWaysAndScales) {
   const auto a = times(10.0), b = times(20.0);

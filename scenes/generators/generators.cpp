@@ -14,6 +14,8 @@ const std::vector<GeneratorInfo>& generator_registry() {
       {"disk", "a disk in the y = 0 plane, facing -Y or +Y", generate_disk},
       {"sphere", "a geodesic sphere", generate_sphere},
       {"cylinder", "a capped cylinder along +Y", generate_cylinder},
+      {"fence", "a picket fence of thin boxes on two rails (thin occluders)", generate_fence},
+      {"chair", "a chair with thin legs, back posts and slats (thin occluders)", generate_chair},
   };
   return registry;
 }

@@ -46,5 +46,7 @@ GeneratedGeometry generate_box(uint64_t seed, JsonReader& params);
 GeneratedGeometry generate_disk(uint64_t seed, JsonReader& params);
 GeneratedGeometry generate_sphere(uint64_t seed, JsonReader& params);
 GeneratedGeometry generate_cylinder(uint64_t seed, JsonReader& params);
+GeneratedGeometry generate_fence(uint64_t seed, JsonReader& params);
+GeneratedGeometry generate_chair(uint64_t seed, JsonReader& params);
 
 }  // namespace aoeval

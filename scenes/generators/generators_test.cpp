@@ -64,7 +64,7 @@ Bounds triangle_bounds(const TriangleMesh& m, size_t first) {
 }
 
 TEST(Generators, RegistryFindsEveryGenerator) {
-  EXPECT_EQ(generator_registry().size(), 8u);
+  EXPECT_EQ(generator_registry().size(), 10u);
   for (const auto& g : generator_registry()) EXPECT_EQ(find_generator(g.name), &g);
   EXPECT_EQ(find_generator("teapot"), nullptr);
 }
@@ -102,6 +102,8 @@ TEST(Generators, GoldenHashes) {
       {"disk", json::object(), "c9579f495a1972fa"},
       {"sphere", json::object(), "3fc0cd2b98b35065"},
       {"cylinder", json::object(), "51774ecdebeda2e4"},
+      {"fence", json::object(), "7bf0516601ccfe95"},
+      {"chair", json::object(), "697db3087aff757d"},
   };
   for (const auto& [name, params, hash] : golden) {
     EXPECT_EQ(hash_hex(content_hash(run(name, 2024, params).mesh)), hash)
@@ -404,6 +406,32 @@ TEST(PrimitiveGenerators, CylinderAreaAndOrientation) {
   EXPECT_EQ(b.upper.y, 2.0f);
   const auto open = run("cylinder", 0, {{"segments", n}, {"caps", false}});
   EXPECT_EQ(open.mesh.triangle_count(), 2u * n);
+}
+
+// The thin occluders are unions of closed boxes: 12 triangles a box, every face outward from its
+// own box's centre, the summed area in the facts, standing on y = 0 with the stated extents.
+TEST(ThinGenerators, FenceAndChairAreClosedOutwardBoxes) {
+  const auto fence = run("fence", 0, {{"pickets", 5}, {"picket_width", 0.1}, {"gap", 0.05}});
+  ASSERT_EQ(fence.mesh.triangle_count(), 12u * (5 + 2));
+  const auto chair = run("chair", 0, {{"slats", 2}});
+  ASSERT_EQ(chair.mesh.triangle_count(), 12u * (1 + 4 + 2 + 2));
+  for (const auto* g : {&fence, &chair}) {
+    EXPECT_NEAR(area(g->mesh), g->facts["area"].get<double>(), 1e-5);
+    EXPECT_EQ(g->mesh.bounds().lower.y, 0.0f);
+    for (size_t box = 0; box < g->mesh.triangle_count() / 12; ++box) {
+      Bounds b;  // the box's own 8 corners
+      for (size_t v = 8 * box; v < 8 * box + 8; ++v) b.extend(g->mesh.positions[v]);
+      const glm::dvec3 centre = 0.5 * (glm::dvec3(b.lower) + glm::dvec3(b.upper));
+      for (size_t t = 12 * box; t < 12 * box + 12; ++t) {
+        const auto& tri = g->mesh.triangles[t];
+        EXPECT_GT(glm::dot(face_normal(g->mesh, tri), centroid(g->mesh, tri) - centre), 0.0);
+      }
+    }
+  }
+  EXPECT_NEAR(fence.facts["span"].get<double>(), 5 * 0.1 + 4 * 0.05, 1e-12);
+  EXPECT_NEAR(fence.mesh.bounds().upper.y, 0.8, 1e-6);
+  EXPECT_THROW(run("chair", 0, {{"leg", 0.3}}), InputError);
+  EXPECT_THROW(run("fence", 0, {{"rail", 0.5}}), InputError);
 }
 
 }  // namespace
