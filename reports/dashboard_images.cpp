@@ -48,6 +48,22 @@ const ResultRow* find_row(const std::vector<ResultRow>& rows, const RowReport& r
   return loose_count == 1 ? loose : nullptr;
 }
 
+// " R:0.5 Nd:8": the parameters a row's run name sets, which tell apart the rows of one group.
+std::string set_params(const RowReport& rep) {
+  std::string out, part;
+  size_t start = rep.run_name.find('/');
+  while (start != std::string::npos) {
+    const size_t end = rep.run_name.find('/', start + 1);
+    part = rep.run_name.substr(start + 1, end == std::string::npos ? end : end - start - 1);
+    start = end;
+    if (part.find(':') == std::string::npos || part.rfind("scene:", 0) == 0 ||
+        part.rfind("view:", 0) == 0)
+      continue;
+    out += " " + part;
+  }
+  return out;
+}
+
 double figure_of(const ResultRow& r, const std::string& figure, bool* ok) {
   if (figure == "time_ms_median") return r.time_ms_median;
   const auto it = r.metrics.find(figure);
@@ -168,7 +184,7 @@ std::vector<GroupCharts> write_history_charts(
         s.kind = "line";
         s.marker = "o";
         // Legend only where it stays readable (a sweep can put dozens of rows in one group).
-        if (reps.size() <= 6) s.label = rep->view + " " + rep->resolution;
+        if (reps.size() <= 6) s.label = rep->view + " " + rep->resolution + set_params(*rep);
         for (size_t i = 0; i < history.size(); ++i) {
           const ResultRow* r = find_row(history[i].second, *rep);
           bool ok = true;
