@@ -109,7 +109,15 @@ ImageChange compare_estimates(const AoPlanes& b, const AoPlanes& a, bool seeds_d
           }
         if (ok) laplacian.push_back(std::abs(l));
       }
-    const double sigma = 1.4826 * median_of(laplacian) / 6.0;
+    // Noise correlated over a few pixels (blurred screen-space kernels) has little Laplacian: the
+    // difference's own robust spread (MAD about its median) is the floor, and a real uneven change
+    // only raises it (conservative).
+    std::vector<double> kept;
+    for (size_t k = 0; k < n; ++k)
+      if (both[k]) kept.push_back(diff[k]);
+    const double centre = median_of(kept);
+    for (double& v : kept) v = std::abs(v - centre);
+    const double sigma = std::max(1.4826 * median_of(laplacian) / 6.0, 1.4826 * median_of(kept));
     c.pixel_threshold = kSigmas * sigma + kRoundOff;
     std::fill(threshold.begin(), threshold.end(), c.pixel_threshold);
     // sigma_mean from the spread of 8x8 tile means (image_change.h).

@@ -19,8 +19,11 @@
 //                   difference image itself, sigma = 1.4826 median|L| / 6 with L the 3x3 Laplacian
 //                   [1 -2 1; -2 4 -2; 1 -2 1] of (new - old) (Immerkaer 1996, "Fast noise
 //                   variance estimation", CVIU 64(2); robust form): a smooth systematic change has
-//                   almost no Laplacian while independent noise of sigma gives |L| of sigma * 6.
-//                   Threshold 4 sigma + 1e-4. sigma_mean = sd(tile means) / sqrt(tiles) over 8x8
+//                   almost no Laplacian while independent noise of sigma gives |L| of sigma * 6;
+//                   but at least 1.4826 MAD of the difference about its median, since noise
+//                   correlated over a few pixels (blurred kernels) has little Laplacian (an uneven
+//                   real change only raises it: changed_pixels then errs low). Threshold
+//                   4 sigma + 1e-4. sigma_mean = sd(tile means) / sqrt(tiles) over 8x8
 //                   tiles: noise correlated over fewer than 8 pixels (screen-space kernels,
 //                   rotation textures) averages out within a tile, and any uneven real change only
 //                   raises the spread of the tile means, so the bound errs towards "unchanged".
