@@ -109,17 +109,32 @@ ImageChange compare_estimates(const AoPlanes& b, const AoPlanes& a, bool seeds_d
           }
         if (ok) laplacian.push_back(std::abs(l));
       }
-    // Noise correlated over a few pixels (blurred screen-space kernels) has little Laplacian: the
-    // difference's own robust spread (MAD about its median) is the floor, and a real uneven change
-    // only raises it (conservative).
-    std::vector<double> kept;
-    for (size_t k = 0; k < n; ++k)
-      if (both[k]) kept.push_back(diff[k]);
-    const double centre = median_of(kept);
-    for (double& v : kept) v = std::abs(v - centre);
-    const double sigma = std::max(1.4826 * median_of(laplacian) / 6.0, 1.4826 * median_of(kept));
-    c.pixel_threshold = kSigmas * sigma + kRoundOff;
-    std::fill(threshold.begin(), threshold.end(), c.pixel_threshold);
+    const double laplacian_sigma = 1.4826 * median_of(laplacian) / 6.0;
+    // Noise correlated over a few pixels (blurred screen-space kernels) has little Laplacian, and
+    // its size varies over the image (open areas have none): per 8x8 tile, the difference's own
+    // robust spread (MAD about the tile's median) is the floor; a real uneven change only raises
+    // it (conservative).
+    std::vector<double> used;
+    for (int ty = 0; ty < a.h; ty += kTile)
+      for (int tx = 0; tx < a.w; tx += kTile) {
+        std::vector<size_t> members;
+        for (int y = ty; y < std::min(a.h, ty + kTile); ++y)
+          for (int x = tx; x < std::min(a.w, tx + kTile); ++x) {
+            const size_t k = static_cast<size_t>(y) * a.w + x;
+            if (both[k]) members.push_back(k);
+          }
+        if (members.empty()) continue;
+        std::vector<double> values;
+        for (size_t k : members) values.push_back(diff[k]);
+        const double centre = median_of(values);
+        for (double& v : values) v = std::abs(v - centre);
+        const double sigma = std::max(laplacian_sigma, 1.4826 * median_of(values));
+        for (size_t k : members) {
+          threshold[k] = kSigmas * sigma + kRoundOff;
+          used.push_back(threshold[k]);
+        }
+      }
+    c.pixel_threshold = median_of(used);
     // sigma_mean from the spread of 8x8 tile means (image_change.h).
     std::vector<double> tiles;
     for (int ty = 0; ty < a.h; ty += kTile)

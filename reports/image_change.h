@@ -20,10 +20,11 @@
 //                   [1 -2 1; -2 4 -2; 1 -2 1] of (new - old) (Immerkaer 1996, "Fast noise
 //                   variance estimation", CVIU 64(2); robust form): a smooth systematic change has
 //                   almost no Laplacian while independent noise of sigma gives |L| of sigma * 6;
-//                   but at least 1.4826 MAD of the difference about its median, since noise
-//                   correlated over a few pixels (blurred kernels) has little Laplacian (an uneven
-//                   real change only raises it: changed_pixels then errs low). Threshold
-//                   4 sigma + 1e-4. sigma_mean = sd(tile means) / sqrt(tiles) over 8x8
+//                   but, per 8x8 tile, at least 1.4826 MAD of the tile's difference about its
+//                   median, since noise correlated over a few pixels (blurred kernels) has little
+//                   Laplacian and noise differs over the image (open areas have none); an uneven
+//                   real change only raises it (changed_pixels then errs low). Threshold
+//                   4 sigma + 1e-4 (pixel_threshold: the median over pixels). sigma_mean = sd(tile means) / sqrt(tiles) over 8x8
 //                   tiles: noise correlated over fewer than 8 pixels (screen-space kernels,
 //                   rotation textures) averages out within a tile, and any uneven real change only
 //                   raises the spread of the tile means, so the bound errs towards "unchanged".
