@@ -2,6 +2,7 @@
 #include "reports/dashboard.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -9,6 +10,7 @@
 
 #include "errors.h"
 #include "exr_io.h"
+#include "param_text.h"
 #include "reports/regression_config.h"
 
 namespace aoeval {
@@ -130,11 +132,41 @@ std::vector<RowReport> pair_rows(const std::vector<ResultRow>& before,
   return out;
 }
 
+// Reads both estimates, measures the change (image_change.h) and writes the row's images; a
+// missing or unreadable image is said on the row, never a failure of the dashboard.
+void measure_change(RowReport& rep, const std::string& before_exr, const std::string& after_exr,
+                    const Thresholds& t, const std::string& out_dir, std::optional<double>* delta) {
+  AoPlanes b, a;
+  try {
+    b = read_planes(before_exr);
+    a = read_planes(after_exr);
+  } catch (const InputError& e) {
+    rep.image_note = std::string("estimate image unreadable: ") + e.what();
+    return;
+  }
+  *delta = write_row_images(rep, b, a, out_dir);
+  if (b.w != a.w || b.h != a.h) return;  // write_row_images said so
+  const auto seed_b = rep.before->params.find("seed"), seed_a = rep.after->params.find("seed");
+  const bool seeds_differ =
+      seed_b != rep.before->params.end() && seed_a != rep.after->params.end() && *seed_b != *seed_a;
+  try {
+    rep.change = compare_estimates(b, a, seeds_differ);
+  } catch (const std::invalid_argument& e) {
+    rep.image_note = std::string("no change measured: ") + e.what();
+    return;
+  }
+  rep.change_limit = change_threshold(*rep.change, t.change_mean_shift);
+  rep.changed = std::abs(rep.change->mean_shift) > rep.change_limit;
+  rep.change_fails = t.change_fails;
+}
+
 void judge(RowReport& rep, const Thresholds& t, std::optional<double> delta_rms) {
   const bool before_ok = rep.before && rep.before->status == "ok";
   const bool after_ok = rep.after && rep.after->status == "ok";
   if (before_ok && after_ok) {
-    rep.checks = compare_rows(*rep.before, *rep.after, t, delta_rms);
+    rep.checks = compare_rows(
+        *rep.before, *rep.after, t, delta_rms,
+        rep.change && std::isfinite(rep.change->sigma_mean) ? rep.change->sigma_mean : 0.0);
   } else if (before_ok) {
     rep.checks = {missing_check(rep.after ? &*rep.after : nullptr, t)};
   } else if (!rep.before) {
@@ -204,6 +236,11 @@ Dashboard build_dashboard(const DashboardOptions& o) {
   d.rows = pair_rows(before ? rows_of[before->run_id] : no_rows, rows_of[after->run_id]);
   fs::create_directories(o.out_dir);
   for (RowReport& rep : d.rows) {
+    const ResultRow& r = rep.after ? *rep.after : *rep.before;
+    const auto defaults = o.estimator_defaults.find(r.estimator);
+    rep.params_text = params_text(
+        r.params, r.run_name, defaults == o.estimator_defaults.end() ? nullptr : &defaults->second);
+    const Thresholds t = config.thresholds(rep.estimator, rep.scene);
     std::optional<double> delta;
     if (rep.before && rep.after && rep.before->status == "ok" && rep.after->status == "ok") {
       const std::string b = estimate_path(*rep.before, *before);
@@ -211,10 +248,10 @@ Dashboard build_dashboard(const DashboardOptions& o) {
       if (b.empty() || a.empty()) {
         rep.image_note = "estimate images were not kept (no estimate_file or output folder)";
       } else {
-        delta = write_row_images(rep, b, a, o.out_dir);
+        measure_change(rep, b, a, t, o.out_dir, &delta);
       }
     }
-    judge(rep, config.thresholds(rep.estimator, rep.scene), delta);
+    judge(rep, t, delta);
   }
   std::stable_sort(d.rows.begin(), d.rows.end(), [](const RowReport& x, const RowReport& y) {
     if (severity_rank(x.verdict) != severity_rank(y.verdict))
@@ -222,6 +259,8 @@ Dashboard build_dashboard(const DashboardOptions& o) {
     return std::tie(x.estimator, x.scene, x.view) < std::tie(y.estimator, y.scene, y.view);
   });
   for (const auto& rep : d.rows) {
+    d.changed += rep.changed;
+    d.changes_failing += rep.changed && rep.change_fails;
     int* counter = rep.verdict == Verdict::regressed   ? &d.regressed
                    : rep.verdict == Verdict::warning   ? &d.warnings
                    : rep.verdict == Verdict::improved  ? &d.improved
@@ -237,8 +276,14 @@ Dashboard build_dashboard(const DashboardOptions& o) {
       history.emplace_back(r, rows_of[r.run_id]);
     if (r.run_id == after->run_id) break;
   }
-  if (history.size() > o.history_runs)
-    history.erase(history.begin(), history.end() - static_cast<long>(o.history_runs));
+  const size_t keep = o.history_steps > 0 ? o.history_steps : o.history_runs;
+  if (history.size() > keep)
+    history.erase(history.begin(), history.end() - static_cast<long>(keep));
+  if (o.history_steps > 0) {
+    d.history_searched = true;
+    d.history_size = history.size();
+    find_steps(d, history, config);
+  }
   if (o.charts) d.groups = write_history_charts(d, history, o.out_dir);
 
   d.page = (fs::path(o.out_dir) / "index.html").string();
@@ -246,15 +291,44 @@ Dashboard build_dashboard(const DashboardOptions& o) {
   return d;
 }
 
+std::string params_text(const nlohmann::json& params, const std::string& run_name,
+                        const nlohmann::json* defaults) {
+  std::string first, rest;
+  if (!params.is_object()) return "-";
+  for (const auto& [key, value] : params.items()) {
+    if (key == "derived") continue;
+    const bool differs =
+        defaults ? !defaults->contains(key) || (*defaults)[key] != value
+                 : run_name.find("/" + key + ":") != std::string::npos;  // set explicitly
+    std::string& to = differs ? first : rest;
+    if (!to.empty()) to += ',';
+    to += key + "=" + format_param_value(value);
+  }
+  const std::string all = first + (!first.empty() && !rest.empty() ? "," : "") + rest;
+  return all.empty() ? "-" : all;
+}
+
+bool dashboard_fails(const Dashboard& d) {
+  return d.regressed > 0 || d.changes_failing > 0;
+}
+
 std::vector<std::string> console_lines(const Dashboard& d) {
   std::vector<std::string> out;
+  auto row_name = [](const RowReport& rep) {
+    return rep.estimator + " " + rep.params_text + " scene " + rep.scene + " view " + rep.view +
+           " " + rep.resolution + ":";
+  };
   for (const auto& rep : d.rows) {
-    if (rep.verdict != Verdict::regressed && rep.verdict != Verdict::warning) continue;
-    std::string line = std::string(rep.verdict == Verdict::regressed ? "REGRESSED " : "WARNING ") +
-                       rep.estimator + " scene " + rep.scene + " view " + rep.view + " " +
-                       rep.resolution + ":";
+    if (rep.verdict != Verdict::regressed && rep.verdict != Verdict::warning &&
+        rep.verdict != Verdict::improved)
+      continue;
+    const char* word = rep.verdict == Verdict::regressed ? "REGRESSED "
+                       : rep.verdict == Verdict::warning ? "WARNING "
+                                                         : "IMPROVED ";
+    std::string line = word + row_name(rep);
     for (const auto& c : rep.checks) {
-      if (c.verdict != Verdict::regressed && c.verdict != Verdict::warning) continue;
+      const bool bad = c.verdict == Verdict::regressed || c.verdict == Verdict::warning;
+      if (rep.verdict == Verdict::improved ? c.verdict != Verdict::improved : !bad) continue;
       char numbers[160];
       std::snprintf(numbers, sizeof numbers, " %s %.4g -> %.4g (threshold %.3g);", c.figure.c_str(),
                     c.before, c.after, c.threshold);
@@ -263,6 +337,15 @@ std::vector<std::string> console_lines(const Dashboard& d) {
     if (!rep.params_change.empty()) line += " parameters changed: " + rep.params_change;
     if (line.back() == ';') line.pop_back();
     out.push_back(line);
+  }
+  for (const auto& rep : d.rows)
+    if (rep.changed) out.push_back("CHANGED " + row_name(rep) + " " + change_phrase(*rep.change));
+  for (const auto& s : d.steps) {
+    char numbers[200];
+    std::snprintf(numbers, sizeof numbers, ": %s %.4f -> %.4f", s.figure.c_str(), s.before,
+                  s.after);
+    out.push_back("STEP " + s.series + " at run " + s.run.run_id + " (" +
+                  s.run.git_commit.substr(0, 12) + ")" + numbers);
   }
   return out;
 }

@@ -10,16 +10,26 @@
 // with a changed parameter (`aoeval run --set E:K=V`) is still compared with its baseline, and
 // the page names the parameters that changed. Rows still unpaired are new (no baseline) or
 // missing (see Thresholds::missing_fails).
+//
+// Changes (CONTRACT §12, image_change.h): every compared row's two estimate images give its
+// mean_shift and changed_pixels; a row beyond change_mean_shift (and its noise) is CHANGED, a
+// verdict apart from regressed/improved: it fails the run only under "change_action": "fail".
+// History (--history N, dashboard_history.cpp): the last N runs of the suite or sweep, each row's
+// rmse_excess, mean AO and median time as series, and their steps (change_points.h).
 #pragma once
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "harness/results/results_store.h"
+#include "reports/image_change.h"
 #include "reports/regression.h"
 
 namespace aoeval {
+
+class RegressionConfig;
 
 struct DashboardOptions {
   std::string database = "out/results.sqlite";
@@ -30,6 +40,11 @@ struct DashboardOptions {
   std::string config_path;   // "" = default_regression_config_path()
   size_t history_runs = 30;  // the newest runs shown in the history charts
   bool charts = true;        // false: no history charts (a python process each few charts)
+  size_t history_steps = 0;  // --history N: find steps over the last N runs (0: not asked)
+  // Each known estimator's parameters at their defaults (the registry's; the caller fills it), so
+  // console lines name the parameters that differ from them first. Absent estimators: the
+  // parameters named in the row's run name (those set explicitly) come first.
+  std::map<std::string, nlohmann::json> estimator_defaults;
 };
 
 // One row of the new run (or of the baseline, when the new run lacks it) and its verdict.
@@ -43,6 +58,20 @@ struct RowReport {
   std::string note;  // "new row: no baseline", "skipped in both runs", ...
   // Images relative to the dashboard folder ("" when not available) and why not.
   std::string new_png, baseline_png, diff_png, image_note;
+  // The estimate's change against the baseline's (both images read), and whether it counts.
+  std::optional<ImageChange> change;
+  double change_limit = 0.0;  // change_threshold(): what |mean_shift| had to exceed
+  bool changed = false, change_fails = false;
+  std::string params_text;  // "rays=1,seed=7,...": differing from defaults first
+};
+
+// One step of one series over the history (CONTRACT §12 STEP lines).
+struct SeriesStep {
+  std::string series;  // the row's run name
+  std::string estimator, scene;
+  std::string figure;  // "rmse_excess", "mean", "time_ms_median"
+  RunContext run;      // the first run of the new level
+  double before = 0.0, after = 0.0, p = 0.0;
 };
 
 // History charts of one (estimator, scene), relative to the dashboard folder.
@@ -58,6 +87,13 @@ struct Dashboard {
   std::vector<RowReport> rows;  // failures first, then warnings, improvements, the rest
   std::vector<GroupCharts> groups;
   int regressed = 0, warnings = 0, improved = 0, unchanged = 0, not_compared = 0;
+  int changed = 0, changes_failing = 0;  // CHANGED rows; those whose change_action is "fail"
+  bool history_searched = false;         // --history was given
+  size_t history_size = 0;               // runs in the history searched
+  std::vector<SeriesStep> steps;         // in series order, then run order
+  // Mean AO of each history row's estimate, "<run_id>|<run_name>" (read by find_steps, drawn by
+  // the charts).
+  std::map<std::string, double> mean_ao;
   std::string page;  // <out>/index.html
 };
 
@@ -66,9 +102,18 @@ struct Dashboard {
 // holds no runs, or a named run is absent.
 Dashboard build_dashboard(const DashboardOptions& options);
 
-// One console line per regressed or warned row: "REGRESSED hbao-split scene bunny view main
-// 320x240: rmse_excess 0.012 -> 0.020 (threshold 0.0006) ...".
+// The console lines (CONTRACT §12), one per regressed, warned or improved row ("REGRESSED
+// hbao-split R=0.4,Nd=8,... scene bunny view main 320x240: rmse_excess 0.012 -> 0.020 (threshold
+// 0.0006)"), per changed row ("CHANGED vo-loos R=0.5,... scene bunny view main 160x120: darker by
+// 0.050 mean AO on 97 % of pixels") and per step ("STEP <run name> at run <run_id> (<commit>):
+// rmse_excess 0.0210 -> 0.0341").
 std::vector<std::string> console_lines(const Dashboard& d);
+// True when the dashboard's exit status is 1: a regression, or a change under change_action fail.
+bool dashboard_fails(const Dashboard& d);
+// "k=v,k=v": `params` ("derived" left out), those differing from `defaults` (or, without defaults,
+// those named in `run_name`) first, each group in key order; "-" when there are none.
+std::string params_text(const nlohmann::json& params, const std::string& run_name,
+                        const nlohmann::json* defaults);
 
 // ---- parts (dashboard_images.cpp, dashboard_html.cpp)
 
@@ -76,11 +121,16 @@ std::vector<std::string> console_lines(const Dashboard& d);
 // kept none or the run recorded no output folder.
 std::string estimate_path(const ResultRow& row, const RunContext& run);
 // Writes new/baseline/difference PNGs for a compared row under <out>/images/ and fills the
-// *_png fields; returns rms(new - baseline) over pixels covered in both when both EXRs were read.
-std::optional<double> write_row_images(RowReport& row, const std::string& before_exr,
-                                       const std::string& after_exr, const std::string& out_dir);
-// Renders the history charts (rmse_excess and time_ms_median per (estimator, scene), one series
-// per row) from `history` (runs oldest first, each with its rows) into <out>/charts/.
+// *_png fields; returns rms(new - baseline) over pixels covered in both.
+std::optional<double> write_row_images(RowReport& row, const AoPlanes& before,
+                                       const AoPlanes& after, const std::string& out_dir);
+// Finds the steps of every tracked series over `history` (runs oldest first, each with its rows;
+// dashboard_history.cpp) into d.steps.
+void find_steps(Dashboard& d,
+                const std::vector<std::pair<RunContext, std::vector<ResultRow>>>& history,
+                const RegressionConfig& config);
+// Renders the history charts (rmse_excess and time_ms_median per (estimator, scene), and mean AO
+// when steps were searched; one series per row, steps marked) from `history` into <out>/charts/.
 std::vector<GroupCharts> write_history_charts(
     const Dashboard& d, const std::vector<std::pair<RunContext, std::vector<ResultRow>>>& history,
     const std::string& out_dir);

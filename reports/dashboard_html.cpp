@@ -3,6 +3,7 @@
 // difference images (hovering the new image shows the baseline in its place). Self-contained:
 // inline CSS and script, relative image paths, no external URL.
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <map>
 #include <sstream>
@@ -72,6 +73,7 @@ figure{margin:0}figcaption{font-size:.8em;color:#555}
 .images img{width:340px;max-width:31vw;height:auto;image-rendering:pixelated}
 img.swap{cursor:crosshair;outline:2px solid #2166ac}
 img.chart{max-width:48%;margin:.2em}
+.change{font-size:.88em}article.changed{background:#fff;border:1px solid #e08214;padding:.4em}
 .note{color:#555;font-size:.88em}
 )";
 
@@ -117,10 +119,67 @@ std::string images(const RowReport& rep) {
   return h;
 }
 
+// One line on the estimate's change against the baseline's (image_change.h).
+std::string change_line(const RowReport& rep) {
+  if (!rep.change) return "";
+  const ImageChange& c = *rep.change;
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "mean_shift %+.4f (limit %.4f), changed pixels %.1f %% (per-pixel threshold %.2g, "
+                "noise rule: %s, %zu pixels)",
+                c.mean_shift, rep.change_limit, 100.0 * c.changed_pixels, c.pixel_threshold,
+                c.noise_rule.c_str(), c.pixels);
+  return std::string("<p class=\"change\">") + (rep.changed ? "<b>CHANGED</b>: " : "estimate: ") +
+         html_escape((rep.changed ? change_phrase(c) + "; " : std::string()) + text) + "</p>\n";
+}
+
+std::string group_anchor(const std::string& estimator, const std::string& scene) {
+  std::string a = "group-" + estimator + "-" + scene;
+  for (char& ch : a)
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-') ch = '-';
+  return a;
+}
+
+// The "Changed" section: every changed row with its parameters, its change and its images.
+std::string changed_section(const Dashboard& d) {
+  if (d.changed == 0) return "";
+  std::string h = "<h2 id=\"changed\">Changed (" + std::to_string(d.changed) +
+                  ")</h2>\n<p class=\"note\">The estimate itself moved against the baseline's "
+                  "(mean of new &minus; baseline AO beyond change_mean_shift and its noise), "
+                  "whatever its error did.</p>\n";
+  for (const auto& rep : d.rows) {
+    if (!rep.changed) continue;
+    h += "<article class=\"row changed\"><h3>" + html_escape(rep.estimator) + " <code>" +
+         html_escape(rep.params_text) + "</code> on " + html_escape(rep.scene) + ", " +
+         html_escape(rep.view) + " " + html_escape(rep.resolution) + ": " +
+         html_escape(change_phrase(*rep.change)) + (rep.change_fails ? " (fails)" : " (warns)") +
+         "</h3>\n" + change_line(rep) + images(rep) + "</article>\n";
+  }
+  return h;
+}
+
+// The "Steps" section of --history: one line per step, linking to its group's charts.
+std::string steps_section(const Dashboard& d) {
+  if (!d.history_searched) return "";
+  std::string h = "<h2 id=\"steps\">Steps over the last " + std::to_string(d.history_size) +
+                  " runs (" + std::to_string(d.steps.size()) + ")</h2>\n";
+  if (d.steps.empty()) return h + "<p>No series stepped.</p>\n";
+  h += "<table class=\"steps\"><tr><th>series</th><th>figure</th><th>run</th><th>commit</th>"
+       "<th>before</th><th>after</th></tr>\n";
+  for (const auto& s : d.steps) {
+    h += "<tr><td><a href=\"#" + group_anchor(s.estimator, s.scene) + "\"><code>" +
+         html_escape(s.series) + "</code></a></td><td>" + html_escape(s.figure) +
+         "</td><td><code>" + html_escape(s.run.run_id) + "</code></td><td><code>" +
+         html_escape(s.run.git_commit.substr(0, 12)) + "</code></td><td>" + number(s.before) +
+         "</td><td>" + number(s.after) + "</td></tr>\n";
+  }
+  return h + "</table>\n";
+}
+
 }  // namespace
 
 std::string dashboard_html(const Dashboard& d) {
-  const bool fail = d.regressed > 0;
+  const bool fail = dashboard_fails(d);
   std::string h =
       "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
       "<title>aoeval dashboard</title>\n<style>";
@@ -139,13 +198,19 @@ std::string dashboard_html(const Dashboard& d) {
     names += name;
   }
   h += "<h1>" +
-       (fail ? "REGRESSED (" + std::to_string(d.regressed) + (d.regressed == 1 ? " row" : " rows") +
-                   "): " + html_escape(names)
-             : std::string("No regression")) +
+       (d.regressed > 0 ? "REGRESSED (" + std::to_string(d.regressed) +
+                              (d.regressed == 1 ? " row" : " rows") + "): " + html_escape(names)
+        : fail ? "CHANGED (" + std::to_string(d.changed) + " rows, change_action fail)"
+               : std::string("No regression")) +
        "</h1>\n";
   h += "<p>" + std::to_string(d.regressed) + " regressed, " + std::to_string(d.warnings) +
        " warnings, " + std::to_string(d.improved) + " improved, " + std::to_string(d.unchanged) +
-       " unchanged, " + std::to_string(d.not_compared) + " not compared</p>\n";
+       " unchanged, " + std::to_string(d.not_compared) + " not compared; <a href=\"#changed\">" +
+       std::to_string(d.changed) + " changed</a>" +
+       (d.history_searched ? "; <a href=\"#steps\">" + std::to_string(d.steps.size()) +
+                                 " steps</a> over " + std::to_string(d.history_size) + " runs"
+                           : std::string()) +
+       "</p>\n";
   // Timing that could not be judged is said once at the top, with the reason on each row.
   int untimed = 0;
   for (const auto& rep : d.rows)
@@ -172,6 +237,7 @@ std::string dashboard_html(const Dashboard& d) {
       if (c.verdict == rep.verdict && rep.verdict != Verdict::unchanged)
         what += (what.empty() ? "" : "; ") + c.figure;
     if (!rep.params_change.empty()) what += (what.empty() ? "" : "; ") + rep.params_change;
+    if (rep.changed) what += (what.empty() ? "" : "; ") + change_phrase(*rep.change);
     h += "<tr class=\"" + css_class(rep.verdict) + "\"><td><a href=\"#" + anchors[&rep] + "\">" +
          to_string(rep.verdict) + "</a></td><td>" + html_escape(rep.estimator) + "</td><td>" +
          html_escape(rep.scene) + "</td><td>" + html_escape(rep.view) + "</td><td>" +
@@ -179,6 +245,8 @@ std::string dashboard_html(const Dashboard& d) {
          "</td><td>" + html_escape(what) + "</td></tr>\n";
   }
   h += "</table>\n";
+  h += changed_section(d);
+  h += steps_section(d);
 
   // One section per (estimator, scene), in the order their first row appears (failures first).
   std::vector<std::pair<std::string, std::string>> order;
@@ -189,8 +257,9 @@ std::string dashboard_html(const Dashboard& d) {
     members[key].push_back(&rep);
   }
   for (const auto& key : order) {
-    h += "<section class=\"group\"><h2>" + html_escape(key.first) + " on " +
-         html_escape(key.second) + "</h2>\n<div class=\"charts\">";
+    h += "<section class=\"group\" id=\"" + group_anchor(key.first, key.second) + "\"><h2>" +
+         html_escape(key.first) + " on " + html_escape(key.second) +
+         "</h2>\n<div class=\"charts\">";
     for (const auto& g : d.groups)
       if (g.estimator == key.first && g.scene == key.second)
         for (const auto& chart : g.charts)
@@ -205,6 +274,7 @@ std::string dashboard_html(const Dashboard& d) {
         h += "<p>parameters changed: <code>" + html_escape(rep->params_change) + "</code></p>\n";
       if (!rep->note.empty()) h += "<p class=\"note\">" + html_escape(rep->note) + "</p>\n";
       if (!rep->checks.empty()) h += checks_table(*rep);
+      h += change_line(*rep);
       h += images(*rep);
       h += "</article>\n";
     }

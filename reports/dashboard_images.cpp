@@ -21,23 +21,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct AoPlanes {
-  int w = 0, h = 0;
-  std::vector<float> ao;
-  std::vector<uint8_t> covered;
-};
-
-AoPlanes read_planes(const std::string& path) {
-  AoExr f = read_ao_exr(path);
-  AoPlanes p;
-  p.w = f.width;
-  p.h = f.height;
-  p.ao = std::move(f.ao);
-  p.covered.resize(f.coverage.size());
-  for (size_t k = 0; k < f.coverage.size(); ++k) p.covered[k] = f.coverage[k] > 0.5f;
-  return p;
-}
-
 std::string short_commit(const RunContext& r) {
   return r.git_commit.size() >= 7 && r.git_commit != "unknown" ? r.git_commit.substr(0, 7) : "?";
 }
@@ -63,6 +46,22 @@ const ResultRow* find_row(const std::vector<ResultRow>& rows, const RowReport& r
     }
   }
   return loose_count == 1 ? loose : nullptr;
+}
+
+// " R:0.5 Nd:8": the parameters a row's run name sets, which tell apart the rows of one group.
+std::string set_params(const RowReport& rep) {
+  std::string out, part;
+  size_t start = rep.run_name.find('/');
+  while (start != std::string::npos) {
+    const size_t end = rep.run_name.find('/', start + 1);
+    part = rep.run_name.substr(start + 1, end == std::string::npos ? end : end - start - 1);
+    start = end;
+    if (part.find(':') == std::string::npos || part.rfind("scene:", 0) == 0 ||
+        part.rfind("view:", 0) == 0)
+      continue;
+    out += " " + part;
+  }
+  return out;
 }
 
 double figure_of(const ResultRow& r, const std::string& figure, bool* ok) {
@@ -105,16 +104,8 @@ std::string estimate_path(const ResultRow& row, const RunContext& run) {
   return (fs::path(run.output_dir) / file).string();
 }
 
-std::optional<double> write_row_images(RowReport& row, const std::string& before_exr,
-                                       const std::string& after_exr, const std::string& out_dir) {
-  AoPlanes before, after;
-  try {
-    before = read_planes(before_exr);
-    after = read_planes(after_exr);
-  } catch (const InputError& e) {
-    row.image_note = std::string("estimate image unreadable: ") + e.what();
-    return std::nullopt;
-  }
+std::optional<double> write_row_images(RowReport& row, const AoPlanes& before,
+                                       const AoPlanes& after, const std::string& out_dir) {
   const fs::path rel = fs::path("images") / file_stem_for(row.run_name);
   fs::create_directories(fs::path(out_dir) / rel);
   auto put = [&](const char* name, const OIIO::ImageBuf& image) {
@@ -170,31 +161,54 @@ std::vector<GroupCharts> write_history_charts(
   std::vector<std::pair<PlotSpec, std::string>> charts;
   for (auto& g : groups) {
     const auto& reps = members[g.estimator + "\n" + g.scene];
-    for (const char* figure : {"rmse_excess", "time_ms_median"}) {
+    std::vector<std::string> figures = {"rmse_excess", "time_ms_median"};
+    if (d.history_searched) figures.insert(figures.begin() + 1, "mean");
+    for (const std::string& figure : figures) {
       PlotSpec spec;
       spec.title = g.estimator + " on " + g.scene + ": " + figure;
       spec.x_label = "run (commit, UTC start)";
-      spec.y_label = std::string(figure) == "time_ms_median" ? "median time (ms)" : figure;
+      spec.y_label = figure == "time_ms_median" ? "median time (ms)"
+                     : figure == "mean"         ? "mean AO of the estimate"
+                                                : figure;
       spec.categories = labels;
       spec.width_in = 5.6;
       spec.height_in = 3.2;
       spec.dpi = 90;
+      PlotSeries steps;  // the runs where a series stepped (dashboard_history.cpp)
+      steps.kind = "scatter";
+      steps.marker = "v";
+      steps.colour = "#d62728";
+      steps.label = "step";
       for (const RowReport* rep : reps) {
         PlotSeries s;
         s.kind = "line";
         s.marker = "o";
         // Legend only where it stays readable (a sweep can put dozens of rows in one group).
-        if (reps.size() <= 6) s.label = rep->view + " " + rep->resolution;
+        if (reps.size() <= 6) s.label = rep->view + " " + rep->resolution + set_params(*rep);
         for (size_t i = 0; i < history.size(); ++i) {
           const ResultRow* r = find_row(history[i].second, *rep);
           bool ok = true;
-          const double v = r ? figure_of(*r, figure, &ok) : 0.0;
+          double v = 0.0;
+          if (r && figure == "mean") {
+            const auto it = d.mean_ao.find(history[i].first.run_id + "|" + r->run_name);
+            ok = it != d.mean_ao.end();
+            if (ok) v = it->second;
+          } else if (r) {
+            v = figure_of(*r, figure, &ok);
+          }
           if (!r || !ok || !std::isfinite(v)) continue;
           s.x.push_back(static_cast<double>(i));
           s.y.push_back(v);
+          for (const auto& step : d.steps)
+            if (step.series == rep->run_name && step.figure == figure &&
+                step.run.run_id == history[i].first.run_id) {
+              steps.x.push_back(static_cast<double>(i));
+              steps.y.push_back(v);
+            }
         }
         if (!s.x.empty()) spec.series.push_back(s);
       }
+      if (!steps.x.empty()) spec.series.push_back(steps);
       const std::string name = file_stem_for(g.estimator + "/" + g.scene) + "__" + figure + ".png";
       charts.emplace_back(spec, (charts_dir / name).string());
       g.charts.push_back((fs::path("charts") / name).string());

@@ -10,92 +10,18 @@
 #include <sstream>
 
 #include "errors.h"
-#include "exr_io.h"
+#include "reports/dashboard_test_util.h"
 #include "reports/regression_config.h"
-#include "scenes/test_temp_dir.h"
 
 namespace aoeval {
 namespace {
 
 namespace fs = std::filesystem;
 
-constexpr int kW = 24, kH = 16;
-
-// A fake estimate: AO = base + amplitude * pattern, background (A = 0) in the top-left corner.
-void write_estimate(const fs::path& path, double base, double amplitude) {
-  OIIO::ImageSpec spec(kW, kH, 2, OIIO::TypeDesc::FLOAT);
-  spec.channelnames = {"AO", "A"};
-  OIIO::ImageBuf image(spec);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) {
-      const float covered = (x < 4 && y < 4) ? 0.0f : 1.0f;
-      const float ao = static_cast<float>(base + amplitude * std::sin(0.5 * x) * std::cos(0.3 * y));
-      const float px[2] = {ao, covered};
-      image.setpixel(x, y, px);
-    }
-  fs::create_directories(path.parent_path());
-  write_exr(path.string(), image, {});
-}
-
-struct History {
-  fs::path dir;
-  std::string db;
-  explicit History(const std::string& name)
-      : dir(aoeval::testutil::test_temp_dir("dashboard_" + name)) {
-    db = (dir / "results.sqlite").string();
-  }
-  // One run of command `command`: rows (estimator, rmse_excess, bias, AO base); images kept.
-  std::string add_run(const std::string& run_id, const std::string& started,
-                      const std::vector<std::tuple<std::string, double, double, double>>& rows,
-                      const std::string& command = "run quick") {
-    SqliteStore store(db);
-    RunContext c;
-    c.run_id = run_id;
-    c.command = command;
-    c.git_commit = "0123456789abcdef0123456789abcdef01234567";
-    c.started = started;
-    c.device = "cpu";
-    c.output_dir = (dir / run_id).string();
-    store.add_run(c);
-    for (const auto& [estimator, rmse_excess, bias, base] : rows) {
-      ResultRow r;
-      r.run_id = run_id;
-      r.estimator = estimator;
-      r.scene = "bunny";
-      r.view = "main";
-      r.width = kW;
-      r.height = kH;
-      r.run_name = estimator + "/scene:bunny/view:main/24x16";
-      r.device = "cpu";
-      r.reference = {{"spp", 64}, {"sampler", "sobol"}, {"seed", 1}};
-      r.metrics = {{"rmse_excess", rmse_excess},
-                   {"ref_stderr_rms", 0.01},
-                   {"bias", bias},
-                   {"pixels", kW * kH - 16}};
-      r.time_ms_samples = {1.0, 1.01, 0.99, 1.02, 1.0};
-      r.time_ms_median = 1.0;
-      r.estimate_file = "estimates/" + estimator + ".exr";
-      write_estimate(dir / run_id / r.estimate_file, base, 0.2);
-      store.add(r);
-    }
-    return run_id;
-  }
-  DashboardOptions options() const {
-    DashboardOptions o;
-    o.database = db;
-    o.out_dir = (dir / "dashboard").string();
-    o.config_path = default_regression_config_path();
-    o.charts = false;  // matplotlib costs seconds per call; one test draws them
-    return o;
-  }
-};
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using testutil::History;
+using testutil::kH;
+using testutil::kW;
+using testutil::slurp;
 
 TEST(Dashboard, UnchangedRerunPassesAndARegressionComesFirst) {
   History h("regression");
@@ -119,9 +45,14 @@ TEST(Dashboard, UnchangedRerunPassesAndARegressionComesFirst) {
   EXPECT_EQ(worse.rows.front().verdict, Verdict::regressed);
   EXPECT_EQ(worse.before_run->run_id, "r2");
   const auto lines = console_lines(worse);
-  ASSERT_EQ(lines.size(), 1u);
-  EXPECT_NE(lines[0].find("REGRESSED beta scene bunny"), std::string::npos) << lines[0];
-  EXPECT_NE(lines[0].find("rmse_excess"), std::string::npos) << lines[0];
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0].find("REGRESSED beta - scene bunny view main 24x16: rmse_excess"), 0u)
+      << lines[0];
+  // Its estimate also moved (0.6 -> 0.56): a change, reported apart.
+  EXPECT_EQ(lines[1].find("CHANGED beta - scene bunny view main 24x16: darker by 0.040 mean AO"),
+            0u)
+      << lines[1];
+  EXPECT_EQ(worse.changed, 1);
 
   // Images, charts and the page.
   const RowReport& beta = worse.rows.front();

@@ -39,6 +39,12 @@ struct Thresholds {
   double time_relative = 0.10;  // median time may grow by this fraction
   double time_alpha = 0.01;     // one-sided rank-test level
   bool missing_fails = true;  // a row ok in the baseline, now skipped or absent: failure or warning
+  // Changes (CONTRACT §12, reports/image_change.h): an estimate whose mean AO moved by more than
+  // this against the baseline's estimate (and by more than its noise) is CHANGED; about one 8-bit
+  // grey level in five, below what a viewer sees but well above float round-off. change_fails:
+  // `"change_action": "fail"` makes a change exit 1 like a regression (default "warn").
+  double change_mean_shift = 0.005;
+  bool change_fails = false;
 };
 
 // ---------------------------------------------------------------- rank test
@@ -116,9 +122,12 @@ struct Check {
 };
 
 // Compares one matched pair. `delta_rms`: rms of (after - before) AO over pixels compared in both,
-// when both estimate images could be read.
+// when both estimate images could be read. `shift_sigma`: the noise sigma of mean(after - before)
+// from the estimator's own randomness (image_change.h's sigma_mean; 0 for a deterministic or
+// same-seed pair), added to the bias's: the change of bias is that mean shift plus reference noise.
 std::vector<Check> compare_rows(const ResultRow& before, const ResultRow& after,
-                                const Thresholds& t, std::optional<double> delta_rms);
+                                const Thresholds& t, std::optional<double> delta_rms,
+                                double shift_sigma = 0.0);
 // A row present and ok in the baseline but skipped or absent now.
 Check missing_check(const ResultRow* after, const Thresholds& t);
 // The worst verdict of a list (regressed > warning > improved > unchanged > not_compared).

@@ -20,6 +20,12 @@ void apply(const nlohmann::json& j, Thresholds& t, const std::string& where) {
       t.missing_fails = value == "fail";
       continue;
     }
+    if (key == "change_action") {
+      if (!value.is_string() || (value != "fail" && value != "warn"))
+        throw InputError(at + ": expected \"fail\" or \"warn\"");
+      t.change_fails = value == "fail";
+      continue;
+    }
     double* field = key == "rmse_excess_relative"   ? &t.rmse_excess_relative
                     : key == "rmse_excess_sigmas"   ? &t.rmse_excess_sigmas
                     : key == "rmse_excess_absolute" ? &t.rmse_excess_absolute
@@ -31,13 +37,14 @@ void apply(const nlohmann::json& j, Thresholds& t, const std::string& where) {
                     : key == "bent_absolute"        ? &t.bent_absolute
                     : key == "time_relative"        ? &t.time_relative
                     : key == "time_alpha"           ? &t.time_alpha
+                    : key == "change_mean_shift"    ? &t.change_mean_shift
                                                     : nullptr;
     if (!field) {
       throw InputError(at +
                        ": unknown key (known: rmse_excess_relative, rmse_excess_sigmas, "
                        "rmse_excess_absolute, bias_relative, bias_sigmas, bias_absolute, "
                        "bent_relative, bent_sigmas, bent_absolute, time_relative, time_alpha, "
-                       "missing)");
+                       "change_mean_shift, change_action, missing)");
     }
     if (!value.is_number() || value.get<double>() < 0.0)
       throw InputError(at + ": expected a number >= 0");

@@ -349,6 +349,22 @@ TEST(RegressionConfig, OverridesApplyInOrderAndUnknownKeysAreErrors) {
   EXPECT_NE(error_of({{"defaults", {{"time_alpha", 1.5}}}}).find("time_alpha"), std::string::npos);
   EXPECT_NE(error_of({{"defaults", {{"missing", "maybe"}}}}).find("missing"), std::string::npos);
   EXPECT_NE(error_of({{"defaults", {{"bias_sigmas", -1}}}}).find("bias_sigmas"), std::string::npos);
+  EXPECT_NE(error_of({{"defaults", {{"change_action", "stop"}}}}).find("change_action"),
+            std::string::npos);
+}
+
+TEST(RegressionConfig, ChangeKeysTakeDefaultsAndOverrides) {
+  EXPECT_EQ(Thresholds{}.change_mean_shift, 0.005);
+  EXPECT_FALSE(Thresholds{}.change_fails);
+  const RegressionConfig c = RegressionConfig::parse(
+      {{"defaults", {{"change_mean_shift", 0.01}, {"change_action", "fail"}}},
+       {"scenes", {{"tree-apple", {{"change_mean_shift", 0.02}}}}},
+       {"estimators", {{"shadowmap-ao", {{"change_action", "warn"}}}}}},
+      "t.json");
+  EXPECT_EQ(c.thresholds("x", "bunny").change_mean_shift, 0.01);
+  EXPECT_TRUE(c.thresholds("x", "bunny").change_fails);
+  EXPECT_EQ(c.thresholds("x", "tree-apple").change_mean_shift, 0.02);
+  EXPECT_FALSE(c.thresholds("shadowmap-ao", "tree-apple").change_fails);
 }
 
 TEST(RegressionConfig, TheShippedFileLoads) {

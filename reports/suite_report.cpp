@@ -240,7 +240,7 @@ void estimator_section(std::ostringstream& h, const EstimatorChart& c) {
     << ": error against time\"></a><figcaption>" << kChartMetric
     << " against the median time per frame, one series per scene view; the Pareto front (no "
        "other point of the series is both at least as fast and more accurate, times closer than "
-       "their repetitions' spread counting as equal) is marked and listed in bold below. The image "
+       "their repetitions' interquartile range counting as equal) is marked and listed in bold below. The image "
        "links to the plotted data, each run name to its estimate "
        "EXR.</figcaption></figure>\n";
   h << "<details><summary>" << c.rows.size() << (c.rows.size() == 1 ? " row" : " rows")

@@ -25,5 +25,9 @@ std::string write_suite_report(const std::string& out_dir, const SuiteReport& re
 // coordinate are never on the front and dominate nothing. Equal points are all on it.
 std::vector<bool> pareto_front(const std::vector<double>& cost, const std::vector<double>& error,
                                const std::vector<double>& cost_noise = {});
+// The timing noise of a row where fronts are decided: the interquartile range of its timed
+// repetitions (issue 30: max - min let one slow repetition, 79 ms among 23-32 ms, make a 29 ms
+// point "equal" to a 12 ms one and collapse the front); 0 when the row stored no repetitions.
+double pareto_time_noise(const ResultRow& row);
 
 }  // namespace aoeval

@@ -10,6 +10,7 @@
 
 #include "drawing/plot.h"
 #include "harness/results/result_row.h"
+#include "harness/results/summary.h"
 #include "param_text.h"
 
 namespace aoeval {
@@ -36,6 +37,10 @@ std::vector<bool> pareto_front(const std::vector<double>& cost, const std::vecto
     front[i] = !dominated;
   }
   return front;
+}
+
+double pareto_time_noise(const ResultRow& row) {
+  return interquartile_range(row.time_ms_samples);
 }
 
 namespace {
@@ -148,13 +153,13 @@ std::vector<EstimatorChart> write_estimator_charts(const std::string& out_dir,
       PlotSeries s;
       s.label = key;
       s.kind = "scatter";
-      std::vector<double> noise;  // the spread of the timed repetitions
+      std::vector<double> noise;  // the robust spread of the timed repetitions
       std::vector<const SuiteReportEntry*> series_rows;
       for (size_t i : members[key]) {
         const ResultRow& r = chart.rows[i]->row;
         s.x.push_back(r.time_ms_median);
         s.y.push_back(metric_of(r, kChartMetric));
-        noise.push_back(r.time_ms_max - r.time_ms_min);
+        noise.push_back(pareto_time_noise(r));
         series_rows.push_back(chart.rows[i]);
       }
       const std::vector<bool> front = pareto_front(s.x, s.y, noise);

@@ -39,6 +39,26 @@ TEST(ParetoFront, TiesAndEdgeCases) {
   EXPECT_THROW(pareto_front({1, 2}, {0.1}), std::invalid_argument);
 }
 
+TEST(ParetoFront, OneSlowRepetitionCannotCollapseTheFront) {
+  // Issue 30: a 12 ms point and a more accurate 29 ms point whose repetitions hold one slow one
+  // (79 ms among 23-32 ms). With max - min as the noise (56 ms) the 29 ms point "dominated" the
+  // 12 ms one; the interquartile range (5 ms) keeps both on the front.
+  ResultRow fast, slow;
+  fast.set_times({11.5, 12.0, 12.0, 12.5, 13.0});
+  slow.set_times({23.0, 27.0, 29.0, 32.0, 79.0});
+  ASSERT_EQ(slow.time_ms_median, 29.0);
+  const std::vector<double> cost = {fast.time_ms_median, slow.time_ms_median}, error = {0.2, 0.1};
+  EXPECT_EQ(
+      pareto_front(cost, error,
+                   {fast.time_ms_max - fast.time_ms_min, slow.time_ms_max - slow.time_ms_min}),
+      (std::vector<bool>{false, true}));  // the old rule's collapse, kept as the witness
+  EXPECT_DOUBLE_EQ(pareto_time_noise(slow), 5.0);
+  EXPECT_DOUBLE_EQ(pareto_time_noise(fast), 0.5);
+  EXPECT_EQ(pareto_front(cost, error, {pareto_time_noise(fast), pareto_time_noise(slow)}),
+            (std::vector<bool>{true, true}));
+  EXPECT_EQ(pareto_time_noise(ResultRow{}), 0.0);  // no repetitions stored
+}
+
 TEST(ParetoFront, CostsWithinTheirNoiseCountAsEqual) {
   // Three settings that cost the same up to timing jitter (spread 0.05 ms each): only the most
   // accurate is on the front, although the least accurate happens to be the fastest.

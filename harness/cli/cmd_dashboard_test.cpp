@@ -67,8 +67,9 @@ TEST_F(DashboardCli, UnchangedRerunPassesAndAWorseParameterFails) {
   ASSERT_EQ(run("sweep tiny_worse.json --out c --db r.sqlite").code, 0);
   Result worse = dashboard(true);
   EXPECT_EQ(worse.code, 1) << worse.out << worse.err;
-  EXPECT_NE(worse.out.find("REGRESSED raytraced scene cornell-box"), std::string::npos)
-      << worse.out;
+  // The line names the row's parameters, those differing from the defaults first.
+  EXPECT_NE(worse.out.find("REGRESSED raytraced rays=1,"), std::string::npos) << worse.out;
+  EXPECT_NE(worse.out.find(" scene cornell-box view "), std::string::npos) << worse.out;
   EXPECT_NE(worse.out.find("rays: 8 -> 1"), std::string::npos) << worse.out;
   EXPECT_EQ(worse.out.find("REGRESSED constant"), std::string::npos) << worse.out;
   const std::string page = slurp(dir / "dash" / "index.html");
@@ -87,6 +88,84 @@ TEST_F(DashboardCli, UnchangedRerunPassesAndAWorseParameterFails) {
       first_id);
   EXPECT_EQ(explicit_baseline.code, 1) << explicit_baseline.out << explicit_baseline.err;
   EXPECT_NE(explicit_baseline.out.find(first_id), std::string::npos) << explicit_baseline.out;
+}
+
+// Issue 30, must-show 1: a process plug-in whose output is multiplied by 0.9 between two runs
+// with the same parameters is CHANGED ("darker by") on every row, exit 0 under change_action warn
+// and 1 under fail; raytraced (stochastic, AO_stderr) re-run with the same seed and then with
+// another is not changed.
+TEST_F(DashboardCli, ADarkenedPluginIsChangedAndAReseededEstimatorIsNot) {
+  const fs::path plugin = dir / "plugins" / "darken";
+  fs::create_directories(plugin);
+  // Biased bright (about 0.9 where the box's AO is lower): darkening lowers its error, so only
+  // the change can tell. The factor comes from scale.txt, the "code change" between runs.
+  // clang-format off
+  std::ofstream(plugin / "estimator.json") << R"J({"name": "darken",
+    "summary": "a bright AO pattern, dashboard test", "paper": "none", "kind": "process",
+    "command": ["/usr/bin/python3", "darken.py"],
+    "params": [{"name": "strength", "type": "real", "default": 1.0, "min": 0, "max": 2,
+                "unit": "", "meaning": "pattern amplitude"}],
+    "definition": {"weighting": "cosine", "dmax": null, "falloff": "none"},
+    "outputs": ["AO"], "timeout_s": 60})J";
+  std::ofstream(plugin / "darken.py") << R"PY(import argparse, json, os
+import numpy as np
+import OpenImageIO as oiio
+ap = argparse.ArgumentParser()
+for a in ("--gbuffer", "--params", "--out"): ap.add_argument(a, required=True)
+ap.add_argument("--frames", type=int, default=1)
+args = ap.parse_args()
+inp = oiio.ImageInput.open(args.gbuffer)
+w, h = inp.spec().width, inp.spec().height
+inp.close()
+strength = float(json.load(open(args.params))["strength"])
+scale = float(open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "scale.txt")).read())
+y, x = np.mgrid[0:h, 0:w]
+ao = scale * (0.9 + 0.05 * strength * np.sin(x / 5.0) * np.cos(y / 4.0))
+spec = oiio.ImageSpec(w, h, 1, "float")
+spec.channelnames = ("AO",)
+out = oiio.ImageOutput.create(args.out)
+out.open(args.out, spec)
+out.write_image(ao.astype(np.float32).reshape(h, w, 1))
+out.close()
+)PY";
+  // clang-format on
+  std::ofstream(plugin / "scale.txt") << "1.0";
+  for (int seed : {1, 2}) {
+    std::ofstream(dir / ("chg" + std::to_string(seed) + ".json"))
+        << R"J({"name": "chg", "scenes": ["cornell-box"], "res": [48, 36],
+          "reference": {"spp": 16, "sampler": "sobol"}, "timing": {"warmup": 0, "repetitions": 3},
+          "runs": [{"estimator": "darken", "grid": {"strength": [0.5, 1.0]}},
+                   {"estimator": "raytraced", "fixed": {"rays": 16, "seed": )J"
+        << seed << "}}]}";
+  }
+  std::ofstream(dir / "fail.json")
+      << R"({"defaults": {"time_relative": 1000, "change_action": "fail"}})";
+  const std::string sweep = " --db c.sqlite --plugins plugins";
+  const std::string dash = "dashboard --db c.sqlite --out dc --no-charts --plugins plugins";
+  ASSERT_EQ(run("sweep chg1.json --out s1" + sweep).code, 0);
+  ASSERT_EQ(run("sweep chg1.json --out s2" + sweep).code, 0);  // same seed: same bits
+  Result same = run(dash + " --config accuracy_only.json");
+  EXPECT_EQ(same.code, 0) << same.out << same.err;
+  EXPECT_EQ(same.out.find("CHANGED"), std::string::npos) << same.out;
+  EXPECT_NE(same.out.find(" 0 changed"), std::string::npos) << same.out;
+
+  std::ofstream(plugin / "scale.txt") << "0.9";
+  ASSERT_EQ(run("sweep chg2.json --out s3" + sweep).code, 0);  // raytraced with another seed
+  Result warn = run(dash + " --config accuracy_only.json");
+  EXPECT_EQ(warn.code, 0) << warn.out << warn.err;
+  for (const char* row : {"CHANGED darken strength=0.5 scene cornell-box view ",
+                          "CHANGED darken strength=1 scene cornell-box view "}) {
+    const auto at = warn.out.find(row);
+    ASSERT_NE(at, std::string::npos) << row << "\n" << warn.out;
+    const std::string line = warn.out.substr(at, warn.out.find('\n', at) - at);
+    EXPECT_NE(line.find(" 48x36: darker by 0.0"), std::string::npos) << line;
+    EXPECT_NE(line.find(" mean AO on 100 % of pixels"), std::string::npos) << line;
+  }
+  EXPECT_EQ(warn.out.find("CHANGED raytraced"), std::string::npos) << warn.out;
+  EXPECT_NE(warn.out.find(" 2 changed"), std::string::npos) << warn.out;
+  Result fail = run(dash + " --config fail.json");
+  EXPECT_EQ(fail.code, 1) << fail.out << fail.err;
+  EXPECT_EQ(fail.out.find("REGRESSED"), std::string::npos) << fail.out;
 }
 
 TEST_F(DashboardCli, BadInputExitsTwoWithOneLine) {

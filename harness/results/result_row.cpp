@@ -180,12 +180,18 @@ nlohmann::json flatten(const ResultRow& row) {
   };
   put_metrics(row.metrics, "");
   put_metrics(row.true_metrics, "true_");
-  flat["time_ms_median"] = row.time_ms_median;
-  flat["time_ms_min"] = row.time_ms_min;
-  flat["time_ms_max"] = row.time_ms_max;
+  // A row never timed (skipped: no repetition) has no times: blank in CSV, null in JSON and NULL
+  // in SQLite, never a 0 ms that a chart or a sort would take for a measurement.
+  const bool timed = row.repetitions > 0 || !row.time_ms_samples.empty();
+  const auto time_cell = [&](double v) {
+    return timed ? nlohmann::json(v) : nlohmann::json(nullptr);
+  };
+  flat["time_ms_median"] = time_cell(row.time_ms_median);
+  flat["time_ms_min"] = time_cell(row.time_ms_min);
+  flat["time_ms_max"] = time_cell(row.time_ms_max);
   flat["repetitions"] = row.repetitions;
   flat["time_ms_samples"] = nlohmann::json(row.time_ms_samples).dump();
-  flat["precompute_ms"] = row.precompute_ms;
+  flat["precompute_ms"] = time_cell(row.precompute_ms);
   flat["reference"] = (row.reference.is_null() ? nlohmann::json::object() : row.reference).dump();
   flat["machine"] = row.machine;
   flat["device"] = row.device;

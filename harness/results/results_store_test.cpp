@@ -281,6 +281,24 @@ TEST(ResultsCsv, TwoEstimatorsLeaveBlanks) {
   for (const auto& line : table) EXPECT_EQ(line.size(), h.size());
 }
 
+TEST(ResultsCsv, SkippedRowsHaveBlankTimesNotZero) {
+  ResultRow skipped = make_row("hbao", {{"R", 0.2}}, "bunny", 0.01);
+  skipped.status = "skipped: no Vulkan device";
+  skipped.set_times({});
+  skipped.precompute_ms = 0.0;
+  const ResultRow ran = make_row("hbao", {{"R", 0.4}}, "bunny", 0.01);
+  const auto table = parse_csv(results_csv({skipped, ran}));
+  ASSERT_EQ(table.size(), 3u);
+  for (const char* column : {"time_ms_median", "time_ms_min", "time_ms_max", "precompute_ms"}) {
+    EXPECT_EQ(table[1][index_of(table[0], column)], "") << column;
+    EXPECT_NE(table[2][index_of(table[0], column)], "") << column;
+  }
+  const nlohmann::json j = nlohmann::json::parse(results_json({skipped}, make_run_context("t")));
+  for (const char* key : {"time_ms_median", "time_ms_min", "time_ms_max", "precompute_ms"})
+    EXPECT_TRUE(j["rows"][0][key].is_null()) << key;
+  EXPECT_EQ(unflatten(j["rows"][0]).time_ms_median, 0.0);  // read back as "no time"
+}
+
 TEST(ResultsJson, SchemaVersionContextAndRows) {
   RunContext context = make_run_context("sweep test");
   const ResultRow r = make_row("hbao", {{"R", 0.2}}, "bunny", 0.01);

@@ -8,10 +8,8 @@
 //                       re-timed once (2 x repetitions more frames per view, pooled with the first
 //                       ones, all kept in its rows) and then judged by the pooled mean median.
 //
-// The spread (max - min) is the interval the report's Pareto fronts already use ("times closer than
-// their repetitions' spread count as equal"); with n repetitions it holds the true median with
-// probability 1 - 2^(1-n) (75 % at 3, 94 % at 5) for any distribution, so a point is only
-// re-timed where the first measurement cannot tell.
+// The spread (max - min) holds the true median with probability 1 - 2^(1-n) (75 % at 3, 94 % at 5)
+// for any distribution, so a point is only re-timed where the first measurement cannot tell.
 #pragma once
 
 #include <string>
