@@ -3,7 +3,10 @@
 # temporary folder with the aoeval binary, then opens them in Debian's headless chromium
 # (check_pages.js, playwright-core) and fails on console errors, images that do not load, charts
 # that did not render, a hover swap that does not swap, or a verdict other than expected; and first
-# shows that the checker catches a deliberately broken copy of a dashboard.
+# shows that the checker catches a deliberately broken copy of a dashboard. Then drives the image
+# viewer of the suite report (check_viewer.js): element.aoevalProbe against the EXR floats that
+# exr_samples.py reads with OpenImageIO at 100 random covered pixels per viewer, zoom, pan, flip,
+# probe, exposure, false colour, the sortable leaderboard, and the page without JavaScript.
 # Screenshots are kept in <build>/test-artifacts/.
 #
 #   run_browser_test.sh AOEVAL BUILD_DIR
@@ -103,3 +106,8 @@ NODE_PATH="$modules/node_modules" node "$here/check_pages.js" \
   page:suite-b/index.html \
   dashboard-fail=raytraced:dash-fail/index.html \
   dashboard-pass:dash-pass/index.html
+
+# The viewer (CONTRACT §11). Debian's python3 has python3-openimageio (./test.sh installs it).
+/usr/bin/python3 "$here/exr_samples.py" suite-b/index.html 100 samples.json
+NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" \
+  --screenshots "$build/test-artifacts" --samples samples.json suite-b/index.html
