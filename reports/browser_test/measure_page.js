@@ -30,6 +30,8 @@ async function main() {
       const context = await browser.newContext({ viewport: { width: 1400, height: 900 } });
       const page = await context.newPage();
       await page.goto('file://' + file, { waitUntil: 'load' });
+      // Paint entries may come after the load event (times stay relative to navigation start).
+      await page.waitForFunction(() => performance.getEntriesByType('paint').length >= 2);
       const m = await page.evaluate(() => {
         const paint = {};
         for (const e of performance.getEntriesByType('paint')) paint[e.name] = e.startTime;

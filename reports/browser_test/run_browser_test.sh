@@ -109,5 +109,27 @@ NODE_PATH="$modules/node_modules" node "$here/check_pages.js" \
 
 # The viewer (CONTRACT §11). Debian's python3 has python3-openimageio (./test.sh installs it).
 /usr/bin/python3 "$here/exr_samples.py" suite-b/index.html 100 samples.json
+# First, the probe check must catch viewer data 1e-5 off the EXR (every estimate AO float nudged).
+cp -r suite-b viewer-broken
+/usr/bin/python3 - viewer-broken/viewer-data/runs__*__estimates__raytraced*.js <<'PY'
+import base64, json, sys
+import numpy as np
+path = sys.argv[1]
+text = open(path).read()
+head, record = text[:text.index("]=") + 2], json.loads(text[text.index("]=") + 2:].rstrip().rstrip(";"))
+ao = np.frombuffer(base64.b64decode(record["channels"]["AO"][0]), "<f4") + np.float32(1e-5)
+record["channels"]["AO"][0] = base64.b64encode(ao.astype("<f4").tobytes()).decode()
+open(path, "w").write(head + json.dumps(record) + ";\n")
+PY
+set +e
+NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --screenshots "$work/shots" \
+  --samples samples.json viewer-broken/index.html >viewer-checker.txt 2>&1
+checker=$?
+set -e
+if [ "$checker" -ne 1 ] || ! grep -q "aoevalProbe estimate differs" viewer-checker.txt; then
+  echo "browser_test: the viewer checker missed estimate data 1e-5 off the EXR (exit $checker):"
+  cat viewer-checker.txt
+  exit 1
+fi
 NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" \
   --screenshots "$build/test-artifacts" --samples samples.json suite-b/index.html
