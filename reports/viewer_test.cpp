@@ -137,6 +137,12 @@ TEST(Viewer, DataScriptsHoldTheExrFloatsExactly) {
   EXPECT_NE(html.find("class=\"aoeval-viewer\""), std::string::npos);
   EXPECT_NE(html.find("data-b=\"viewer-data/est.js\""), std::string::npos);
   EXPECT_NE(html.find("<div class=\"av-static\"><img src=\"m.png\"></div>"), std::string::npos);
+  // For a pair of EXRs in one call (the dashboard's new and baseline): both scripts, the labels.
+  const std::string pair = compare_viewer(dir.string(), "ref.exr", "ref.exr", "baseline,new", "");
+  EXPECT_NE(pair.find("data-a=\"viewer-data/ref.js\" data-b=\"viewer-data/ref.js\""),
+            std::string::npos)
+      << pair;
+  EXPECT_NE(pair.find("data-labels=\"baseline,new\""), std::string::npos);
 }
 
 ResultRow scored(const std::string& estimator, const std::string& scene, double err, double ms) {
