@@ -12,7 +12,8 @@
 // the page without JavaScript.
 //
 // usage: node check_viewer.js --screenshots DIR --samples SAMPLES.json [--interact K] PAGE.html
-//   K: the viewer (in the samples' order) whose controls are driven; default 0.
+//   K: the viewer (in the samples' order) whose controls are driven; default 0; -1: none (a
+//   G-buffer gallery: only the probe, the page without JavaScript and console errors are checked).
 'use strict';
 
 const fs = require('fs');
@@ -53,12 +54,12 @@ async function withoutJavaScript(browser, o) {
   if (!r) fail('no JavaScript: could not inspect the page');
   else {
     if (r.images === 0 || r.broken.length) fail(`no JavaScript: images did not load: ${r.broken.join(', ')}`);
-    if (r.leaderboard === 0) fail('no JavaScript: no leaderboard rows');
-    if (r.staticMosaics === 0) fail('no JavaScript: no static mosaic inside a viewer');
+    if (o.interact >= 0 && r.leaderboard === 0) fail('no JavaScript: no leaderboard rows');
+    if (o.interact >= 0 && r.staticMosaics === 0) fail('no JavaScript: no static mosaic inside a viewer');
     if (r.opened !== 0) fail('no JavaScript: viewer controls appeared');
     console.log(`no JavaScript: ${r.images} images, ${r.leaderboard} leaderboard rows, ${r.staticMosaics} mosaics`);
   }
-  await page.screenshot({ path: path.join(o.screenshots, 'viewer-nojs.png') });
+  await page.screenshot({ path: path.join(o.screenshots, `viewer-nojs-${path.basename(path.dirname(o.page))}.png`) });
   await context.close();
 }
 
@@ -80,13 +81,14 @@ async function leaderboard(page, o) {
 }
 
 async function probeMatchesExr(page, spec) {
-  const el = await page.$(`.aoeval-viewer[data-b="${spec.b}"]`);
+  const el = await page.$(spec.kind === 'gbuffer' ? `.aoeval-viewer[data-a="${spec.a}"]` : `.aoeval-viewer[data-b="${spec.b}"]`);
   if (!el) return fail(`no viewer for ${spec.b}`);
   await el.scrollIntoViewIfNeeded();
   await (await el.$('.av-opener')).click();
   await page.waitForFunction((e) => typeof e.aoevalProbe === 'function', el, { timeout: 60000 });
   const got = await el.evaluate((e, s) => s.map((p) => e.aoevalProbe(p.x, p.y)), spec.samples);
-  const worst = { reference: 0, estimate: 0, error: 0, stderr: 0 };
+  const worst = spec.kind === 'gbuffer' ? { Z: 0, 'N.X': 0, 'N.Y': 0, 'N.Z': 0 }
+    : { reference: 0, estimate: 0, error: 0, stderr: 0 };
   got.forEach((g, i) => {
     for (const k of Object.keys(worst)) {
       const d = Math.abs(g[k] - spec.samples[i][k]);
@@ -95,7 +97,7 @@ async function probeMatchesExr(page, spec) {
   });
   for (const k of Object.keys(worst))
     if (!(worst[k] <= 1e-6)) fail(`aoevalProbe ${k} differs from the EXR by ${worst[k]} (${spec.b})`);
-  console.log(`probe: ${got.length} covered pixels of ${spec.a} and ${spec.b}: max |difference| ` +
+  console.log(`probe: ${got.length} covered pixels of ${spec.a}${spec.b ? ' and ' + spec.b : ''}: max |difference| ` +
     Object.entries(worst).map(([k, v]) => `${k} ${v}`).join(', '));
   return el;
 }
@@ -204,14 +206,14 @@ async function main() {
     page.on('pageerror', (e) => fail(`uncaught exception: ${e.message}`));
     page.on('requestfailed', (r) => fail(`request failed: ${r.url()}`));
     await page.goto('file://' + o.page, { waitUntil: 'load' });
-    await leaderboard(page, o);
+    if (o.interact >= 0) await leaderboard(page, o);
     let driven = null;
     for (const [k, spec] of samples.entries()) {
       const el = await probeMatchesExr(page, spec);
       if (k === o.interact && el) driven = [el, spec];
     }
     if (driven) await interactions(page, driven[0], driven[1], o);
-    else fail(`no viewer ${o.interact} to drive`);
+    else if (o.interact >= 0) fail(`no viewer ${o.interact} to drive`);
   } finally {
     await browser.close();
   }

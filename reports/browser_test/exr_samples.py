@@ -5,6 +5,8 @@
 # values of the reference's AO and AO_stderr and the estimate's AO; and, as the pixel the viewer
 # test zooms to, the darkest compared pixel of the reference (a crease: where AO errors live).
 #
+# A G-buffer gallery page (viewers of kind "gbuffer"): its Z and N.X/Y/Z at covered pixels.
+#
 #   exr_samples.py PAGE.html COUNT OUT.json
 import json, os, re, sys
 
@@ -32,10 +34,19 @@ def main():
     page_dir = os.path.dirname(os.path.abspath(page))
     html = open(page).read()
     viewers = re.findall(r'<div class="aoeval-viewer" data-kind="compare" data-a="([^"]+)" data-b="([^"]+)"', html)
-    if not viewers:
-        sys.exit(f"exr_samples.py: {page}: no compare viewer")
+    gbuffers = re.findall(r'<div class="aoeval-viewer" data-kind="gbuffer" data-a="([^"]+)"', html)
+    if not viewers and not gbuffers:
+        sys.exit(f"exr_samples.py: {page}: no viewer")
     rng = np.random.default_rng(33)
     result = []
+    names = ["Z", "N.X", "N.Y", "N.Z"]
+    for a in gbuffers:
+        g = channels(os.path.join(page_dir, source(page_dir, a)), names + ["A"])
+        ys, xs = np.nonzero(g["A"] > 0.5)
+        pick = rng.choice(len(xs), size=min(count, len(xs)), replace=False)
+        samples = [dict({"x": int(xs[k]), "y": int(ys[k])},
+                        **{n: float(g[n][ys[k], xs[k]]) for n in names}) for k in pick]
+        result.append({"a": a, "kind": "gbuffer", "samples": samples})
     for a, b in viewers:
         ref = channels(os.path.join(page_dir, source(page_dir, a)), ["AO", "AO_stderr", "A"])
         est = channels(os.path.join(page_dir, source(page_dir, b)), ["AO", "A"])

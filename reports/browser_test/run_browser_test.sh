@@ -133,3 +133,7 @@ if [ "$checker" -ne 1 ] || ! grep -q "aoevalProbe estimate differs" viewer-check
 fi
 NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" \
   --screenshots "$build/test-artifacts" --samples samples.json suite-b/index.html
+# The G-buffer gallery's viewers: Z and N under the probe equal the EXR's.
+/usr/bin/python3 "$here/exr_samples.py" suite-b/gbuffers/index.html 100 gbuffer-samples.json
+NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --interact -1 \
+  --screenshots "$build/test-artifacts" --samples gbuffer-samples.json suite-b/gbuffers/index.html
