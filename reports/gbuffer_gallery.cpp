@@ -7,6 +7,7 @@
 #include "drawing/gbuffer_previews.h"
 #include "exr_io.h"
 #include "reports/html.h"
+#include "reports/viewer.h"
 
 namespace aoeval {
 
@@ -35,13 +36,16 @@ std::string write_gbuffer_gallery(const std::string& out_dir, const std::string&
           "figcaption{font-size:0.85em;color:#555}img{image-rendering:pixelated;border:1px solid "
           "#ccc}"
           "table{border-collapse:collapse}td,th{padding:2px 10px;text-align:right}"
-          "th{text-align:left}</style></head><body>\n"
+          "th{text-align:left}</style>\n"
+       << write_viewer_assets(out_dir) << "</head><body>\n"
        << "<h1>aoeval: " << html_escape(suite) << " suite</h1>\n"
        << "<p>The shared G-buffer of every corpus scene and view: shading normals (RGB = N &times; "
           "0.5 + "
           "0.5) and linear view depth (inferno colour map, near = bright). Each image links to its "
           "OpenEXR file (channels A, Z, P, N, Ng, objectId). The suite's report (references, "
-          "estimates, errors, timings) is <a href=\"../index.html\">../index.html</a>.</p>\n";
+          "estimates, errors, timings) is <a href=\"../index.html\">../index.html</a>. A view's "
+          "images open in the viewer (click them): zoom to pixels and read N, Z and A under the "
+          "cursor.</p>\n";
   html << "<table><tr><th>scene</th><th>triangles</th><th>objects</th><th>load ms</th><th>BVH "
           "ms</th></tr>\n";
   std::string last;
@@ -76,12 +80,17 @@ std::string write_gbuffer_gallery(const std::string& out_dir, const std::string&
     };
     if (stale(normals_png) || stale(depth_png))
       write_gbuffer_previews(exr.string(), normals_png.string(), depth_png.string());
+    std::string figures;
     for (const auto& [img, label] : {std::pair{normals, "normals"}, std::pair{depth, "depth"}}) {
-      html << "<figure><a href=\"" << html_escape(e.gbuffer_exr) << "\"><img src=\""
-           << html_escape(img) << "\" alt=\"" << html_escape(e.scene + " " + e.view + " " + label)
-           << "\"></a><figcaption>" << html_escape(e.view) << ": " << label
-           << "</figcaption></figure>\n";
+      figures += "<figure><a href=\"" + html_escape(e.gbuffer_exr) + "\"><img src=\"" +
+                 html_escape(img) + "\" alt=\"" +
+                 html_escape(e.scene + " " + e.view + " " + label) + "\"></a><figcaption>" +
+                 html_escape(e.view) + ": " + label + "</figcaption></figure>\n";
     }
+    ViewerSpec viewer;  // the same pictures from the EXR's floats, with the probe (CONTRACT §11)
+    viewer.kind = "gbuffer";
+    viewer.a = write_viewer_data(out_dir, {e.gbuffer_exr}, gbuffer_viewer_channels());
+    html << viewer_html(viewer, figures);
   }
   if (!last.empty()) html << "</section>\n";
   html << "</body></html>\n";

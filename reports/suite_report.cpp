@@ -11,19 +11,15 @@
 #include "harness/results/machine_class.h"
 #include "reports/html.h"
 #include "reports/suite_report_charts.h"
+#include "reports/suite_report_leaderboard.h"
+#include "reports/suite_report_mosaics.h"
+#include "reports/viewer.h"
 
 namespace aoeval {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-// An id fragment: letters, digits and '-' only.
-std::string slug(const std::string& s) {
-  std::string o;
-  for (char c : s) o += std::isalnum(static_cast<unsigned char>(c)) ? c : '-';
-  return o;
-}
 
 std::string num(double v, const char* format = "%.4g") {
   if (std::isnan(v)) return "&ndash;";
@@ -50,14 +46,6 @@ std::string link(const std::string& href, const std::string& text) {
       .append("\">")
       .append(html_escape(text))
       .append("</a>");
-}
-
-// The parameters set explicitly, as in the run name: "rays:16" ("defaults" when none).
-std::string params_of(const ResultRow& r) {
-  std::string name = r.run_name;
-  const auto first = name.find('/'), scene = name.find("/scene:");
-  if (first == std::string::npos || scene == std::string::npos || scene <= first) return "defaults";
-  return name.substr(first + 1, scene - first - 1);
 }
 
 std::string view_of(const ResultRow& r) {
@@ -149,18 +137,30 @@ void summary(std::ostringstream& h, const SuiteReport& r, const std::vector<std:
   h << "</table>\n";
 }
 
-void scene_section(std::ostringstream& h, const std::string& scene,
+// The mosaic inside its viewer (CONTRACT §11): the PNG is what a reader without JavaScript sees.
+std::string mosaic_html(const std::string& out_dir, const SuiteReportEntry& e) {
+  const ResultRow& r = e.row;
+  const std::string image = "<a href=\"" + html_escape(r.estimate_file) +
+                            "\"><img class=\"mosaic\" src=\"" + html_escape(e.mosaic_png) +
+                            "\" alt=\"" + html_escape(r.run_name) + "\"></a>";
+  std::error_code ec;
+  const fs::path dir(out_dir);
+  if (r.estimate_file.empty() || e.reference_exr.empty() ||
+      !fs::exists(dir / r.estimate_file, ec) || !fs::exists(dir / e.reference_exr, ec))
+    return image;  // images no longer there: the static mosaic alone
+  return compare_viewer(out_dir, e.reference_exr, r.estimate_file, "reference,estimate", image);
+}
+
+void scene_section(std::ostringstream& h, const std::string& out_dir, const std::string& scene,
                    const std::vector<const SuiteReportEntry*>& rows) {
   h << "<section class=\"scene\" id=\"scene-" << slug(scene) << "\"><h2>Scene "
     << html_escape(scene) << "</h2>\n";
   for (const auto* e : rows) {
     const ResultRow& r = e->row;
     if (r.status != "ok" || e->mosaic_png.empty()) continue;
-    h << "<figure id=\"mosaic-" << slug(r.run_name) << "\"><a href=\""
-      << html_escape(r.estimate_file) << "\"><img class=\"mosaic\" src=\""
-      << html_escape(e->mosaic_png) << "\" alt=\"" << html_escape(r.run_name)
-      << "\"></a>\n<figcaption><b>" << html_escape(r.estimator) << "</b> "
-      << html_escape(params_of(r)) << ", view " << view_of(r)
+    h << "<figure id=\"mosaic-" << slug(r.run_name) << "\">" << mosaic_html(out_dir, *e)
+      << "\n<figcaption><b>" << html_escape(r.estimator) << "</b> " << html_escape(params_of(r))
+      << ", view " << view_of(r)
       << ": reference | estimate | |estimate &minus; reference| | estimate &minus; reference. "
       << link(r.estimate_file, "estimate EXR") << " &middot; "
       << link(e->reference_exr, "reference EXR") << " ("
@@ -264,7 +264,9 @@ void estimator_section(std::ostringstream& h, const EstimatorChart& c) {
 
 }  // namespace
 
-std::string write_suite_report(const std::string& out_dir, const SuiteReport& r) {
+std::string write_suite_report(const std::string& out_dir, const SuiteReport& report) {
+  // A sweep features no point of its own: its Pareto-front points are shown (mosaics drawn here).
+  const SuiteReport r = with_featured_mosaics(out_dir, report);
   const std::vector<EstimatorChart> charts = write_estimator_charts(out_dir, r);
   std::vector<std::string> scenes;
   std::map<std::string, std::vector<const SuiteReportEntry*>> featured;
@@ -276,8 +278,10 @@ std::string write_suite_report(const std::string& out_dir, const SuiteReport& r)
   std::ostringstream h;
   h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>aoeval "
     << html_escape(r.suite) << " suite, run " << html_escape(r.context.run_id)
-    << "</title>\n<style>" << kStyle
-    << "</style></head><body>\n<h1>aoeval: " << html_escape(r.suite) << " suite</h1>\n";
+    << "</title>\n<style>" << kStyle << "</style>\n"
+    << write_viewer_assets(out_dir) << "</head><body>\n<h1>aoeval: " << html_escape(r.suite)
+    << (r.sweep ? " sweep" : " suite") << "</h1>\n";
+  h << leaderboard_html(r.entries, scenes);
   summary(h, r, scenes, charts);
   h << "<nav>Scenes: ";
   for (const auto& s : scenes)
@@ -287,14 +291,16 @@ std::string write_suite_report(const std::string& out_dir, const SuiteReport& r)
     h << "<a href=\"#estimator-" << slug(c.estimator) << "\">" << html_escape(c.estimator)
       << "</a>";
   h << "</nav>\n<p>Each scene shows every estimator's featured run (its default point unless the "
-       "suite says otherwise). Metrics compare the estimate with the reference of the AO "
+       "suite says otherwise; in a sweep, the points on its Pareto fronts). A mosaic opens in the "
+       "viewer (click it: zoom to pixels, probe values, flip A/B, exposure; press ? there for its "
+       "keys). Metrics compare the estimate with the reference of the AO "
        "definition the estimator declares (&ldquo;matched&rdquo;) and, as true_*, with unbounded "
        "cosine AO; rmse_excess is the RMSE with the reference's own Monte-Carlo noise removed. "
        "Estimators with bent normals add bent_angle_mean and bent_angle_p95 (degrees between "
        "their bent normal and the reference's) and bent_angle_excess (the rms angle with the "
        "reference bent normal's own noise removed). "
        "Each mosaic links to the estimate EXR; its caption links to the reference EXRs.</p>\n";
-  for (const auto& s : scenes) scene_section(h, s, featured[s]);
+  for (const auto& s : scenes) scene_section(h, out_dir, s, featured[s]);
   for (const auto& c : charts) estimator_section(h, c);
   h << "</body></html>\n";
   const std::string page = (fs::path(out_dir) / "index.html").string();

@@ -403,7 +403,17 @@ TEST(Cli, TwoShardsEqualTheUnshardedSweep) {
   fs::remove_all(d / "s0");
   fs::remove_all(d / "s1");
   const std::string spec = write_sweep_spec(d), db = (d / "r.sqlite").string();
-  ASSERT_EQ(run("sweep " + spec + " --out " + (d / "all").string() + " --db " + db).code, 0);
+  const Result unsharded = run("sweep " + spec + " --out " + (d / "all").string() + " --db " + db);
+  ASSERT_EQ(unsharded.code, 0) << unsharded.err;
+  // The sweep's page, as a suite's: its path is the last line on stdout (README, "The suite
+  // report"); the leaderboard, the chart and viewers on the Pareto-front points are in it.
+  const std::string page = (d / "all" / "index.html").string();
+  EXPECT_TRUE(unsharded.out.ends_with("\n" + page + "\n")) << unsharded.out;
+  const std::string html = slurp(page);
+  for (const char* expected : {"id=\"leaderboard\"", "<img class=\"chart\"",
+                               "class=\"aoeval-viewer\"", "aoeval: cli-sweep sweep"})
+    EXPECT_NE(html.find(expected), std::string::npos) << expected;
+  EXPECT_TRUE(fs::exists(d / "all" / "viewer" / "viewer.js"));
   ASSERT_EQ(run("sweep " + spec + " --shard 0/2 --out " + (d / "s0").string() + " --db " + db).code,
             0);
   ASSERT_EQ(run("sweep " + spec + " --shard 1/2 --out " + (d / "s1").string() + " --db " + db).code,
@@ -418,6 +428,13 @@ TEST(Cli, TwoShardsEqualTheUnshardedSweep) {
     }
   EXPECT_EQ(all.size(), 16u);
   EXPECT_EQ(shards, all) << "same points and, being deterministic, the same errors";
+  // Merging the shards writes the sweep's page too (the references travel with the shards).
+  fs::remove_all(d / "merged");
+  const Result merged = run("merge " + (d / "s0").string() + " " + (d / "s1").string() + " --out " +
+                            (d / "merged").string() + " --db " + db);
+  ASSERT_EQ(merged.code, 0) << merged.err;
+  EXPECT_EQ(merged.out, (d / "merged" / "index.html").string() + "\n");
+  EXPECT_NE(slurp(d / "merged" / "index.html").find("class=\"aoeval-viewer\""), std::string::npos);
 }
 
 }  // namespace

@@ -1,11 +1,15 @@
-// `aoeval sweep SPEC.json [--out DIR] [--resume] [--shard I/N] [--db FILE]` (CONTRACT §5).
+// `aoeval sweep SPEC.json [--out DIR] [--resume] [--shard I/N] [--db FILE]` (CONTRACT §5): the
+// rows, then (unsharded) the page a suite gets, whose path is the last line on stdout.
+#include <cstdio>
 #include <filesystem>
 
 #include "errors.h"
 #include "harness/cli/cluster_options.h"
 #include "harness/cli/commands.h"
 #include "harness/plugins/plugin_options.h"
+#include "harness/results/suite_record_io.h"
 #include "harness/sweep/sweep_runner.h"
+#include "reports/suite_report.h"
 
 namespace aoeval {
 
@@ -48,8 +52,16 @@ void add_sweep_command(CLI::App& app) {
       s.cluster = c;
       return submit_to_slurm(s);
     }
-    const int status = run_sweep(o);
+    std::string out;
+    const int status = run_sweep(o, &out);
     if (status != 0) throw ExitStatus{status};
+    // The sweep's page, as a suite's (its Pareto fronts featured); a shard's page is the merge's.
+    if (o.shard.empty()) {
+      SuiteReport report = read_suite_report(out);
+      std::printf("%s\n", write_suite_report(out, report).c_str());
+    } else {
+      std::printf("%s\n", (std::filesystem::path(out) / "results.csv").string().c_str());
+    }
   });
 }
 

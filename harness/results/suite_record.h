@@ -28,6 +28,7 @@ struct SuiteReport {
   std::vector<std::string> overrides;  // the --set assignments, as given
   std::vector<SuiteReportEntry> entries;
   std::string gbuffer_gallery;  // relative path of the G-buffer gallery page, "" = none
+  bool sweep = false;           // a sweep's rows: its Pareto-front points are the featured ones
 };
 
 // One scene view of the G-buffer gallery.

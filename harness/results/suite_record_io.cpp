@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "errors.h"
+#include "harness/results/results_store.h"
 #include "text_files.h"
 
 namespace aoeval {
@@ -81,6 +82,26 @@ SuiteRecordFile read_suite_record(const std::string& dir) {
     throw InputError(path + ": not a suite record (" + e.what() + ")");
   }
   return r;
+}
+
+SuiteReport read_suite_report(const std::string& dir) {
+  const SuiteRecordFile record = read_suite_record(dir);
+  ResultsFolder folder(dir, RunContext{});
+  folder.load_existing();
+  SuiteReport report;
+  report.suite = record.suite;
+  report.suite_file = record.suite_file;
+  report.overrides = record.overrides;
+  report.wall_s = record.wall_s;
+  if (const auto& context = folder.existing_context()) report.context = *context;
+  for (const ResultRow& row : folder.rows()) {
+    SuiteReportEntry entry;
+    if (const auto it = record.entries.find(row.run_name); it != record.entries.end())
+      entry = it->second;
+    entry.row = row;
+    report.entries.push_back(entry);
+  }
+  return report;
 }
 
 }  // namespace aoeval

@@ -28,5 +28,8 @@ void write_suite_record(const std::string& out_dir, const SuiteReport& report,
 bool has_suite_record(const std::string& dir);
 // InputError naming the file and field when it is unreadable or not a record.
 SuiteRecordFile read_suite_record(const std::string& dir);
+// The report of one output folder: its rows and context (results.json) joined with its record
+// (a sweep's page, written after the sweep from what it stored).
+SuiteReport read_suite_report(const std::string& dir);
 
 }  // namespace aoeval

@@ -20,10 +20,10 @@
 #include "harness/results/output_lock.h"
 #include "harness/results/results_store.h"
 #include "harness/results/suite_record.h"
+#include "harness/sweep/kept_references.h"
 #include "harness/sweep/shard_plan.h"
 #include "harness/sweep/suite.h"
 #include "harness/sweep/sweep_runner.h"
-#include "references/reference_cache.h"
 
 namespace aoeval {
 
@@ -44,30 +44,12 @@ std::string resolution(int w, int h) {
 class RunImages {
  public:
   RunImages(std::string out, std::string run_dir)
-      : out_(std::move(out)), run_dir_(std::move(run_dir)) {}
+      : out_(std::move(out)), run_dir_(std::move(run_dir)), references_(out_) {}
 
-  // The reference EXR for (scene, view, resolution, definition) under references/, copied from
-  // the content-addressed cache the session filled; returns its path relative to the output.
+  // The reference EXR for (scene, view, resolution, definition) under references/.
   std::string reference(EvaluationSession& session, const std::string& scene_name, const View& view,
                         int w, int h, const AoDefinition& definition) {
-    const auto& data = session.scene(scene_name);
-    const Scene& scene = data.scene;
-    const ReferenceSpec& spec = session.reference_spec();
-    const std::string rel =
-        "references/" +
-        file_stem_for(scene.name + "/" + view.name + "/" + resolution(w, h) + "/" +
-                      definition.label() + "/spp:" + std::to_string(spec.spp) + "/" +
-                      sampler_name(spec.sampler) + "/seed:" + std::to_string(spec.seed)) +
-        ".exr";
-    if (!written_.insert(rel).second) return rel;
-    session.reference(scene_name, view, w, h, definition);  // computes or reads the cache
-    const std::string cached = reference_cache_path(
-        reference_cache_key(data.content_hash, make_camera(view, w, h), spec.settings(definition)));
-    const std::string target = (fs::path(out_) / rel).string();
-    const std::string temp = temporary_path_for(target);  // one naming, so leftovers are found
-    fs::copy_file(cached, temp, fs::copy_options::overwrite_existing);
-    commit_temporary(temp, target);
-    return rel;
+    return references_.keep(session, scene_name, view, w, h, definition);
   }
 
   OIIO::ImageBuf mosaic(EvaluationSession& session, const SweepPoint& p, const ResultRow& row,
@@ -144,7 +126,8 @@ class RunImages {
     int w, h;
   };
   std::string out_, run_dir_;
-  std::set<std::string> written_, seen_views_;
+  KeptReferences references_;
+  std::set<std::string> seen_views_;
   std::vector<ViewUse> views_;
 };
 

@@ -5,6 +5,7 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <set>
 
 #include "errors.h"
@@ -13,6 +14,8 @@
 #include "harness/results/output_lock.h"
 #include "harness/results/results_store.h"
 #include "harness/results/stage_times.h"
+#include "harness/results/suite_record_io.h"
+#include "harness/sweep/kept_references.h"
 #include "harness/sweep/shard_plan.h"
 #include "harness/sweep/sweep_spec.h"
 
@@ -29,9 +32,29 @@ extern "C" void on_sigint(int) {
   std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the process at once
 }
 
+// The sweep's suite_record.json: every row's kept references, none featured (its report features
+// the Pareto fronts), so that `aoeval merge` of its shards writes its page too.
+void write_record(const std::string& out, const std::string& name, const std::string& spec_path,
+                  const RunContext& context, const std::vector<ResultRow>& rows,
+                  const std::map<std::string, SuiteReportEntry>& kept) {
+  SuiteReport report;
+  report.suite = name;
+  report.suite_file = spec_path;
+  report.context = context;
+  report.sweep = true;
+  for (const ResultRow& r : rows) {
+    SuiteReportEntry e;
+    if (const auto it = kept.find(r.run_name); it != kept.end()) e = it->second;
+    e.row.run_name = r.run_name;
+    e.featured = false;
+    report.entries.push_back(e);
+  }
+  write_suite_record(out, report, {});
+}
+
 }  // namespace
 
-int run_sweep(const SweepOptions& o) {
+int run_sweep(const SweepOptions& o, std::string* out_dir) {
   const auto t_start = std::chrono::steady_clock::now();
   StageTimes runner_stages;
   const SweepSpec spec = load_sweep_spec(o.spec_path);
@@ -84,6 +107,11 @@ int run_sweep(const SweepOptions& o) {
   context.output_dir = fs::absolute(out).lexically_normal().string();
   ResultsFolder folder(out, context);
   std::set<std::string> done;
+  // What the report needs besides the rows (suite_record_io.h): the references each row was scored
+  // against, kept under <out>/references/; a resumed sweep keeps those of its earlier part.
+  std::map<std::string, SuiteReportEntry> kept;
+  if (o.resume && has_suite_record(out)) kept = read_suite_record(out).entries;
+  KeptReferences references(out);
   if (o.resume) {
     folder.load_existing();
     if (const auto& existing = folder.existing_context()) {
@@ -135,7 +163,16 @@ int run_sweep(const SweepOptions& o) {
         row.machine = context.machine;
         if (row.device.empty()) row.device = context.device;
         row.git_commit = context.git_commit;
-        if (o.keep_estimates && row.status == "ok") row.estimate_file = estimate_rel;
+        if (o.keep_estimates && row.status == "ok") {
+          row.estimate_file = estimate_rel;
+          const auto timer = runner_stages.time("references copied");
+          const View& view = session.scene(p->scene).scene.view(p->view);
+          SuiteReportEntry& entry = kept[row.run_name];
+          entry.reference_exr = references.keep(session, p->scene, view, p->width, p->height,
+                                                p->estimator->definition(measured->params));
+          entry.true_reference_exr =
+              references.keep(session, p->scene, view, p->width, p->height, true_ao_definition());
+        }
         {
           const auto timer = runner_stages.time("results SQLite");
           store.add(row);
@@ -169,6 +206,8 @@ int run_sweep(const SweepOptions& o) {
   folder.set_context(context);
   folder.write();
   store.add_run(context);
+  write_record(out, spec.name, o.spec_path, context, folder.rows(), kept);
+  if (out_dir) *out_dir = out;
   std::fprintf(stderr, "sweep %s: time by stage\n%s", spec.name.c_str(),
                stages.table(wall_ms).c_str());
   if (g_interrupted && finished < pending.size()) {
@@ -179,7 +218,6 @@ int run_sweep(const SweepOptions& o) {
   std::printf("%s", console_table(folder.rows(), {"run_name", "rmse", "rmse_excess", "ssim",
                                                   "true_rmse", "time_ms_median"})
                         .c_str());
-  std::printf("%s\n", (fs::path(out) / "results.csv").string().c_str());
   return 0;
 }
 

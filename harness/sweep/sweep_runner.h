@@ -20,7 +20,9 @@ struct SweepOptions {
   size_t max_points = 100000;  // kDefaultMaxSweepPoints (sweep_spec.h); --max-points
 };
 
-// Returns the exit status: 0 done, 130 interrupted.
-int run_sweep(const SweepOptions& options);
+// Returns the exit status: 0 done, 130 interrupted. Besides the rows, writes the folder's
+// suite_record.json (the references each row was scored against, under <out>/references/), from
+// which `aoeval sweep` and `aoeval merge` write its page; `out_dir` receives the output folder.
+int run_sweep(const SweepOptions& options, std::string* out_dir = nullptr);
 
 }  // namespace aoeval

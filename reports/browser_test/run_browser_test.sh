@@ -3,7 +3,10 @@
 # temporary folder with the aoeval binary, then opens them in Debian's headless chromium
 # (check_pages.js, playwright-core) and fails on console errors, images that do not load, charts
 # that did not render, a hover swap that does not swap, or a verdict other than expected; and first
-# shows that the checker catches a deliberately broken copy of a dashboard.
+# shows that the checker catches a deliberately broken copy of a dashboard. Then drives the image
+# viewer of the suite report (check_viewer.js): element.aoevalProbe against the EXR floats that
+# exr_samples.py reads with OpenImageIO at 100 random covered pixels per viewer, zoom, pan, flip,
+# probe, exposure, false colour, the sortable leaderboard, and the page without JavaScript.
 # Screenshots are kept in <build>/test-artifacts/.
 #
 #   run_browser_test.sh AOEVAL BUILD_DIR
@@ -103,3 +106,34 @@ NODE_PATH="$modules/node_modules" node "$here/check_pages.js" \
   page:suite-b/index.html \
   dashboard-fail=raytraced:dash-fail/index.html \
   dashboard-pass:dash-pass/index.html
+
+# The viewer (CONTRACT §11). Debian's python3 has python3-openimageio (./test.sh installs it).
+/usr/bin/python3 "$here/exr_samples.py" suite-b/index.html 100 samples.json
+# First, the probe check must catch viewer data 1e-5 off the EXR (every estimate AO float nudged).
+cp -r suite-b viewer-broken
+/usr/bin/python3 - viewer-broken/viewer-data/runs__*__estimates__raytraced*.js <<'PY'
+import base64, json, sys
+import numpy as np
+path = sys.argv[1]
+text = open(path).read()
+head, record = text[:text.index("]=") + 2], json.loads(text[text.index("]=") + 2:].rstrip().rstrip(";"))
+ao = np.frombuffer(base64.b64decode(record["channels"]["AO"][0]), "<f4") + np.float32(1e-5)
+record["channels"]["AO"][0] = base64.b64encode(ao.astype("<f4").tobytes()).decode()
+open(path, "w").write(head + json.dumps(record) + ";\n")
+PY
+set +e
+NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --screenshots "$work/shots" \
+  --samples samples.json viewer-broken/index.html >viewer-checker.txt 2>&1
+checker=$?
+set -e
+if [ "$checker" -ne 1 ] || ! grep -q "aoevalProbe estimate differs" viewer-checker.txt; then
+  echo "browser_test: the viewer checker missed estimate data 1e-5 off the EXR (exit $checker):"
+  cat viewer-checker.txt
+  exit 1
+fi
+NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" \
+  --screenshots "$build/test-artifacts" --samples samples.json suite-b/index.html
+# The G-buffer gallery's viewers: Z and N under the probe equal the EXR's.
+/usr/bin/python3 "$here/exr_samples.py" suite-b/gbuffers/index.html 100 gbuffer-samples.json
+NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --interact -1 \
+  --screenshots "$build/test-artifacts" --samples gbuffer-samples.json suite-b/gbuffers/index.html

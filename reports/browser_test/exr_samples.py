@@ -1,0 +1,70 @@
+#!/usr/bin/python3
+# The browser test's ground truth for the viewer's probe: reads the EXRs behind a page's viewers
+# with OpenImageIO (Debian's python3-openimageio, independent of aoeval's C++ reader) and writes,
+# for each viewer, `count` random covered pixels (A = 1 in both images, fixed seed) with the float32
+# values of the reference's AO and AO_stderr and the estimate's AO; and, as the pixel the viewer
+# test zooms to, the darkest compared pixel of the reference (a crease: where AO errors live).
+#
+# A G-buffer gallery page (viewers of kind "gbuffer"): its Z and N.X/Y/Z at covered pixels.
+#
+#   exr_samples.py PAGE.html COUNT OUT.json
+import json, os, re, sys
+
+import numpy as np
+import OpenImageIO as oiio
+
+
+def channels(path, names):
+    buf = oiio.ImageBuf(path)
+    if buf.has_error:
+        sys.exit(f"exr_samples.py: {path}: {buf.geterror()}")
+    pixels = buf.get_pixels(oiio.FLOAT)  # (h, w, channels), float32
+    spec = buf.spec()
+    return {n: pixels[:, :, spec.channelindex(n)] for n in names}
+
+
+def source(page_dir, script):
+    # viewer-data/NAME.js names the EXR(s) it came from: "source": [...]
+    text = open(os.path.join(page_dir, script)).read()
+    return json.loads(text[text.index("]=") + 2:].rstrip().rstrip(";"))["source"][0]
+
+
+def main():
+    page, count, out = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+    page_dir = os.path.dirname(os.path.abspath(page))
+    html = open(page).read()
+    viewers = re.findall(r'<div class="aoeval-viewer" data-kind="compare" data-a="([^"]+)" data-b="([^"]+)"', html)
+    gbuffers = re.findall(r'<div class="aoeval-viewer" data-kind="gbuffer" data-a="([^"]+)"', html)
+    if not viewers and not gbuffers:
+        sys.exit(f"exr_samples.py: {page}: no viewer")
+    rng = np.random.default_rng(33)
+    result = []
+    names = ["Z", "N.X", "N.Y", "N.Z"]
+    for a in gbuffers:
+        g = channels(os.path.join(page_dir, source(page_dir, a)), names + ["A"])
+        ys, xs = np.nonzero(g["A"] > 0.5)
+        pick = rng.choice(len(xs), size=min(count, len(xs)), replace=False)
+        samples = [dict({"x": int(xs[k]), "y": int(ys[k])},
+                        **{n: float(g[n][ys[k], xs[k]]) for n in names}) for k in pick]
+        result.append({"a": a, "kind": "gbuffer", "samples": samples})
+    for a, b in viewers:
+        ref = channels(os.path.join(page_dir, source(page_dir, a)), ["AO", "AO_stderr", "A"])
+        est = channels(os.path.join(page_dir, source(page_dir, b)), ["AO", "A"])
+        covered = (ref["A"] > 0.5) & (est["A"] > 0.5)
+        ys, xs = np.nonzero(covered)
+        dark = np.argmin(np.where(covered, ref["AO"], np.inf))
+        pick = rng.choice(len(xs), size=min(count, len(xs)), replace=False)
+        samples = []
+        for k in pick:
+            x, y = int(xs[k]), int(ys[k])
+            r, e, s = ref["AO"][y, x], est["AO"][y, x], ref["AO_stderr"][y, x]
+            # float32 values as exact doubles; the error subtracted in float32, as the EXRs would.
+            samples.append({"x": x, "y": y, "reference": float(r), "estimate": float(e),
+                            "error": float(np.float32(e) - np.float32(r)), "stderr": float(s)})
+        focus = {"x": int(dark % ref["AO"].shape[1]), "y": int(dark // ref["AO"].shape[1])}
+        result.append({"a": a, "b": b, "samples": samples, "focus": focus})
+    with open(out, "w") as f:
+        json.dump(result, f)
+
+
+main()

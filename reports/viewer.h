@@ -1,0 +1,49 @@
+// The pages' image viewer (CONTRACT §11) on the C++ side: writes the viewer's own JavaScript and
+// CSS (reports/viewer/, built into the binary) beside a page, turns EXR channels into the data
+// scripts the viewer loads (viewer.js says why scripts: file:// forbids fetch and canvas reads of
+// images), and writes the viewer element around a page's static images. Reads EXRs; runs nothing.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace aoeval {
+
+// Writes viewer/viewer.js, viewer/report.js and viewer/viewer.css under `page_dir` (atomically,
+// only when they differ) and returns the <link>/<script> tags for the page's <head>.
+std::string write_viewer_assets(const std::string& page_dir);
+
+// The channels a viewer shows: of a reference (AO, AO_stderr), an estimate (AO) and a G-buffer.
+// The coverage channel A always comes along as the compared-pixel mask.
+const std::vector<std::string>& reference_viewer_channels();
+const std::vector<std::string>& estimate_viewer_channels();
+const std::vector<std::string>& gbuffer_viewer_channels();
+
+// Writes <page_dir>/viewer-data/<name>.js holding `channels` (those the files have) and the
+// coverage mask of each frame's EXR (one file per frame; all the same size), as base64 of the
+// little-endian float32s, exactly the EXRs' floats. Rewritten only when older than an EXR.
+// `exrs` are relative to `page_dir`; returns the script's path relative to it. InputError naming
+// the file when an EXR is unreadable, lacks A, or differs in size from frame 0.
+std::string write_viewer_data(const std::string& page_dir, const std::vector<std::string>& exrs,
+                              const std::vector<std::string>& channels);
+
+// The viewer element around `static_html` (what a page shows without JavaScript). kind "compare":
+// `a` the reference's data script, `b` the estimate's, `labels` their names ("reference,
+// estimate"; the dashboard's "baseline,new"); kind "gbuffer": `a` alone.
+struct ViewerSpec {
+  std::string kind = "compare";
+  std::string a, b;
+  std::string labels = "reference,estimate";
+};
+std::string viewer_html(const ViewerSpec& spec, const std::string& static_html);
+
+// The whole of it for a pair of EXRs (relative to `page_dir`): data scripts, then the element.
+// For pages that show an EXR pair as images (the dashboard's new | baseline | difference).
+std::string compare_viewer(const std::string& page_dir, const std::string& a_exr,
+                           const std::string& b_exr, const std::string& labels,
+                           const std::string& static_html);
+
+// Base64 (RFC 4648, with padding) of `n` bytes.
+std::string base64(const unsigned char* data, size_t n);
+
+}  // namespace aoeval

@@ -1,0 +1,185 @@
+// The viewer's data path (reports/viewer.h): the floats a page's viewer reads are the EXR's floats,
+// bit for bit; and the leaderboard's marks. The browser test (browser_test/check_viewer.js) checks
+// the same floats through element.aoevalProbe in Chromium.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "errors.h"
+#include "exr_io.h"
+#include "reports/suite_report_leaderboard.h"
+#include "reports/viewer.h"
+#include "reports/viewer_assets.h"
+#include "scenes/test_temp_dir.h"
+
+namespace aoeval {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::vector<unsigned char> unbase64(const std::string& s) {
+  const std::string alphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::vector<unsigned char> out;
+  uint32_t acc = 0;
+  int bits = 0;
+  for (char c : s) {
+    if (c == '=') break;
+    acc = (acc << 6) | static_cast<uint32_t>(alphabet.find(c));
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out.push_back(static_cast<unsigned char>(acc >> bits));
+    }
+  }
+  return out;
+}
+
+TEST(Viewer, Base64MatchesRfc4648) {
+  auto b = [](const char* s) {
+    return base64(reinterpret_cast<const unsigned char*>(s), strlen(s));
+  };
+  EXPECT_EQ(b(""), "");
+  EXPECT_EQ(b("f"), "Zg==");
+  EXPECT_EQ(b("fo"), "Zm8=");
+  EXPECT_EQ(b("foo"), "Zm9v");
+  EXPECT_EQ(b("foobar"), "Zm9vYmFy");
+}
+
+TEST(Viewer, AssetsAreBuiltIn) {
+  std::set<std::string> names;
+  for (const auto& a : viewer_assets()) {
+    names.insert(std::string(a.name));
+    EXPECT_GT(a.content.size(), 500u) << a.name;
+  }
+  EXPECT_EQ(names, (std::set<std::string>{"viewer.js", "report.js", "viewer.css"}));
+  const fs::path dir = testutil::test_temp_dir("viewer");
+  const std::string head = write_viewer_assets(dir.string());
+  EXPECT_NE(head.find("viewer/viewer.js"), std::string::npos);
+  for (const auto& a : viewer_assets()) EXPECT_EQ(read_file(dir / "viewer" / a.name), a.content);
+}
+
+// A 5x3 reference with awkward floats (denormal, negative zero, NaN, 1/3) survives exactly.
+TEST(Viewer, DataScriptsHoldTheExrFloatsExactly) {
+  const fs::path dir = testutil::test_temp_dir("viewer");
+  const int w = 5, h = 3;
+  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"AO", "AO_stderr", "A"};
+  OIIO::ImageBuf image(spec);
+  std::vector<float> ao(w * h), sd(w * h);
+  for (int k = 0; k < w * h; ++k) {
+    ao[k] = 1.0f / 3.0f + static_cast<float>(k) * 1e-7f;
+    sd[k] = static_cast<float>(k) * 0.001f;
+  }
+  ao[1] = 1e-40f;  // denormal
+  ao[2] = -0.0f;
+  ao[3] = std::nanf("");
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int k = y * w + x;
+      const float px[3] = {ao[k], sd[k], x == 4 ? 0.0f : 1.0f};
+      image.setpixel(x, y, px);
+    }
+  write_exr((dir / "ref.exr").string(), image, {});
+  const std::string rel = write_viewer_data(dir.string(), {"ref.exr"}, reference_viewer_channels());
+  EXPECT_EQ(rel, "viewer-data/ref.js");
+  const std::string js = read_file(dir / rel);
+  const std::string prefix = "(window.AOEVAL_DATA=window.AOEVAL_DATA||{})[\"ref\"]=";
+  ASSERT_EQ(js.substr(0, prefix.size()), prefix);
+  const auto record =
+      nlohmann::json::parse(js.substr(prefix.size(), js.size() - prefix.size() - 2));
+  EXPECT_EQ(record["w"], w);
+  EXPECT_EQ(record["h"], h);
+  EXPECT_EQ(record["frames"], 1);
+  for (const auto& [name, want] : {std::pair{"AO", ao}, std::pair{"AO_stderr", sd}}) {
+    const auto bytes = unbase64(record["channels"][name][0].get<std::string>());
+    ASSERT_EQ(bytes.size(), 4u * w * h) << name;
+    for (int k = 0; k < w * h; ++k) {
+      uint32_t bits = 0, want_bits;
+      for (int b = 0; b < 4; ++b) bits |= uint32_t(bytes[4 * k + b]) << (8 * b);  // little-endian
+      std::memcpy(&want_bits, &want[k], 4);
+      EXPECT_EQ(bits, want_bits) << name << " pixel " << k;
+    }
+  }
+  const auto mask = unbase64(record["mask"][0].get<std::string>());
+  ASSERT_EQ(mask.size(), size_t(w * h));
+  for (int k = 0; k < w * h; ++k) EXPECT_EQ(mask[k], k % w == 4 ? 0 : 1) << k;
+  // Up to date: not rewritten (a marker survives); a newer EXR rewrites it.
+  std::ofstream(dir / rel) << "marker";
+  write_viewer_data(dir.string(), {"ref.exr"}, reference_viewer_channels());
+  EXPECT_EQ(read_file(dir / rel), "marker");
+  fs::last_write_time(dir / "ref.exr", fs::last_write_time(dir / rel) + std::chrono::seconds(2));
+  write_viewer_data(dir.string(), {"ref.exr"}, reference_viewer_channels());
+  EXPECT_EQ(read_file(dir / rel).substr(0, prefix.size()), prefix);
+  // Two frames of different sizes, and a file without coverage, are input errors.
+  OIIO::ImageSpec small(2, 2, 2, OIIO::TypeDesc::FLOAT);
+  small.channelnames = {"AO", "A"};
+  write_exr((dir / "small.exr").string(), OIIO::ImageBuf(small), {});
+  EXPECT_THROW(write_viewer_data(dir.string(), {"ref.exr", "small.exr"}, {"AO"}), InputError);
+  OIIO::ImageSpec no_a(2, 2, 1, OIIO::TypeDesc::FLOAT);
+  no_a.channelnames = {"AO"};
+  write_exr((dir / "no_a.exr").string(), OIIO::ImageBuf(no_a), {});
+  EXPECT_THROW(write_viewer_data(dir.string(), {"no_a.exr"}, {"AO"}), InputError);
+  // The element: the static image inside, the scripts named.
+  ViewerSpec v;
+  v.a = "viewer-data/ref.js";
+  v.b = "viewer-data/est.js";
+  const std::string html = viewer_html(v, "<img src=\"m.png\">");
+  EXPECT_NE(html.find("class=\"aoeval-viewer\""), std::string::npos);
+  EXPECT_NE(html.find("data-b=\"viewer-data/est.js\""), std::string::npos);
+  EXPECT_NE(html.find("<div class=\"av-static\"><img src=\"m.png\"></div>"), std::string::npos);
+  // For a pair of EXRs in one call (the dashboard's new and baseline): both scripts, the labels.
+  const std::string pair = compare_viewer(dir.string(), "ref.exr", "ref.exr", "baseline,new", "");
+  EXPECT_NE(pair.find("data-a=\"viewer-data/ref.js\" data-b=\"viewer-data/ref.js\""),
+            std::string::npos)
+      << pair;
+  EXPECT_NE(pair.find("data-labels=\"baseline,new\""), std::string::npos);
+}
+
+ResultRow scored(const std::string& estimator, const std::string& scene, double err, double ms) {
+  ResultRow r;
+  r.estimator = estimator;
+  r.run_name = estimator + "/scene:" + scene + "/view:main/8x8";
+  r.scene = scene;
+  r.view = "main";
+  r.width = r.height = 8;
+  r.metrics = {{"rmse_excess", err}};
+  r.time_ms_median = ms;
+  return r;
+}
+
+TEST(Leaderboard, MarksTheBestPerSceneAndSkippedRows) {
+  std::vector<SuiteReportEntry> entries(4);
+  entries[0].row = scored("a", "box", 0.2, 1.0);
+  entries[1].row = scored("b", "box", 0.1, 5.0);
+  entries[2].row = scored("a", "tree", 0.05, 1.5);
+  entries[3].row = scored("b", "tree", 0.0, 0.0);
+  entries[3].row.status = "skipped: no device";
+  for (auto& e : entries) e.featured = true;
+  const std::string html = leaderboard_html(entries, {"box", "tree"});
+  EXPECT_NE(html.find("class=\"leaderboard sortable\""), std::string::npos);
+  // b is best on box, a on tree (b's skipped row does not count).
+  EXPECT_NE(
+      html.find("<td class=\"best\" data-v=\"0.1\"><a href=\"#mosaic-b-scene-box-view-main-8x8\""),
+      std::string::npos)
+      << html;
+  EXPECT_NE(html.find("<td class=\"best\" data-v=\"0.05\">"), std::string::npos) << html;
+  EXPECT_NE(html.find("<td class=\"skipped\" data-v=\"\"><span title=\"skipped: no device\">"),
+            std::string::npos)
+      << html;
+  EXPECT_EQ(html.find("<td class=\"best\" data-v=\"0.2\""), std::string::npos);
+  for (auto& e : entries) e.featured = false;
+  EXPECT_EQ(leaderboard_html(entries, {"box"}), "");
+}
+
+}  // namespace
+}  // namespace aoeval
