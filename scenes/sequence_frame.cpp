@@ -132,4 +132,29 @@ void add_motion(GBuffer& cur, const GBuffer* prev, const std::vector<glm::mat4>&
   });
 }
 
+GBuffer render_frame_gbuffer(const Scene& base, const View& view, int k, int width, int height) {
+  const SequenceFrame now = sequence_frame(base, view, k);
+  auto render = [&](const SequenceFrame& f) {
+    const Scene posed = posed_scene(base, f);
+    const EmbreeScene embree(posed);
+    return render_gbuffer(embree, frame_camera(f, width, height));
+  };
+  GBuffer g = render(now);
+  if (!view.sequence) return g;  // a still view's G-buffer, as `aoeval gbuffer` always wrote it
+  if (k == 0) {
+    add_motion(g, nullptr, now.motion, now.motion);
+  } else {
+    const SequenceFrame before = sequence_frame(base, view, k - 1);
+    const GBuffer prev = render(before);
+    add_motion(g, &prev, now.motion, before.motion);
+  }
+  return g;
+}
+
+Attributes frame_attributes(const Scene& posed, const View& view, const Camera& camera, int k) {
+  Attributes a = gbuffer_attributes(posed, view, camera);
+  if (view.sequence) a.emplace_back("aoeval:frame", std::to_string(k));
+  return a;
+}
+
 }  // namespace aoeval

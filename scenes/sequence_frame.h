@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "camera.h"
+#include "embree_scene.h"
 #include "gbuffer.h"
 #include "scene.h"
 
@@ -54,5 +55,14 @@ bool project_to_pixel(const Camera& camera, const glm::dvec3& p, glm::dvec2& pix
 // a depth difference) keeps grazing floors, whose depth changes fast across a pixel, visible.
 void add_motion(GBuffer& cur, const GBuffer* prev, const std::vector<glm::mat4>& motion_cur,
                 const std::vector<glm::mat4>& motion_prev);
+
+// Frame k's G-buffer at a resolution (0 = the view's), with motion and disocclusion (frame k - 1 is
+// posed and rendered for them): what `aoeval gbuffer --frame K` writes. A still view's frame 0 is
+// its plain G-buffer, without those channels.
+GBuffer render_frame_gbuffer(const Scene& base, const View& view, int k, int width = 0,
+                             int height = 0);
+// The G-buffer's (and reference's) header attributes of frame k: gbuffer_attributes of the posed
+// scene and the frame's camera, plus aoeval:frame for sequence views.
+Attributes frame_attributes(const Scene& posed, const View& view, const Camera& camera, int k);
 
 }  // namespace aoeval

@@ -15,6 +15,7 @@
 #include "harness/results/stage_times.h"
 #include "harness/sweep/shard_plan.h"
 #include "harness/sweep/sweep_spec.h"
+#include "text_files.h"
 
 namespace aoeval {
 
@@ -126,6 +127,10 @@ int run_sweep(const SweepOptions& o) {
         if (row.device.empty()) row.device = context.device;
         row.git_commit = context.git_commit;
         if (o.keep_estimates && row.status == "ok") row.estimate_file = estimate_rel;
+        if (!measured->frames.empty()) {  // before the row: a committed row has its frames
+          const auto timer = runner_stages.time("results CSV + JSON");
+          write_text(frames_csv_path(out, p->name), frames_csv(measured->frames));
+        }
         {
           const auto timer = runner_stages.time("results SQLite");
           store.add(row);
