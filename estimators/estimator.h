@@ -5,6 +5,7 @@
 // Estimators know scenes and G-buffers, never the harness.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
@@ -89,11 +90,21 @@ class EstimatorUnavailable : public std::runtime_error {
 enum class EstimatorInput { gbuffer, scene_geometry, tree_proxies };
 const char* input_name(EstimatorInput i);
 
+// Where a frame sits in a sequence (CONTRACT §10). The G-buffer of a sequence frame carries motion
+// and disoccluded; `scene` and `embree` are the frame's posed geometry.
+struct FrameInfo {
+  int index = 0;  // k
+  int count = 1;  // frames in the sequence
+  double fps = 30.0;
+  uint64_t seed_offset = 0;  // k under the seed rule, 0 when the run says "seed_per_frame": false
+};
+
 // What an estimator sees when it runs.
 struct EstimateContext {
   const Scene& scene;
   const EmbreeScene& embree;
   const GBuffer& gbuffer;
+  const FrameInfo* frame = nullptr;  // null for a still view
 };
 
 struct EstimateResult {
@@ -149,6 +160,12 @@ struct EstimatorInfo {
   std::string kind = "built-in";  // or a plug-in's kind: "process", "glsl" (CONTRACT §7)
   std::string folder;             // a plug-in's folder; "" for built-ins
   ConformanceSpec conformance;  // defaults by backend; see ConformanceSpec
+  // Over a sequence (CONTRACT §10): false (every built-in today) = no temporal design of its own:
+  // each frame runs on a fresh instance created with seed + k (the seed rule), prepared with that
+  // frame's scene. true = one instance runs every frame in order and keeps its state; prepare() is
+  // called at every frame with that frame's scene, and the instance applies the seed rule itself
+  // from EstimateContext::frame->seed_offset.
+  bool keeps_state = false;
 
   const ParamSpec* find_param(const std::string& name) const;
   // ConformanceSpec with the backend's defaults filled in.

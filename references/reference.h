@@ -27,6 +27,15 @@ inline ReferenceImage compute_reference(const EmbreeScene& scene, const GBuffer&
   return trace_ao(scene, gbuffer, settings);
 }
 
+// Frame k of a sequence (CONTRACT §10) is traced with seed + k, so that consecutive frames'
+// references are independent samples: the temporal scores remove the reference's noise as
+// stderr_k^2 + stderr_{k-1}^2, which is the variance of ref_k - ref_{k-1} only when their noise is
+// independent (one seed for all frames would repeat a static pixel's noise exactly).
+inline ReferenceSettings frame_reference_settings(ReferenceSettings s, int frame) {
+  s.seed += static_cast<uint64_t>(frame);
+  return s;
+}
+
 // origin_offset (sampling/ray_offset.h): where the reference's rays start.
 
 // The reference as an EXR image (channels AO, AO_stderr, bent.X/Y/Z, A, bent_stderr, and spp when

@@ -4,6 +4,7 @@
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include "scene.h"
@@ -18,14 +19,19 @@ struct Camera {
   float tan_half_fov_y = 0.41421356f;
   int width = 1;
   int height = 1;
+  // A sequence frame's sub-pixel sample offset in pixels (x right, y down; CONTRACT §10 "halton"
+  // jitter): pixel (i, j) is sampled at (i + 0.5 + jitter.x, j + 0.5 + jitter.y). Zero for stills.
+  glm::vec2 jitter{0.0f};
 
-  // Unit direction through the centre of pixel (i, j).
+  // Unit direction through the (jittered) centre of pixel (i, j).
   glm::vec3 direction(int i, int j) const {
     const float aspect = static_cast<float>(width) / static_cast<float>(height);
-    const float x = (2.0f * (static_cast<float>(i) + 0.5f) / static_cast<float>(width) - 1.0f) *
-                    tan_half_fov_y * aspect;
-    const float y = (1.0f - 2.0f * (static_cast<float>(j) + 0.5f) / static_cast<float>(height)) *
-                    tan_half_fov_y;
+    const float x =
+        (2.0f * (static_cast<float>(i) + 0.5f + jitter.x) / static_cast<float>(width) - 1.0f) *
+        tan_half_fov_y * aspect;
+    const float y =
+        (1.0f - 2.0f * (static_cast<float>(j) + 0.5f + jitter.y) / static_cast<float>(height)) *
+        tan_half_fov_y;
     return glm::normalize(forward + x * right + y * up);
   }
   // Linear view depth (distance along `forward`) of a hit at ray distance t along direction(i, j).

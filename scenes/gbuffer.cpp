@@ -108,7 +108,9 @@ const std::vector<std::string>& gbuffer_channel_names() {
 }
 
 OIIO::ImageBuf gbuffer_to_image(const GBuffer& g) {
-  const auto& names = gbuffer_channel_names();
+  std::vector<std::string> names = gbuffer_channel_names();
+  const bool motion = !g.motion.empty();
+  if (motion) names.insert(names.end(), {"motion.X", "motion.Y", "disoccluded"});
   OIIO::ImageSpec spec(g.width, g.height, static_cast<int>(names.size()), OIIO::TypeDesc::FLOAT);
   spec.channelnames = names;
   OIIO::ImageBuf image(spec);
@@ -124,6 +126,11 @@ OIIO::ImageBuf gbuffer_to_image(const GBuffer& g) {
       o[8 + c] = g.geometric_normal[k][c];
     }
     o[11] = g.object_id[k];
+    if (motion) {
+      o[12] = g.motion[k].x;
+      o[13] = g.motion[k].y;
+      o[14] = g.disoccluded[k];
+    }
   }
   return image;
 }
@@ -137,6 +144,9 @@ std::string camera_to_json(const Camera& c) {
                       {"fov_y_deg", glm::degrees(2.0f * std::atan(c.tan_half_fov_y))},
                       {"width", c.width},
                       {"height", c.height}};
+  // Only a jittered sequence frame carries it, so the cache keys of every still view (which
+  // hash this text) are unchanged.
+  if (c.jitter != glm::vec2(0.0f)) j["jitter"] = nlohmann::json::array({c.jitter.x, c.jitter.y});
   return j.dump();
 }
 
@@ -172,6 +182,7 @@ GBuffer read_gbuffer(const std::string& path) {
     g.camera.tan_half_fov_y = std::tan(0.5f * glm::radians(j["fov_y_deg"].get<float>()));
     g.camera.width = g.width;
     g.camera.height = g.height;
+    if (j.contains("jitter")) g.camera.jitter = glm::vec2(j["jitter"][0], j["jitter"][1]);
   } catch (const nlohmann::json::exception&) {
     throw InputError(path + ": header attribute 'aoeval:camera' is not valid camera JSON");
   }
@@ -192,6 +203,17 @@ GBuffer read_gbuffer(const std::string& path) {
     g.normal[k] = {s[idx[5]], s[idx[6]], s[idx[7]]};
     g.geometric_normal[k] = {s[idx[8]], s[idx[9]], s[idx[10]]};
     g.object_id[k] = s[idx[11]];
+  }
+  const int mx = image.spec().channelindex("motion.X"), my = image.spec().channelindex("motion.Y"),
+            dis = image.spec().channelindex("disoccluded");
+  if (mx >= 0 && my >= 0 && dis >= 0) {
+    g.motion.resize(n);
+    g.disoccluded.resize(n);
+    for (size_t k = 0; k < n; ++k) {
+      const float* s = px + k * nc;
+      g.motion[k] = {s[mx], s[my]};
+      g.disoccluded[k] = s[dis];
+    }
   }
   return g;
 }

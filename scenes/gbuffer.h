@@ -4,6 +4,7 @@
 
 #include <OpenImageIO/imagebuf.h>
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <string>
 #include <vector>
@@ -24,6 +25,11 @@ struct GBuffer {
   std::vector<glm::vec3> normal;    // N: unit shading normal, on the viewer's side
   std::vector<glm::vec3> geometric_normal;  // Ng: unit geometric normal, facing the viewer
   std::vector<float> object_id;             // index into Scene::objects; -1 if A = 0
+  // Sequence frames only (CONTRACT §10, sequence_frame.h's add_motion), empty otherwise: the offset
+  // in pixels from where the pixel's surface point was in frame k - 1 to where it is now, and 1
+  // where that point was not visible in frame k - 1.
+  std::vector<glm::vec2> motion;
+  std::vector<float> disoccluded;
 
   size_t index(int i, int j) const { return static_cast<size_t>(j) * width + i; }
   bool covered(size_t k) const { return coverage[k] > 0.5f; }
@@ -35,7 +41,8 @@ struct GBuffer {
 // still points away from the viewer at a silhouette is kept as the mesh gives it).
 GBuffer render_gbuffer(const EmbreeScene& scene, const Camera& camera);
 
-// Channel names of CONTRACT §4, in file order.
+// Channel names of CONTRACT §4, in file order (a sequence frame adds motion.X, motion.Y and
+// disoccluded after them).
 const std::vector<std::string>& gbuffer_channel_names();
 
 OIIO::ImageBuf gbuffer_to_image(const GBuffer& g);

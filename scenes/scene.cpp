@@ -242,7 +242,8 @@ SceneObject load_object(JsonReader reader, const fs::path& scene_dir) {
   }
   obj.albedo = reader.vec3("albedo", obj.albedo);
   for (int c = 0; c < 3; ++c)
-    if (obj.albedo[c] < 0.0f || obj.albedo[c] > 1.0f) reader.fail("albedo", "components must be in [0, 1]");
+    if (obj.albedo[c] < 0.0f || obj.albedo[c] > 1.0f)
+      reader.fail("albedo", "components must be in [0, 1]");
   if (reader.has("density")) {
     if (obj.role != Role::tree)
       reader.fail("density", "only objects with role \"tree\" take a density");
@@ -270,6 +271,7 @@ View read_view(JsonReader r) {
   if (!(up_length > 0.0)) r.fail("up", "up must not be the zero vector");
   if (!(glm::length(glm::cross(fwd / fwd_length, glm::dvec3(v.up) / up_length)) > 1e-6))
     r.fail("up", "up is parallel to the viewing direction");
+  if (auto seq = r.optional_object("sequence")) v.sequence = read_sequence(*seq, v.eye, v.target);
   r.finish();
   return v;
 }
@@ -279,9 +281,16 @@ View read_view(JsonReader r) {
 std::vector<View> load_scene_views(const std::string& path) {
   nlohmann::json doc = parse_json_file(path);
   JsonReader root(doc, path);
-  root.raw("objects");
+  std::vector<std::string> object_names;
+  const nlohmann::json& objects = root.raw("objects");
+  if (objects.is_array())
+    for (const auto& o : objects)
+      if (o.is_object() && o.contains("name") && o["name"].is_string())
+        object_names.push_back(o["name"].get<std::string>());
   std::vector<View> views;
   for (auto& v : root.array_of_objects("views", 1)) views.push_back(read_view(v));
+  for (const auto& v : views)
+    if (v.sequence) check_sequence_objects(*v.sequence, object_names, path, v.name);
   return views;
 }
 
@@ -317,6 +326,10 @@ Scene load_scene_file(const std::string& path) {
       if (scene.objects[i].name == scene.objects[j].name)
         throw InputError(path + ": objects[" + std::to_string(i) +
                          "].name: duplicate object name '" + scene.objects[i].name + "'");
+  std::vector<std::string> object_names;
+  for (const auto& o : scene.objects) object_names.push_back(o.name);
+  for (const auto& v : scene.views)
+    if (v.sequence) check_sequence_objects(*v.sequence, object_names, path, v.name);
   return scene;
 }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "mesh.h"
+#include "sequence.h"
 
 namespace aoeval {
 
@@ -52,6 +53,9 @@ struct View {
   float fov_y_deg = 45.0f;
   int width = 320;
   int height = 240;
+  // CONTRACT §10: a view that moves over frames; eye and target above are frame 0's camera.
+  std::optional<Sequence> sequence;
+  int frame_count() const { return sequence ? sequence->frames : 1; }
 };
 
 struct Scene {

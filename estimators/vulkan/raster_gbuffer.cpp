@@ -181,6 +181,11 @@ void RasterGBuffer::record(VkCommandBuffer cmd, const Camera& camera, DeviceGBuf
   Impl& m = *impl_;
   if (target.width != camera.width || target.height != camera.height)
     throw VulkanError("raster G-buffer: target size differs from the camera's");
+  // The rasteriser samples pixel centres; a jittered sequence frame (CONTRACT §10 "halton") would
+  // need a sub-pixel offset in the projection and the fragment's ray, which this pass lacks.
+  if (camera.jitter != glm::vec2(0.0f))
+    throw VulkanError(
+        "raster G-buffer: jittered cameras are not supported (use the Embree G-buffer)");
   m.framebuffer.reset();
   if (!m.depth.valid() || m.depth.width() != target.width || m.depth.height() != target.height)
     m.depth = Image2D(m.context, target.width, target.height, VK_FORMAT_D32_SFLOAT);

@@ -23,6 +23,7 @@
 #include "estimators/vulkan/vk_pipelines.h"
 #include "estimators/vulkan/vk_resources.h"
 #include "gbuffer.h"
+#include "sequence_frame.h"
 #include "vk_test_roundtrip_comp_spv.h"
 
 namespace aoeval::vk {
@@ -336,6 +337,37 @@ double quantile(std::vector<double> v, double q) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   return v[static_cast<size_t>(q * static_cast<double>(v.size() - 1))];
+}
+
+// CONTRACT §10: motion vectors from the raster G-buffer agree with Embree's within 0.01 px wherever
+// both cover the same object (add_motion reads only P and objectId, which the raster pass computes
+// like render_gbuffer). bunny's orbit, frames 7 and 8 (the camera moving sideways).
+TEST(SequenceRasterMotion, AgreesWithEmbreeWithinAHundredthOfAPixel) {
+  REQUIRE_CONTEXT(vk);
+  const Scene scene = load_scene("bunny");
+  const View& view = scene.view("orbit");
+  RasterGBuffer raster_pass(*vk, scene);
+  const EmbreeScene embree(scene);
+  const SequenceFrame f0 = sequence_frame(scene, view, 7), f1 = sequence_frame(scene, view, 8);
+  GBuffer e0 = render_gbuffer(embree, frame_camera(f0, 160, 120));
+  GBuffer e1 = render_gbuffer(embree, frame_camera(f1, 160, 120));
+  GBuffer r0 = raster_pass.render(frame_camera(f0, 160, 120));
+  GBuffer r1 = raster_pass.render(frame_camera(f1, 160, 120));
+  add_motion(e1, &e0, f1.motion, f0.motion);
+  add_motion(r1, &r0, f1.motion, f0.motion);
+  size_t both = 0;
+  double worst = 0.0;
+  for (size_t k = 0; k < e1.pixel_count(); ++k) {
+    if (!e1.covered(k) || !r1.covered(k) || e1.object_id[k] != r1.object_id[k]) continue;
+    ++both;
+    worst = std::max(worst, static_cast<double>(glm::length(e1.motion[k] - r1.motion[k])));
+  }
+  EXPECT_GT(both, e1.pixel_count() / 2);
+  EXPECT_LE(worst, 0.01);
+  std::printf("motion: %zu pixels covered by both, largest difference %.2e px\n", both, worst);
+  Camera jittered = frame_camera(f1, 160, 120);
+  jittered.jitter = glm::vec2(0.25f, 0.0f);
+  EXPECT_THROW(raster_pass.render(jittered), VulkanError);
 }
 
 class RasterVsEmbree : public ::testing::TestWithParam<std::string> {};

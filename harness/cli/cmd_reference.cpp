@@ -1,7 +1,7 @@
 // `aoeval reference --scene S [--view V] [--res WxH] [--spp N] [--weighting cosine|uniform]
-//  [--dmax D] [--falloff none|linear|sqrt|exp|power:K] [--sampler random|stratified|sobol] [--seed
-//  K]
-//  [--normal shading|geometric] [--target-stderr E [--max-spp M]] [--no-cache] -o FILE.exr`
+//  [--dmax D] [--falloff none|linear|sqrt|exp|power:K] [--sampler random|stratified|sobol]
+//  [--seed K] [--normal shading|geometric] [--target-stderr E [--max-spp M]] [--frame K]
+//  [--no-cache] -o FILE.exr`
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -13,6 +13,7 @@
 #include "harness/cli/commands.h"
 #include "references/cache_lock.h"
 #include "references/reference_cache.h"
+#include "sequence_frame.h"
 #include "text_files.h"
 #include "version.h"
 
@@ -33,6 +34,7 @@ struct Options {
   double target_stderr = ReferenceSettings{}.target_stderr;
   int max_spp = ReferenceSettings{}.max_spp;
   bool no_cache = false;
+  int frame = 0;
 };
 
 void copy_atomically(const std::string& from, const std::string& to) {
@@ -56,9 +58,15 @@ void run_reference(const Options& o) {
     throw InputError("--target-stderr: must be a finite positive number");
   if (s.target_stderr > 0.0 && s.max_spp < s.spp)
     throw InputError("--max-spp: must be at least --spp");
-  Scene scene = load_scene(o.scene);
-  const View& view = scene.view(o.view);
-  const Camera camera = make_camera(view, w, h);
+  const Scene base = load_scene(o.scene);
+  const View& view = base.view(o.view);
+  // Frame k (CONTRACT §10): its posed geometry and camera key the cache, and its seed is seed + k.
+  const SequenceFrame frame = sequence_frame(base, view, o.frame);
+  std::optional<Scene> posed;
+  if (frame.moves_objects) posed = posed_scene(base, frame);
+  const Scene& scene = posed ? *posed : base;
+  const Camera camera = frame_camera(frame, w, h);
+  if (view.sequence) s = frame_reference_settings(s, o.frame);
   const std::string key = reference_cache_key(scene, camera, s);
   const std::string cached = reference_cache_path(key);
   auto served = [&] {
@@ -77,6 +85,7 @@ void run_reference(const Options& o) {
     computed = compute_reference(es, g, s);
     const OIIO::ImageBuf image = reference_to_image(*computed, s.target_stderr > 0.0);
     Attributes attributes = reference_attributes(scene, view, camera, s);
+    if (view.sequence) attributes.emplace_back("aoeval:frame", std::to_string(o.frame));
     add_cache_attributes(attributes, key, image);
     // Written once and copied, so the output and the cached file are the same bytes (the EXR
     // header's capDate included) and a later cache hit serves exactly this file.
@@ -137,6 +146,9 @@ void add_reference_command(CLI::App& app) {
                   "keep sampling each pixel until its standard error is <= this");
   cmd->add_option("--max-spp", o.max_spp, "ray limit per pixel with --target-stderr")
       ->check(CLI::Range(1, 1 << 24));
+  cmd->add_option("--frame", o.frame,
+                  "frame K of a sequence view (CONTRACT §10; traced with seed + K)")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_flag("--no-cache", o.no_cache, "neither read nor write the reference cache");
   cmd->add_option("-o,--output", o.output, "output OpenEXR file")->required();
   cmd->callback([] { run_reference(o); });

@@ -15,6 +15,7 @@
 #include "harness/scoring/metrics.h"
 #include "references/cache_lock.h"
 #include "references/reference_cache.h"
+#include "sequence_frame.h"
 #include "version.h"
 
 namespace aoeval {
@@ -95,6 +96,35 @@ const EvaluationSession::SceneData& EvaluationSession::scene(const std::string& 
   return stored;
 }
 
+const EvaluationSession::SceneData& EvaluationSession::frame_scene(const std::string& name,
+                                                                   const View& view, int frame) {
+  std::lock_guard<std::recursive_mutex> lock(cache_mutex_);
+  const SceneData& base = scene(name);
+  if (!view.sequence) return base;
+  const SequenceFrame f = sequence_frame(base.scene, view, frame);
+  if (!f.moves_objects) return base;
+  const std::string key = name + "|" + view.name + "|frame " + std::to_string(frame);
+  auto it = scenes_.find(key);
+  if (it != scenes_.end()) return it->second;
+  const auto timer = stages_.time("scene load + BVH");
+  auto& stored = scenes_[key];
+  stored.scene = posed_scene(base.scene, f);
+  stored.embree = std::make_unique<EmbreeScene>(stored.scene);
+  stored.content_hash = stored.scene.content_hash();
+  return stored;
+}
+
+Camera EvaluationSession::frame_camera_of(const std::string& name, const View& view, int frame,
+                                          int w, int h) {
+  return frame_camera(sequence_frame(scene(name).scene, view, frame), w, h);
+}
+
+ReferenceSettings EvaluationSession::frame_settings(const View& view, int frame,
+                                                    const AoDefinition& definition) const {
+  const ReferenceSettings s = reference_spec_.settings(definition);
+  return view.sequence ? frame_reference_settings(s, frame) : s;
+}
+
 namespace {
 std::string view_key(const std::string& scene, const View& v, int w, int h) {
   return scene + "|" + v.name + "|" + std::to_string(w) + "x" + std::to_string(h);
@@ -107,9 +137,11 @@ const GBuffer& EvaluationSession::gbuffer(const std::string& scene_name, const V
   const std::string key = view_key(scene_name, view, w, h);
   auto it = gbuffers_.find(key);
   if (it != gbuffers_.end()) return it->second;
-  const SceneData& s = scene(scene_name);
+  const int k = still_frame(view);
+  const SceneData& s = frame_scene(scene_name, view, k);
+  const Camera camera = frame_camera_of(scene_name, view, k, w, h);
   const auto timer = stages_.time("G-buffer");
-  return gbuffers_[key] = render_gbuffer(*s.embree, make_camera(view, w, h));
+  return gbuffers_[key] = render_gbuffer(*s.embree, camera);
 }
 
 void EvaluationSession::compute_missing_reference(const std::string& scene_name, const View& view,
@@ -119,9 +151,11 @@ void EvaluationSession::compute_missing_reference(const std::string& scene_name,
     const std::string key = view_key(scene_name, view, w, h) + "|" + definition.to_json().dump();
     if (references_.count(key)) return;
     if (disk_cache_) {
-      const SceneData& s = scene(scene_name);
-      const std::string path = reference_cache_path(reference_cache_key(
-          s.content_hash, make_camera(view, w, h), reference_spec_.settings(definition)));
+      const int k = still_frame(view);
+      const SceneData& s = frame_scene(scene_name, view, k);
+      const std::string path = reference_cache_path(
+          reference_cache_key(s.content_hash, frame_camera_of(scene_name, view, k, w, h),
+                              frame_settings(view, k, definition)));
       if (fs::exists(path)) return;  // read when scored (a damaged entry is recomputed then)
     }
   }
@@ -141,50 +175,50 @@ const ReferenceImage& EvaluationSession::reference(const std::string& scene_name
   // made the runner wait (issue 16). Only the runner's thread computes (compute_missing_reference,
   // before a point's frames, and the lane scores points whose references exist), so two threads
   // at most read the same file twice; the first copy stored wins.
-  const SceneData& s = scene(scene_name);
-  const ReferenceSettings settings = reference_spec_.settings(definition);
-  const Camera camera = make_camera(view, w, h);
-  const std::string cache_key = reference_cache_key(s.content_hash, camera, settings);
-  const std::string path = reference_cache_path(cache_key);
+  const int k = still_frame(view);
+  const SceneData& s = frame_scene(scene_name, view, k);
   const GBuffer& g = gbuffer(scene_name, view, w, h);
-  ReferenceImage image;
-  if (!disk_cache_) {
-    const auto timer = stages_.time("reference compute");
-    image = compute_reference(*s.embree, g, settings);
-  } else {
-    // Shards on other nodes may need the same entry at the same moment: computed once under the
-    // entry's lock (references/cache_lock.h), then read back like any hit. A hit is read once,
-    // for its check and its use.
-    std::optional<ReferenceImage> hit;
-    fill_cache_entry_once(
-        path,
-        [&] {
-          const auto timer = stages_.time("reference read (cache)");
-          hit = read_usable_cache_entry(path, cache_key);
-          return hit.has_value();
-        },
-        [&] {
-          ReferenceImage r;
-          {
-            const auto timer = stages_.time("reference compute");
-            r = compute_reference(*s.embree, g, settings);
-          }
-          const auto timer = stages_.time("reference write (cache)");
-          const OIIO::ImageBuf written = reference_to_image(r, false);
-          Attributes attributes =
-              reference_attributes(s.scene, s.content_hash, view, camera, settings);
-          add_cache_attributes(attributes, cache_key, written);
-          write_exr(path, written, attributes);
-        });
-    if (hit) {
-      image = std::move(*hit);
-    } else {
-      const auto timer = stages_.time("reference read (cache)");
-      image = read_reference_image(path);
-    }
-  }
+  ReferenceImage image = reference_image(s, view, g.camera, g, frame_settings(view, k, definition));
   std::lock_guard<std::recursive_mutex> lock(cache_mutex_);
   return references_.emplace(key, std::move(image)).first->second;
+}
+
+ReferenceImage EvaluationSession::reference_image(const SceneData& s, const View& view,
+                                                  const Camera& camera, const GBuffer& g,
+                                                  const ReferenceSettings& settings) {
+  if (!disk_cache_) {
+    const auto timer = stages_.time("reference compute");
+    return compute_reference(*s.embree, g, settings);
+  }
+  const std::string cache_key = reference_cache_key(s.content_hash, camera, settings);
+  const std::string path = reference_cache_path(cache_key);
+  // Shards on other nodes may need the same entry at the same moment: computed once under the
+  // entry's lock (references/cache_lock.h), then read back like any hit. A hit is read once, for
+  // its check and its use.
+  std::optional<ReferenceImage> hit;
+  fill_cache_entry_once(
+      path,
+      [&] {
+        const auto timer = stages_.time("reference read (cache)");
+        hit = read_usable_cache_entry(path, cache_key);
+        return hit.has_value();
+      },
+      [&] {
+        ReferenceImage r;
+        {
+          const auto timer = stages_.time("reference compute");
+          r = compute_reference(*s.embree, g, settings);
+        }
+        const auto timer = stages_.time("reference write (cache)");
+        const OIIO::ImageBuf written = reference_to_image(r, false);
+        Attributes attributes =
+            reference_attributes(s.scene, s.content_hash, view, camera, settings);
+        add_cache_attributes(attributes, cache_key, written);
+        write_exr(path, written, attributes);
+      });
+  if (hit) return std::move(*hit);
+  const auto timer = stages_.time("reference read (cache)");
+  return read_reference_image(path);
 }
 
 namespace {
@@ -240,42 +274,64 @@ const flip::ReferenceSide& EvaluationSession::flip_reference(const GBuffer& g,
              flip::prepare_reference(g.width, g.height, reference.ao.data(), mask.data());
 }
 
+void EvaluationSession::write_estimate(const Measurement& m, const std::string& path) {
+  const auto timer = stages_.time("estimate EXR");
+  const View& view = *m.view;
+  const SceneData& s = frame_scene(m.scene, view, still_frame(view));
+  const GBuffer& g = gbuffer(m.scene, view, m.width, m.height);
+  Attributes a = estimate_attributes(s.scene, s.content_hash, view, g.camera, *m.estimator,
+                                     m.params, m.derived);
+  if (view.sequence) a.emplace_back("aoeval:frame", std::to_string(still_frame(view)));
+  write_exr(path, estimate_to_image(g, m.result), a);
+}
+
 ResultRow EvaluationSession::evaluate(const EvaluationRequest& req,
                                       const std::string& estimate_path) {
   Measurement m = measure(req);
   return score(m, estimate_path);
 }
 
-Measurement EvaluationSession::measure(const EvaluationRequest& req) {
+void EvaluationSession::fill_identity(Measurement& m, const EvaluationRequest& req) {
   const EstimatorInfo& e = *req.estimator;
-  Measurement m;
   m.estimator = &e;
   m.params = resolve_params(e.name, e.params, req.overrides, "estimator " + e.name);
-  const ParamSet& params = m.params;
   const SceneData& s = scene(req.scene);
   const View& view = s.scene.view(req.view);
-  const int w = req.width > 0 ? req.width : view.width;
-  const int h = req.height > 0 ? req.height : view.height;
   m.scene = req.scene;
   m.view = &view;
-  m.width = w;
-  m.height = h;
-  const GBuffer& g = gbuffer(req.scene, view, w, h);
-  const AoDefinition definition = e.definition(params);
-
+  m.width = req.width > 0 ? req.width : view.width;
+  m.height = req.height > 0 ? req.height : view.height;
   ResultRow& row = m.row;
-  row.run_name = run_name(e, params, req.overrides, s.scene.name, view.name, w, h);
+  row.run_name = run_name(e, m.params, req.overrides, s.scene.name, view.name, m.width, m.height);
+  if (view.sequence && !req.seed_per_frame) row.run_name += "/seed_per_frame:false";
   row.estimator = e.name;
-  row.params = params.json();
+  row.params = m.params.json();
   row.scene = s.scene.name;
   row.view = view.name;
-  row.width = w;
-  row.height = h;
-  row.definition = definition.to_json().dump();
+  row.width = m.width;
+  row.height = m.height;
+  row.definition = e.definition(m.params).to_json().dump();
   row.reference = reference_spec_.to_json();
   row.backend = backend_name(e.backend);
   row.device = backend_device(e.backend);  // "" = the CPU; runners fill in the machine's
   row.aoeval_version = kAoevalVersion;
+}
+
+Measurement EvaluationSession::measure(const EvaluationRequest& req) {
+  Measurement m;
+  fill_identity(m, req);
+  if (m.view->sequence) {
+    measure_sequence(m, req.seed_per_frame);
+    return m;
+  }
+  const EstimatorInfo& e = *req.estimator;
+  const ParamSet& params = m.params;
+  const SceneData& s = scene(req.scene);
+  const View& view = *m.view;
+  const int w = m.width, h = m.height;
+  const GBuffer& g = gbuffer(req.scene, view, w, h);
+  const AoDefinition definition = e.definition(params);
+  ResultRow& row = m.row;
   // A view that shows no surface at this size (the camera looks past the scene) has nothing to
   // score: its row says so, and the sweep or suite goes on with the other points.
   bool any_covered = false;
@@ -361,12 +417,16 @@ ResultRow EvaluationSession::score(Measurement& m, const std::string& estimate_p
     last_estimate_.clear();
     return row;
   }
+  if (m.scored) {  // a sequence point, scored frame by frame while it ran (sequence_evaluation.cpp)
+    if (!estimate_path.empty()) write_estimate(m, estimate_path);
+    last_estimate_ = std::move(m.result.ao);
+    return row;
+  }
   const EstimatorInfo& e = *m.estimator;
   const ParamSet& params = m.params;
   const EstimateResult& result = m.result;
   const View& view = *m.view;
   const int w = m.width, h = m.height;
-  const SceneData& s = scene(m.scene);
   const GBuffer& g = gbuffer(m.scene, view, w, h);
   const AoDefinition definition = e.definition(params);
   const auto bent = bent_of_channels(channel(result, "bent.X"), channel(result, "bent.Y"),
@@ -395,12 +455,7 @@ ResultRow EvaluationSession::score(Measurement& m, const std::string& estimate_p
   // same inputs give the same numbers, so the second scoring is the first's copy.
   row.true_metrics = &truth == &matched ? row.metrics : score_with(truth);
   BackgroundLane::checkpoint();
-  if (!estimate_path.empty()) {
-    const auto timer = stages_.time("estimate EXR");
-    write_exr(estimate_path, estimate_to_image(g, result),
-              estimate_attributes(s.scene, s.content_hash, view, make_camera(view, w, h), e, params,
-                                  m.derived));
-  }
+  if (!estimate_path.empty()) write_estimate(m, estimate_path);
   last_estimate_ = std::move(m.result.ao);
   return row;
 }

@@ -40,6 +40,8 @@ struct EvaluationRequest {
   nlohmann::json overrides = nlohmann::json::object();  // the parameters set explicitly
   std::string scene, view;                              // view "" = the scene's first
   int width = 0, height = 0;                            // 0 = the view's own
+  // Sequence views (CONTRACT §10): frame k runs with seed + k unless the run says false.
+  bool seed_per_frame = true;
 };
 
 // "raytraced/rays:16/scene:bunny/view:main/640x480": the explicitly set parameters in declaration
@@ -59,6 +61,10 @@ struct Measurement {
   std::string scene;
   const View* view = nullptr;
   int width = 0, height = 0;
+  // A sequence point is scored frame by frame while it runs: `row` is then finished, `result` is
+  // its last frame's estimate, and `frames` are the rows of its frames.csv.
+  bool scored = false;
+  std::vector<nlohmann::json> frames;
 };
 
 // Thread-safety: measure() on one thread may run while score() of an earlier measurement runs on
@@ -75,6 +81,18 @@ class EvaluationSession {
     uint64_t content_hash = 0;  // scene.content_hash(), computed once at load
   };
   const SceneData& scene(const std::string& name);
+  // Frame k of a view: the scene posed for it (the scene itself when no object moves), cached.
+  const SceneData& frame_scene(const std::string& name, const View& view, int frame);
+  // Frame k's camera (jitter included) and reference settings (seed + k for sequence views).
+  Camera frame_camera_of(const std::string& name, const View& view, int frame, int w, int h);
+  ReferenceSettings frame_settings(const View& view, int frame, const AoDefinition& d) const;
+  // Where one image stands for a view (gbuffer(), reference(), mosaics, the gallery), a sequence
+  // view is its last frame: the state a screenshot after the sequence shows.
+  static int still_frame(const View& view) { return view.frame_count() - 1; }
+  // The reference of a G-buffer `g` of scene `s` seen by `camera`: from the disk cache (keyed by
+  // the scene's geometry, the camera and the settings) or computed and stored there.
+  ReferenceImage reference_image(const SceneData& s, const View& view, const Camera& camera,
+                                 const GBuffer& g, const ReferenceSettings& settings);
   const GBuffer& gbuffer(const std::string& scene, const View& view, int width, int height);
   const ReferenceImage& reference(const std::string& scene, const View& view, int width, int height,
                                   const AoDefinition& definition);
@@ -122,6 +140,10 @@ class EvaluationSession {
   // reference() when the reference is neither in memory nor in the disk cache.
   void compute_missing_reference(const std::string& scene, const View& view, int w, int h,
                                  const AoDefinition& definition);
+  void fill_identity(Measurement& m, const EvaluationRequest& request);
+  void write_estimate(const Measurement& m, const std::string& path);
+  // Runs and scores every frame of a sequence point in order (sequence_evaluation.cpp).
+  void measure_sequence(Measurement& m, bool seed_per_frame);
 };
 
 // Header attributes of an estimate EXR.

@@ -37,7 +37,10 @@ const std::vector<std::string>& metric_names() {
       "pixels", "rmse", "mae", "bias", "max_abs", "p95_abs", "psnr", "ssim", "flip_mean",
       "ref_stderr_rms", "rmse_excess",
       // bent_metrics.h: blank without bent normals
-      "bent_pixels", "bent_angle_mean", "bent_angle_p95", "bent_ref_stderr", "bent_angle_excess"};
+      "bent_pixels", "bent_angle_mean", "bent_angle_p95", "bent_ref_stderr", "bent_angle_excess",
+      // scoring/temporal.h (CONTRACT §10): blank for still views
+      "seq_frames", "seq_rmse_excess", "steady_rmse_excess", "temporal_rmse",
+      "temporal_rmse_excess", "converge_frames", "settle_frames", "disocclusion_rmse_excess"};
   return keys;
 }
 

@@ -37,6 +37,14 @@ RunContext run_context_from_json(const nlohmann::json& j);
 // order of first appearance, then measured_columns(), then pass columns in order of first
 // appearance. The header of results.csv and the column set of the SQLite results table.
 std::vector<std::string> result_columns(const std::vector<ResultRow>& rows);
+// A sequence point's frames.csv (CONTRACT §10): one line per frame, columns frame, time_ms,
+// disoccluded_pixels, then the metric keys and true_ metric keys in results order.
+std::string frames_csv(const std::vector<nlohmann::json>& frames);
+// Where it lives: <out>/sequences/<file_stem_for(run_name)>/frames.csv, written (atomically) before
+// the point's row is committed, so a committed row always has its complete frames.csv and a point
+// killed before its row is run again whole.
+std::string frames_csv_path(const std::string& out_dir, const std::string& run_name);
+
 // True for the metric and "true_" metric columns, where null means +infinity (psnr).
 bool is_metric_column(const std::string& column);
 

@@ -164,6 +164,39 @@ std::string results_csv(const std::vector<ResultRow>& rows) {
   return out;
 }
 
+std::string frames_csv(const std::vector<nlohmann::json>& frames) {
+  std::vector<std::string> columns = {"frame", "time_ms", "disoccluded_pixels"};
+  std::set<std::string> seen(columns.begin(), columns.end());
+  for (const auto& c : measured_columns())
+    for (const auto& f : frames)
+      if (f.contains(c) && seen.insert(c).second) {
+        columns.push_back(c);
+        break;
+      }
+  for (const auto& f : frames)
+    for (const auto& [key, value] : f.items())
+      if (seen.insert(key).second) columns.push_back(key);
+  std::string out;
+  for (size_t i = 0; i < columns.size(); ++i) {
+    if (i) out += ',';
+    out += csv_cell(columns[i], "");
+  }
+  out += "\n";
+  for (const auto& f : frames) {
+    for (size_t i = 0; i < columns.size(); ++i) {
+      if (i) out += ",";
+      const auto it = f.find(columns[i]);
+      if (it != f.end()) out += csv_cell(*it, columns[i]);
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+std::string frames_csv_path(const std::string& out_dir, const std::string& run_name) {
+  return out_dir + "/sequences/" + file_stem_for(run_name) + "/frames.csv";
+}
+
 std::string results_json(const std::vector<ResultRow>& rows, const RunContext& context) {
   const std::vector<std::string> columns = result_columns(rows);
   nlohmann::ordered_json out;

@@ -13,6 +13,7 @@
 #include "drawing/gbuffer_previews.h"
 #include "drawing/plot_workers.h"
 #include "errors.h"
+#include "text_files.h"
 #include "exr_io.h"
 #include "harness/evaluation/background_lane.h"
 #include "harness/evaluation/evaluation.h"
@@ -167,6 +168,11 @@ SuiteReportEntry finish_point(const SuitePoint& sp, Measurement& measured,
   if (row.device.empty()) row.device = context.device;  // CPU estimators name the CPU
   row.git_commit = context.git_commit;
   if (row.status != "ok") return entry;
+  if (!measured.frames.empty()) {  // before the row is committed: a committed row has its frames
+    const auto timer = stages.time("results CSV + JSON");
+    write_text(frames_csv_path((fs::path(out) / run_dir).string(), p.name),
+               frames_csv(measured.frames));
+  }
   row.estimate_file = estimate_rel;
   const AoDefinition definition = p.estimator->definition(measured.params);
   const View& view = session.scene(p.scene).scene.view(p.view);

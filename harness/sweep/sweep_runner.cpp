@@ -18,6 +18,7 @@
 #include "harness/sweep/kept_references.h"
 #include "harness/sweep/shard_plan.h"
 #include "harness/sweep/sweep_spec.h"
+#include "text_files.h"
 
 namespace aoeval {
 
@@ -172,6 +173,10 @@ int run_sweep(const SweepOptions& o, std::string* out_dir) {
                                                 p->estimator->definition(measured->params));
           entry.true_reference_exr =
               references.keep(session, p->scene, view, p->width, p->height, true_ao_definition());
+        }
+        if (!measured->frames.empty()) {  // before the row: a committed row has its frames
+          const auto timer = runner_stages.time("results CSV + JSON");
+          write_text(frames_csv_path(out, p->name), frames_csv(measured->frames));
         }
         {
           const auto timer = runner_stages.time("results SQLite");

@@ -25,6 +25,7 @@ EvaluationRequest evaluation_request(const SweepPoint& p) {
   req.view = p.view;
   req.width = p.width;
   req.height = p.height;
+  req.seed_per_frame = p.seed_per_frame;
   return req;
 }
 
@@ -169,6 +170,7 @@ SweepSpec parse_sweep_spec(const nlohmann::json& doc, const std::string& file) {
       }
     }
     resolve_params(name, r.estimator->params, r.fixed, file + ": " + run.where("fixed"));
+    r.seed_per_frame = run.boolean("seed_per_frame", true);
     run.finish();
     spec.runs.push_back(std::move(r));
   }
@@ -225,7 +227,8 @@ std::vector<SweepPoint> expand_sweep(const SweepSpec& spec, size_t max_points) {
         const std::vector<View> views = load_scene_views(path);
         std::vector<const View*> chosen;
         if (spec.all_views) {
-          for (const auto& v : views) chosen.push_back(&v);
+          for (const auto& v : views)  // sequences are named: each costs frames x references
+            if (!v.sequence) chosen.push_back(&v);
         } else if (spec.views.empty()) {
           chosen.push_back(&views.front());
         } else {
@@ -249,6 +252,8 @@ std::vector<SweepPoint> expand_sweep(const SweepSpec& spec, size_t max_points) {
           p.height = spec.height > 0 ? spec.height : v->height;
           p.name = run_name(*run.estimator, params, overrides, scene_display_name(scene), v->name,
                             p.width, p.height);
+          p.seed_per_frame = run.seed_per_frame;
+          if (v->sequence && !run.seed_per_frame) p.name += "/seed_per_frame:false";
           if (names.insert(p.name).second) points.push_back(std::move(p));  // duplicates run once
           if (points.size() > max_points) too_many(static_cast<double>(points.size()));
         }

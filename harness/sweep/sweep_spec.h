@@ -15,7 +15,8 @@ struct SweepPoint {
   nlohmann::json overrides = nlohmann::json::object();  // grid values + fixed values
   std::string scene, view;
   int width = 0, height = 0;
-  std::string name;  // the row's run name
+  std::string name;            // the row's run name
+  bool seed_per_frame = true;  // sequence views (CONTRACT §10)
 };
 
 // What the evaluation session runs for a point.
@@ -33,6 +34,7 @@ struct SweepSpec {
     const EstimatorInfo* estimator = nullptr;
     std::vector<std::pair<std::string, std::vector<nlohmann::json>>> grid;  // declaration order
     nlohmann::json fixed = nlohmann::json::object();
+    bool seed_per_frame = true;  // "seed_per_frame": false keeps one seed for every frame
   };
   std::vector<Run> runs;
 };

@@ -1,0 +1,97 @@
+// The temporal runner (sequence_evaluation.cpp) against closed forms (CONTRACT §10, issue 29's
+// "It must show" 1): on a static-camera sequence an estimator without temporal design flickers by
+// exactly its per-frame variance, and a deterministic one not at all.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include "estimators/registry.h"
+#include "harness/evaluation/evaluation.h"
+#include "scenes/test_temp_dir.h"
+
+namespace aoeval {
+namespace {
+
+// A box on a floor seen from above at 64x48 for 8 frames, nothing moving: about half the covered
+// pixels have 0 < AO < 1 (the floor around the box, the box's sides), where the flicker lives.
+std::string static_sequence_scene() {
+  const auto dir = testutil::test_temp_dir("sequence_eval");
+  const std::string path = (dir / "still.json").string();
+  std::ofstream(path) << R"({"objects": [
+      {"name": "floor", "generator": "plane", "params": {"size": [4, 4]}},
+      {"name": "box", "generator": "box", "params": {"size": [0.6, 0.6, 0.6]},
+       "transform": {"translate": [0, 0.3, 0]}}],
+    "views": [{"name": "still", "eye": [0.9, 1.4, 1.3], "target": [0, 0.1, 0], "fov_y_deg": 50,
+               "width": 64, "height": 48, "sequence": {"frames": 8}}]})";
+  return path;
+}
+
+ResultRow run(EvaluationSession& session, const std::string& scene, const std::string& estimator,
+              nlohmann::json overrides, bool seed_per_frame = true) {
+  EvaluationRequest req;
+  req.estimator = &find_estimator(estimator);
+  req.overrides = std::move(overrides);
+  req.scene = scene;
+  req.view = "still";
+  req.seed_per_frame = seed_per_frame;
+  Measurement m = session.measure(req);
+  EXPECT_TRUE(m.scored);
+  EXPECT_EQ(m.frames.size(), 8u);
+  return session.score(m);
+}
+
+// raytraced with 4 cosine rays and the random sampler: each frame's estimate is a mean of 4
+// Bernoulli(a) visibilities, variance a(1 - a)/4, independent between frames (seed + k), so
+// E[d^2] = 2 a(1 - a)/4 per pixel once the reference's own noise is removed. Tolerance 10 %: the
+// mean of d^2 over 7 x ~3000 pixel-frames has a relative standard error of about 1.5 %.
+TEST(SequenceEvaluation, RaytracedFlickerMatchesTheBernoulliVariance) {
+  const std::string scene = static_sequence_scene();
+  EvaluationSession session(ReferenceSpec{}, TimingSpec{0, 1}, /*disk_cache=*/false);
+  const ResultRow row = run(session, scene, "raytraced", {{"rays", 4}, {"sampler", "random"}});
+  const View& view = session.scene(scene).scene.view("still");
+  const GBuffer& g = session.gbuffer(scene, view, 64, 48);
+  const ReferenceImage& ref = session.reference(scene, view, 64, 48, true_ao_definition());
+  double sum = 0.0, n = 0.0;
+  for (size_t p = 0; p < g.pixel_count(); ++p) {
+    if (!g.covered(p)) continue;
+    const double a = ref.ao[p];
+    sum += 2.0 * a * (1.0 - a) / 4.0;
+    n += 1.0;
+  }
+  const double expected = sum / n;
+  const double excess = row.metrics["temporal_rmse_excess"].get<double>();
+  EXPECT_GT(expected, 0.01);  // the scene has partly occluded pixels
+  EXPECT_NEAR(excess * excess / expected, 1.0, 0.10) << "expected " << expected;
+  std::printf("temporal_rmse_excess^2 %.6f, mean 2a(1-a)/4 %.6f, ratio %.4f\n", excess * excess,
+              expected, excess * excess / expected);
+  EXPECT_EQ(row.metrics["seq_frames"], 8);
+  EXPECT_EQ(row.repetitions, 8);  // one timed run per frame
+  // Nothing moves: nothing is disoccluded, so there is nothing to settle.
+  EXPECT_TRUE(row.metrics["settle_frames"].is_null());
+  EXPECT_TRUE(row.metrics["disocclusion_rmse_excess"].is_null());
+}
+
+// With one seed for every frame the same estimate repeats: no flicker beyond the reference's.
+TEST(SequenceEvaluation, OneSeedForEveryFrameDoesNotFlicker) {
+  const std::string scene = static_sequence_scene();
+  EvaluationSession session(ReferenceSpec{}, TimingSpec{0, 1}, false);
+  const ResultRow row =
+      run(session, scene, "raytraced", {{"rays", 4}, {"sampler", "random"}}, false);
+  EXPECT_LE(row.metrics["temporal_rmse_excess"].get<double>(), 0.01);
+  EXPECT_NE(row.run_name.find("seed_per_frame:false"), std::string::npos);
+}
+
+// constant gives the same value every frame: temporal_rmse_excess <= 1e-3.
+TEST(SequenceEvaluation, ConstantDoesNotFlicker) {
+  const std::string scene = static_sequence_scene();
+  EvaluationSession session(ReferenceSpec{}, TimingSpec{0, 1}, false);
+  const ResultRow row = run(session, scene, "constant", nlohmann::json::object());
+  EXPECT_LE(row.metrics["temporal_rmse_excess"].get<double>(), 1e-3);
+  EXPECT_GT(row.metrics["seq_rmse_excess"].get<double>(), 0.05);  // but it is wrong everywhere
+  EXPECT_EQ(row.metrics["converge_frames"], 0);
+}
+
+}  // namespace
+}  // namespace aoeval

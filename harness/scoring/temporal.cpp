@@ -1,0 +1,168 @@
+#include "harness/scoring/temporal.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "errors.h"
+
+namespace aoeval {
+
+double TemporalScorer::Sums::excess() const {
+  return n > 0.0 ? std::sqrt(std::max(0.0, (err2 - noise) / n)) : 0.0;
+}
+
+const std::vector<std::string>& TemporalScorer::keys() {
+  static const std::vector<std::string> k = {
+      "seq_frames",           "seq_rmse_excess", "steady_rmse_excess", "temporal_rmse",
+      "temporal_rmse_excess", "converge_frames", "settle_frames",      "disocclusion_rmse_excess"};
+  return k;
+}
+
+namespace {
+
+struct Bilinear {
+  int index[4];
+  double weight[4];
+  int taps = 0;
+  double total = 0.0;
+};
+
+// The four pixel centres around continuous position (x, y) (pixel (i, j)'s centre at
+// (i + 0.5, j + 0.5)), keeping those inside the image and compared in that frame.
+Bilinear bilinear_taps(double x, double y, int w, int h, const std::vector<uint8_t>& compared) {
+  Bilinear b;
+  const double fx = x - 0.5, fy = y - 0.5;
+  const double x0 = std::floor(fx), y0 = std::floor(fy);
+  const double tx = fx - x0, ty = fy - y0;
+  for (int dy = 0; dy < 2; ++dy)
+    for (int dx = 0; dx < 2; ++dx) {
+      const double wgt = (dx ? tx : 1.0 - tx) * (dy ? ty : 1.0 - ty);
+      const double a = x0 + dx, c = y0 + dy;
+      if (wgt <= 0.0 || a < 0.0 || c < 0.0 || a >= w || c >= h) continue;
+      const int t = static_cast<int>(c) * w + static_cast<int>(a);
+      if (!compared[t]) continue;
+      b.index[b.taps] = t;
+      b.weight[b.taps++] = wgt;
+      b.total += wgt;
+    }
+  return b;
+}
+
+}  // namespace
+
+double TemporalScorer::add_frame(const TemporalFrame& f) {
+  const int k = static_cast<int>(frame_excess_.size());
+  if (k == 0) {
+    width_ = f.width;
+    height_ = f.height;
+  } else if (f.width != width_ || f.height != height_) {
+    throw InputError("sequence frame " + std::to_string(k) + " is " + std::to_string(f.width) +
+                     "x" + std::to_string(f.height) + ", frame 0 was " + std::to_string(width_) +
+                     "x" + std::to_string(height_));
+  }
+  const size_t n = static_cast<size_t>(width_) * height_;
+  Sums frame;
+  std::vector<int> age(n, -1);
+  for (int j = 0; j < height_; ++j)
+    for (int i = 0; i < width_; ++i) {
+      const size_t p = static_cast<size_t>(j) * width_ + i;
+      if (!f.compared[p]) continue;
+      const double err = static_cast<double>(f.est[p]) - f.ref[p];
+      const double var =
+          f.ref_stderr ? static_cast<double>(f.ref_stderr[p]) * f.ref_stderr[p] : 0.0;
+      frame.n += 1.0;
+      frame.err2 += err * err;
+      frame.noise += var;
+      if (k == 0) continue;
+      const double mx = f.motion ? f.motion[2 * p] : 0.0, my = f.motion ? f.motion[2 * p + 1] : 0.0;
+      const double qx = i + 0.5 - mx, qy = j + 0.5 - my;
+      if (f.disoccluded && f.disoccluded[p] > 0.5f) {
+        age[p] = 0;
+      } else {
+        const auto a = static_cast<int>(std::floor(qx - f.prev_jitter_x)),
+                   b = static_cast<int>(std::floor(qy - f.prev_jitter_y));
+        if (a >= 0 && b >= 0 && a < width_ && b < height_) {
+          const int before = prev_age_[static_cast<size_t>(b) * width_ + a];
+          age[p] = before >= 0 ? before + 1 : -1;
+        }
+        const Bilinear taps = bilinear_taps(qx, qy, width_, height_, prev_compared_);
+        if (taps.taps > 0 && taps.total > 1e-9) {
+          double est_then = 0.0, ref_then = 0.0, var_then = 0.0;
+          for (int t = 0; t < taps.taps; ++t) {
+            const double w = taps.weight[t] / taps.total;
+            est_then += w * prev_est_[taps.index[t]];
+            ref_then += w * prev_ref_[taps.index[t]];
+            var_then += w * w * prev_var_[taps.index[t]];
+          }
+          const double d = (f.est[p] - est_then) - (f.ref[p] - ref_then);
+          temporal_.n += 1.0;
+          temporal_.err2 += d * d;
+          temporal_.noise += var + var_then;
+        }
+      }
+      if (age[p] >= 0) {
+        Sums& s = by_age_[age[p]];
+        s.n += 1.0;
+        s.err2 += err * err;
+        s.noise += var;
+      }
+    }
+  if (frame.n == 0.0)
+    throw InputError("sequence frame " + std::to_string(k) +
+                     ": no pixel is covered in both images");
+  frame_excess_.push_back(frame.excess());
+  prev_est_.assign(f.est, f.est + n);
+  prev_ref_.assign(f.ref, f.ref + n);
+  prev_var_.assign(n, 0.0f);
+  if (f.ref_stderr)
+    for (size_t p = 0; p < n; ++p) prev_var_[p] = f.ref_stderr[p] * f.ref_stderr[p];
+  prev_compared_.assign(f.compared, f.compared + n);
+  prev_age_ = std::move(age);
+  return frame_excess_.back();
+}
+
+std::map<int, double> TemporalScorer::rmse_excess_by_age() const {
+  std::map<int, double> out;
+  for (const auto& [age, sums] : by_age_) out[age] = sums.excess();
+  return out;
+}
+
+nlohmann::json TemporalScorer::scores(const std::string& prefix) const {
+  nlohmann::json out = nlohmann::json::object();
+  const int frames = static_cast<int>(frame_excess_.size());
+  auto rms = [&](int from) {
+    double s = 0.0;
+    for (int k = from; k < frames; ++k) s += frame_excess_[k] * frame_excess_[k];
+    return frames > from ? std::sqrt(s / (frames - from)) : 0.0;
+  };
+  const double steady = rms(frames / 2);
+  out[prefix + "seq_frames"] = frames;
+  out[prefix + "seq_rmse_excess"] = rms(0);
+  out[prefix + "steady_rmse_excess"] = steady;
+  out[prefix + "temporal_rmse"] =
+      temporal_.n > 0.0 ? nlohmann::json(std::sqrt(temporal_.err2 / temporal_.n)) : nullptr;
+  out[prefix + "temporal_rmse_excess"] =
+      temporal_.n > 0.0 ? nlohmann::json(temporal_.excess()) : nullptr;
+  int converge = frames;
+  for (int k = frames - 1; k >= 0 && frame_excess_[k] <= 1.1 * steady; --k) converge = k;
+  out[prefix + "converge_frames"] = converge;
+  nlohmann::json settle = nullptr;
+  for (const auto& [age, sums] : by_age_)
+    if (sums.excess() <= 1.1 * steady) {
+      settle = age;
+      break;
+    }
+  out[prefix + "settle_frames"] = settle;
+  Sums recent;
+  for (const auto& [age, sums] : by_age_)
+    if (age <= 3) {
+      recent.n += sums.n;
+      recent.err2 += sums.err2;
+      recent.noise += sums.noise;
+    }
+  out[prefix + "disocclusion_rmse_excess"] =
+      recent.n > 0.0 ? nlohmann::json(recent.excess()) : nullptr;
+  return out;
+}
+
+}  // namespace aoeval
