@@ -24,8 +24,12 @@ std::string KeptReferences::keep(EvaluationSession& session, const std::string& 
       ".exr";
   if (!written_.insert(rel).second) return rel;
   session.reference(scene_name, view, w, h, definition);  // computes or reads the cache
-  const std::string cached = reference_cache_path(
-      reference_cache_key(data.content_hash, make_camera(view, w, h), spec.settings(definition)));
+  // The cache entry session.reference() used: for a sequence view that is its still frame (the
+  // last one, whose estimate the row keeps), posed scene, camera and seed + k included.
+  const int k = EvaluationSession::still_frame(view);
+  const std::string cached = reference_cache_path(reference_cache_key(
+      session.frame_scene(scene_name, view, k).content_hash,
+      session.gbuffer(scene_name, view, w, h).camera, session.frame_settings(view, k, definition)));
   const fs::path target = fs::path(out_) / rel;
   fs::create_directories(target.parent_path());
   const std::string temp = temporary_path_for(target.string());  // one naming: leftovers are found

@@ -77,7 +77,8 @@ expect_status 0 "$aoeval" run --suite tiny.json --out suite-a --db r.sqlite
 # raytraced made worse (1 ray instead of 8): the dashboard fails and names it.
 expect_status 0 "$aoeval" run --suite tiny.json --out suite-b --db r.sqlite --set raytraced:rays=1
 expect_status 1 "$aoeval" dashboard --db r.sqlite --out dash-fail --config accuracy_only.json
-grep -q "REGRESSED raytraced scene cornell-box" "$work/out.txt"
+# CONTRACT §12: the line names the row's parameters, the ones that differ from the defaults first.
+grep -Eq "REGRESSED raytraced rays=1(,[^ ]*)? scene cornell-box" "$work/out.txt" || { cat "$work/out.txt"; exit 1; }
 # Back to 8 rays: an improvement, no regression.
 expect_status 0 "$aoeval" run --suite tiny.json --out suite-c --db r.sqlite
 expect_status 0 "$aoeval" dashboard --db r.sqlite --out dash-pass --config accuracy_only.json
