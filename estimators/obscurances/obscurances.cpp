@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 
 #include "errors.h"
+#include "estimators/power_falloff_param.h"
 #include "sampling/ray_offset.h"
 
 namespace aoeval {
@@ -223,15 +224,9 @@ EstimatorInfo obscurances_estimator() {
        "obscurance function (§3): sqrt = sqrt(d/dmax), exp = (1-e^(-4d/dmax))/(1-e^-4), "
        "constant = 0 within dmax (AO), power = (d/dmax)^rho_k (CONTRACT §3 power:K)",
        {"exp", "sqrt", "constant", "power"}},
-      {"rho_k",
-       ParamType::real,
-       2.0,
-       1e-3,
-       1e3,
-       false,
-       "",
-       "the exponent K of rho = power, rho(x) = x^K (1 = linear, 0.5 = sqrt); unused otherwise",
-       {}},
+      power_exponent_param(
+          "rho_k",
+          "the exponent K of rho = power, rho(x) = x^K (1 = linear, 0.5 = sqrt); unused otherwise"),
       {"sampling",
        ParamType::choice,
        "systematic",

@@ -1,5 +1,6 @@
 #include "estimators/raytraced/raytraced.h"
 
+#include "estimators/power_falloff_param.h"
 #include "sampling/ao_tracer.h"
 
 namespace aoeval {
@@ -78,15 +79,9 @@ EstimatorInfo raytraced_estimator() {
        "occluder weight 1 - rho(d/dmax): none, linear, sqrt, exp or power (rho(x) = x^falloff_k) "
        "(CONTRACT §3)",
        {"none", "linear", "sqrt", "exp", "power"}},
-      {"falloff_k",
-       ParamType::real,
-       2.0,
-       1e-3,
-       1e3,
-       false,
-       "",
-       "the exponent K of falloff power, rho(x) = x^K (1 = linear, 0.5 = sqrt); unused otherwise",
-       {}},
+      power_exponent_param("falloff_k",
+                           "the exponent K of falloff power, rho(x) = x^K (1 = linear, 0.5 = "
+                           "sqrt); unused otherwise"),
       {"sampler",
        ParamType::choice,
        "random",
