@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bilinear_taps.h"
 #include "errors.h"
 
 namespace aoeval {
@@ -17,38 +18,6 @@ const std::vector<std::string>& TemporalScorer::keys() {
       "temporal_rmse_excess", "converge_frames", "settle_frames",      "disocclusion_rmse_excess"};
   return k;
 }
-
-namespace {
-
-struct Bilinear {
-  int index[4];
-  double weight[4];
-  int taps = 0;
-  double total = 0.0;
-};
-
-// The four pixel centres around continuous position (x, y) (pixel (i, j)'s centre at
-// (i + 0.5, j + 0.5)), keeping those inside the image and compared in that frame.
-Bilinear bilinear_taps(double x, double y, int w, int h, const std::vector<uint8_t>& compared) {
-  Bilinear b;
-  const double fx = x - 0.5, fy = y - 0.5;
-  const double x0 = std::floor(fx), y0 = std::floor(fy);
-  const double tx = fx - x0, ty = fy - y0;
-  for (int dy = 0; dy < 2; ++dy)
-    for (int dx = 0; dx < 2; ++dx) {
-      const double wgt = (dx ? tx : 1.0 - tx) * (dy ? ty : 1.0 - ty);
-      const double a = x0 + dx, c = y0 + dy;
-      if (wgt <= 0.0 || a < 0.0 || c < 0.0 || a >= w || c >= h) continue;
-      const int t = static_cast<int>(c) * w + static_cast<int>(a);
-      if (!compared[t]) continue;
-      b.index[b.taps] = t;
-      b.weight[b.taps++] = wgt;
-      b.total += wgt;
-    }
-  return b;
-}
-
-}  // namespace
 
 double TemporalScorer::add_frame(const TemporalFrame& f) {
   const int k = static_cast<int>(frame_excess_.size());
@@ -85,7 +54,8 @@ double TemporalScorer::add_frame(const TemporalFrame& f) {
           const int before = prev_age_[static_cast<size_t>(b) * width_ + a];
           age[p] = before >= 0 ? before + 1 : -1;
         }
-        const Bilinear taps = bilinear_taps(qx, qy, width_, height_, prev_compared_);
+        const BilinearTaps taps =
+            bilinear_taps(qx, qy, width_, height_, [&](int t) { return prev_compared_[t] != 0; });
         if (taps.taps > 0 && taps.total > 1e-9) {
           double est_then = 0.0, ref_then = 0.0, var_then = 0.0;
           for (int t = 0; t < taps.taps; ++t) {

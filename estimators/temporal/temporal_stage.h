@@ -1,0 +1,109 @@
+// The shared temporal accumulation stage: the reference design of temporal reuse in aoeval, used
+// by every built-in temporal estimator (rtao; gtao and hbao-split over time) and the design a
+// user's temporal plug-in (CONTRACT §10, aoeval_history) is compared with. One frame in, per pixel:
+//
+//  1. Reprojection (reverse, as in TAA and Schied et al. 2017 §4.1): the point at pixel p was at
+//     q = p - motion(p) in frame k - 1 (the G-buffer's motion: the offset in pixels from where the
+//     point was in frame k - 1 to where it is now, CONTRACT §10; pixel centres at i + 0.5).
+//  2. Bilinear history read (scenes/bilinear_taps.h) at q over the valid history texels only: a
+//     texel of frame k - 1 is valid when it was covered and on the same object as p; the weights
+//     are renormalised over the valid ones. At an integer offset the read is exact.
+//  3. Disocclusion reset: where the G-buffer says `disoccluded` (the point was not visible in frame
+//     k - 1), where no tap is valid, at the first frame and after reset(), the pixel starts afresh:
+//     its value and moments are this frame's, its history length 1.
+//  4. Exponential history with a minimum blend factor (Schied et al. 2017 §4.1; Yang et al. 2009,
+//     "Amortized supersampling"): with L the history length read at q (frames accumulated there,
+//     bilinear like the values),
+//         alpha = max(alpha_min, 1 / (L + 1)),   out = alpha x + (1 - alpha) h,
+//     a running mean while 1 / (L + 1) > alpha_min, a fixed-alpha exponential average after it; the
+//     stored length is min(L + 1, history_limit), so alpha never drops below 1 / (history_limit +
+//     1).
+//  5. Neighbourhood clamping of the reprojected history h before the blend (Salvi 2016, "An
+//     excursion in temporal supersampling"; the D3D12 real-time denoised AO sample's
+//     TemporalSupersampling_BlendWithCurrentFrameCS): h is clamped to mu +- max(gamma sigma,
+//     clamp_sigma_min), mu and sigma the mean and standard deviation of this frame's raw values
+//     over the covered pixels of the (2 clamp_radius + 1)^2 window around p (3x3 by default, as in
+//     TAA). It bounds how long a stale history (a moved occluder) can last.
+//  6. Moments for SVGF (Schied et al. 2017 §4.2): the first two moments of the raw input,
+//     m1 = E[x] and m2 = E[x^2], accumulated with the same alpha but never clamped (they describe
+//     the samples, not the history's value); variance = max(0, m2 - m1^2).
+//
+// Every constant is a parameter, declared once in temporal_params(): an estimator that uses the
+// stage appends that fragment to its own table (the names, ranges, units and meanings are written
+// there, the defaults may differ per estimator) and builds the settings with temporal_settings().
+// Deterministic: the same inputs give the same bits whatever the thread count (every pixel is
+// computed on its own from the previous frame's buffers, in double).
+#pragma once
+
+#include <vector>
+
+#include "estimators/estimator.h"
+#include "gbuffer.h"
+
+namespace aoeval {
+
+struct TemporalSettings {
+  int history_limit = 0;         // the longest history a pixel keeps, frames (>= 1)
+  double alpha_min = 0.0;        // the smallest blend factor of the current frame, [0, 1]
+  bool clamp = false;            // clamp the reprojected history to the neighbourhood's range
+  double gamma = 0.0;            // half-width of that range, in standard deviations
+  double clamp_sigma_min = 0.0;  // the smallest half-width, AO units
+  int clamp_radius = 0;          // the window is (2 clamp_radius + 1)^2 pixels
+};
+
+// The defaults an estimator gives the fragment's parameters. The reference design's own are
+// TemporalDefaults{}: a 3x3 TAA clamp with gamma 1 (Salvi 2016), the D3D12 sample's minimum
+// smoothing factor 0.03, and a 32-frame cap (so alpha >= max(0.03, 1/33)).
+struct TemporalDefaults {
+  int history_limit = 32;
+  double alpha_min = 0.03;
+  bool clamp = true;
+  double gamma = 1.0;
+  double clamp_sigma_min = 0.0;
+  int clamp_radius = 1;
+};
+
+// The stage's parameters, in this order: history_limit, alpha_min, clamp, gamma,
+// clamp_sigma_min, clamp_radius (names, ranges, units and meanings written here once).
+std::vector<ParamSpec> temporal_params(const TemporalDefaults& defaults = {});
+// Reads the fragment's parameters from an estimator's resolved set.
+TemporalSettings temporal_settings(const ParamSet& params);
+
+// Runs the stage frame after frame. Not thread-safe (one instance per estimator instance).
+class TemporalAccumulator {
+ public:
+  explicit TemporalAccumulator(const TemporalSettings& settings);
+
+  // Forgets the history: the next accumulate() starts afresh everywhere (a still frame, frame 0).
+  void reset();
+  bool has_history() const { return !history_.empty(); }
+
+  // Accumulates one frame: `current` holds this frame's raw value per pixel (g.pixel_count()
+  // values, read where g is covered). The G-buffer's motion and disoccluded are read when present
+  // (a still G-buffer has neither: zero motion, nothing disoccluded). A size change resets.
+  void accumulate(const GBuffer& g, const std::vector<float>& current);
+
+  // This frame's results, per pixel (0 where not covered).
+  const std::vector<float>& value() const { return value_; }            // the accumulated value
+  const std::vector<float>& moment1() const { return moment1_; }        // E[x]
+  const std::vector<float>& moment2() const { return moment2_; }        // E[x^2]
+  const std::vector<float>& history_length() const { return length_; }  // frames, incl. this one
+  // Where this frame started afresh (disoccluded, no valid tap, first frame): 1, else 0.
+  const std::vector<uint8_t>& was_reset() const { return reset_; }
+
+  // What the next frame reprojects as the value's history: value() unless replaced. SVGF feeds its
+  // first a-trous iteration back (Schied et al. 2017 §4.1, "we use the result of the first wavelet
+  // iteration as the color history"); the moments' history stays the raw moments.
+  void replace_history(const std::vector<float>& history);
+
+ private:
+  TemporalSettings settings_;
+  int width_ = 0, height_ = 0;
+  std::vector<float> value_, moment1_, moment2_, length_;
+  std::vector<uint8_t> reset_;
+  // Frame k - 1, read by frame k.
+  std::vector<float> history_, prev_moment1_, prev_moment2_, prev_length_, prev_object_;
+  std::vector<uint8_t> prev_covered_;
+};
+
+}  // namespace aoeval

@@ -1,0 +1,245 @@
+// The temporal accumulation stage against closed forms (issue 31, "It must show" 2): a constant
+// input converges to that constant with the exponent its blend factor implies, a disocclusion
+// resets the history, clamping bounds a stale history, and reprojection of a translated image is
+// exact at integer pixel offsets. Every expectation is computed from the stage's formulas
+// (temporal_stage.h); tolerances are float rounding (values are stored as float, ~6e-8 relative,
+// a few roundings per frame).
+#include "estimators/temporal/temporal_stage.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "random.h"
+
+namespace aoeval {
+namespace {
+
+// A flat, fully covered w x h G-buffer facing the camera, object 0; `motion` and `disoccluded`
+// filled as for a sequence frame (zero motion, nothing disoccluded).
+GBuffer flat(int w, int h) {
+  GBuffer g;
+  g.width = w;
+  g.height = h;
+  const size_t n = g.pixel_count();
+  g.coverage.assign(n, 1.0f);
+  g.depth.assign(n, 1.0f);
+  g.position.assign(n, glm::vec3(0.0f));
+  g.normal.assign(n, glm::vec3(0, 0, 1));
+  g.geometric_normal.assign(n, glm::vec3(0, 0, 1));
+  g.object_id.assign(n, 0.0f);
+  g.motion.assign(n, glm::vec2(0.0f));
+  g.disoccluded.assign(n, 0.0f);
+  return g;
+}
+
+TemporalSettings no_clamp(double alpha_min, int history_limit) {
+  TemporalSettings s;
+  s.alpha_min = alpha_min;
+  s.history_limit = history_limit;
+  s.clamp = false;
+  return s;
+}
+
+// Frame 0 shows v, every later frame c: the error value - c after frame k is (v - c) times the
+// product of (1 - alpha_j), j = 1..k. Three regimes of alpha_j = max(alpha_min, 1/(L_j + 1)):
+// the running mean (alpha_min = 0, long limit): error (v - c) / (k + 1); the fixed-alpha regime
+// from the first blend (alpha_min >= 1/2): error (v - c) (1 - alpha_min)^k exactly; and the
+// hand-over from the running mean to a fixed alpha, at the first frame where 1/(L + 1) <=
+// alpha_min or where the history length reaches history_limit.
+TEST(TemporalStage, AConstantInputConvergesWithTheExponentOfItsBlendFactor) {
+  const double v = 1.0, c = 0.25;
+  const GBuffer g = flat(4, 3);
+  struct Case {
+    const char* regime;
+    double alpha_min;
+    int limit;
+    double (*error)(int k);  // relative to v - c, after frame k >= 1
+  };
+  const Case cases[] = {
+      {"running mean", 0.0, 4096, [](int k) { return 1.0 / (k + 1); }},
+      {"fixed alpha 0.6", 0.6, 4096, [](int k) { return std::pow(0.4, k); }},
+      // 1/(L + 1) = 1/10 at frame 9: the running mean until then, alpha = 0.1 after.
+      {"alpha_min 0.1", 0.1, 4096,
+       [](int k) { return k <= 9 ? 1.0 / (k + 1) : 0.1 * std::pow(0.9, k - 9); }},
+      // The stored length stops at 4, so from frame 4 on alpha = 1/(4 + 1).
+      {"history_limit 4", 0.0, 4,
+       [](int k) { return k <= 4 ? 1.0 / (k + 1) : 0.2 * std::pow(0.8, k - 4); }},
+  };
+  for (const Case& cs : cases) {
+    TemporalAccumulator stage(no_clamp(cs.alpha_min, cs.limit));
+    stage.accumulate(g, std::vector<float>(g.pixel_count(), static_cast<float>(v)));
+    for (int k = 1; k <= 24; ++k) {
+      stage.accumulate(g, std::vector<float>(g.pixel_count(), static_cast<float>(c)));
+      const double expected = c + (v - c) * cs.error(k);
+      for (size_t p = 0; p < g.pixel_count(); ++p) {
+        ASSERT_NEAR(stage.value()[p], expected, 1e-6) << cs.regime << ", frame " << k;
+        ASSERT_NEAR(stage.moment1()[p], expected, 1e-6) << cs.regime << ", frame " << k;
+      }
+    }
+    EXPECT_EQ(stage.history_length()[0], std::min(25, cs.limit)) << cs.regime;
+  }
+}
+
+// A disoccluded pixel, a pixel whose history lies on another object and one whose history is off
+// screen all start afresh: the value is this frame's, the history length 1; the others blend.
+TEST(TemporalStage, ADisocclusionResetsTheHistory) {
+  GBuffer g = flat(6, 4);
+  TemporalAccumulator stage(no_clamp(0.0, 64));
+  for (int k = 0; k < 3; ++k) stage.accumulate(g, std::vector<float>(g.pixel_count(), 1.0f));
+  ASSERT_EQ(stage.history_length()[0], 3.0f);
+  g.disoccluded[g.index(1, 1)] = 1.0f;     // the G-buffer's disocclusion
+  g.object_id[g.index(2, 1)] = 1.0f;       // history on another object: no valid tap
+  g.motion[g.index(0, 2)] = {2.0f, 0.0f};  // from x = -1.5: off screen
+  stage.accumulate(g, std::vector<float>(g.pixel_count(), 0.0f));
+  for (int j = 0; j < g.height; ++j)
+    for (int i = 0; i < g.width; ++i) {
+      const size_t p = g.index(i, j);
+      const bool afresh = p == g.index(1, 1) || p == g.index(2, 1) || p == g.index(0, 2);
+      EXPECT_EQ(stage.was_reset()[p], afresh ? 1 : 0) << i << "," << j;
+      EXPECT_EQ(stage.history_length()[p], afresh ? 1.0f : 4.0f) << i << "," << j;
+      EXPECT_NEAR(stage.value()[p], afresh ? 0.0 : 0.75, 1e-7) << i << "," << j;
+      EXPECT_NEAR(stage.moment2()[p], afresh ? 0.0 : 0.75, 1e-7) << i << "," << j;
+    }
+  // reset() forgets everything: the next frame is its own input.
+  stage.reset();
+  stage.accumulate(g, std::vector<float>(g.pixel_count(), 0.5f));
+  for (float x : stage.value()) EXPECT_EQ(x, 0.5f);
+}
+
+// A history of 1 (twenty frames of 1), then a checkerboard of 0.2 and 0.4: the history is clamped
+// to mu + gamma sigma of each pixel's 3x3 window before the blend, so the output is alpha x + (1 -
+// alpha) min(1, mu + gamma sigma), with mu, sigma the window's population statistics (five
+// squares of one colour, four of the other). Without the clamp the stale 1 survives.
+TEST(TemporalStage, ClampingBoundsAStaleHistory) {
+  const GBuffer g = flat(8, 8);
+  std::vector<float> board(g.pixel_count());
+  for (int j = 0; j < g.height; ++j)
+    for (int i = 0; i < g.width; ++i) board[g.index(i, j)] = (i + j) % 2 ? 0.4f : 0.2f;
+  for (const double gamma : {0.5, 1.0, 2.0}) {
+    TemporalSettings s = no_clamp(0.1, 32);
+    s.clamp = true;
+    s.gamma = gamma;
+    s.clamp_radius = 1;
+    TemporalAccumulator clamped(s), free_running(no_clamp(0.1, 32));
+    for (int k = 0; k < 20; ++k) {
+      clamped.accumulate(g, std::vector<float>(g.pixel_count(), 1.0f));
+      free_running.accumulate(g, std::vector<float>(g.pixel_count(), 1.0f));
+    }
+    clamped.accumulate(g, board);
+    free_running.accumulate(g, board);
+    const double alpha = 0.1;  // max(0.1, 1/(20 + 1))
+    for (int j = 1; j + 1 < g.height; ++j)
+      for (int i = 1; i + 1 < g.width; ++i) {
+        const size_t p = g.index(i, j);
+        const double x = board[p], other = x == 0.2f ? 0.4f : 0.2f;  // centre: 5 like it, 4 not
+        const double mu = (5.0 * x + 4.0 * other) / 9.0;
+        const double sigma = std::sqrt((5.0 * x * x + 4.0 * other * other) / 9.0 - mu * mu);
+        const double bound = std::min(1.0, mu + gamma * sigma);
+        EXPECT_NEAR(clamped.value()[p], alpha * x + (1.0 - alpha) * bound, 1e-6) << gamma;
+        EXPECT_NEAR(free_running.value()[p], alpha * x + (1.0 - alpha) * 1.0, 1e-6);
+      }
+  }
+  // clamp_sigma_min: a flat neighbourhood (sigma = 0) still lets the history within that much.
+  TemporalSettings s = no_clamp(0.5, 32);
+  s.clamp = true;
+  s.gamma = 1.0;
+  s.clamp_sigma_min = 0.05;
+  s.clamp_radius = 1;
+  TemporalAccumulator stage(s);
+  stage.accumulate(g, std::vector<float>(g.pixel_count(), 1.0f));
+  stage.accumulate(g, std::vector<float>(g.pixel_count(), 0.5f));
+  for (float x : stage.value()) EXPECT_NEAR(x, 0.5 * 0.5 + 0.5 * 0.55, 1e-6);
+}
+
+// Frame 0 a random image f, frame 1 the same scene translated by (3, -2) pixels (motion (3, -2)
+// everywhere) with a new random input x: at the first blend alpha = 1/2, so the value is exactly
+// 0.5 x(p) + 0.5 f(p - m) where p - m is on screen, and x(p) where it is not. At a half-pixel
+// offset the read is the mean of the two texels it straddles.
+TEST(TemporalStage, ReprojectionOfATranslatedImageIsExactAtIntegerOffsets) {
+  GBuffer g = flat(16, 12);
+  const size_t n = g.pixel_count();
+  std::vector<float> f(n), x(n);
+  SplitMix64 rng(5);
+  for (size_t p = 0; p < n; ++p) f[p] = rng.uniform_float(), x[p] = rng.uniform_float();
+  for (const glm::vec2 m : {glm::vec2(3, -2), glm::vec2(0, 0), glm::vec2(-5, 4)}) {
+    TemporalAccumulator stage(no_clamp(0.0, 32));
+    stage.accumulate(g, f);
+    g.motion.assign(n, m);
+    stage.accumulate(g, x);
+    for (int j = 0; j < g.height; ++j)
+      for (int i = 0; i < g.width; ++i) {
+        const size_t p = g.index(i, j);
+        const int a = i - static_cast<int>(m.x), b = j - static_cast<int>(m.y);
+        const bool on = a >= 0 && b >= 0 && a < g.width && b < g.height;
+        const double h = on ? f[g.index(a, b)] : 0.0;
+        const auto expected = static_cast<float>(on ? 0.5 * x[p] + 0.5 * h : x[p]);
+        EXPECT_EQ(stage.value()[p], expected) << i << "," << j;
+        EXPECT_EQ(stage.was_reset()[p], on ? 0 : 1);
+      }
+  }
+  TemporalAccumulator stage(no_clamp(0.0, 32));
+  g.motion.assign(n, glm::vec2(0));
+  stage.accumulate(g, f);
+  g.motion.assign(n, glm::vec2(0.5f, 0.0f));
+  stage.accumulate(g, x);
+  for (int j = 0; j < g.height; ++j)
+    for (int i = 1; i < g.width; ++i) {
+      const size_t p = g.index(i, j);
+      const double h = 0.5 * f[g.index(i - 1, j)] + 0.5 * f[p];
+      EXPECT_NEAR(stage.value()[p], 0.5 * x[p] + 0.5 * h, 1e-7);
+    }
+}
+
+// The same inputs give the same bits on one thread and on many.
+TEST(TemporalStage, SameBitsWhateverTheThreadCount) {
+  GBuffer g = flat(32, 24);
+  std::vector<float> a(g.pixel_count()), b(g.pixel_count());
+  SplitMix64 rng(9);
+  for (size_t p = 0; p < a.size(); ++p) a[p] = rng.uniform_float(), b[p] = rng.uniform_float();
+  g.motion.assign(g.pixel_count(), glm::vec2(0.3f, -1.7f));
+  TemporalSettings s = no_clamp(0.05, 32);
+  s.clamp = true;
+  s.gamma = 1.0;
+  s.clamp_radius = 2;
+  auto run = [&] {
+    TemporalAccumulator stage(s);
+    stage.accumulate(g, a);
+    stage.accumulate(g, b);
+    stage.accumulate(g, a);
+    return stage.value();
+  };
+  std::vector<float> one;
+  {
+    tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+    one = run();
+  }
+  EXPECT_EQ(run(), one);
+}
+
+// The fragment declares every setting once; temporal_settings() reads them all back.
+TEST(TemporalStage, TheParameterFragmentRoundTrips) {
+  const std::vector<ParamSpec> specs = temporal_params();
+  ASSERT_EQ(specs.size(), 6u);
+  const ParamSet p = resolve_params("test", specs,
+                                    {{"history_limit", 8},
+                                     {"alpha_min", 0.2},
+                                     {"clamp", false},
+                                     {"gamma", 1.5},
+                                     {"clamp_sigma_min", 0.1},
+                                     {"clamp_radius", 3}},
+                                    "test");
+  const TemporalSettings s = temporal_settings(p);
+  EXPECT_EQ(s.history_limit, 8);
+  EXPECT_EQ(s.alpha_min, 0.2);
+  EXPECT_FALSE(s.clamp);
+  EXPECT_EQ(s.gamma, 1.5);
+  EXPECT_EQ(s.clamp_sigma_min, 0.1);
+  EXPECT_EQ(s.clamp_radius, 3);
+  EXPECT_EQ(temporal_params({.history_limit = 12}).front().default_value, 12);
+}
+
+}  // namespace
+}  // namespace aoeval

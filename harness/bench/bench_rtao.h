@@ -1,0 +1,27 @@
+// `aoeval bench rtao`: rtao's cost per frame and per pass (rays, temporal stage, variance, each
+// a-trous pass) on a static-camera sequence of one view (nothing moves: zero motion, nothing
+// disoccluded, so every frame after 0 reprojects a full history, the steady state). Frame 0 (no
+// history) is reported apart; the medians are over frames 1..F-1 after `warmup` untimed
+// sequences. Writes bench_rtao.md and bench_rtao.csv to --out, and one results row (status
+// "timing only", its passes as columns) to results.csv/json and SQLite, as the other benches do.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace aoeval {
+
+struct RtaoBenchOptions {
+  std::string scene = "bunny";
+  std::string view;  // "" = the scene's first
+  std::string res = "640x480";
+  int frames = 16;
+  std::vector<std::string> sets;  // KEY=VALUE for rtao
+  int warmup = 1;                 // untimed sequences first
+  std::string out_dir = "out/bench-rtao";
+  std::string database = "out/results.sqlite";
+};
+
+void bench_rtao(const RtaoBenchOptions& options);
+
+}  // namespace aoeval
