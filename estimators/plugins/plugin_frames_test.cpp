@@ -319,3 +319,52 @@ TEST(FramesProtocol, TheManifestKeyIsChecked) {
 
 }  // namespace
 }  // namespace aoeval
+
+namespace aoeval {
+namespace {
+
+bool same_params(const std::vector<ParamSpec>& a, const std::vector<ParamSpec>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (a[i].name != b[i].name || a[i].type != b[i].type ||
+        a[i].default_value != b[i].default_value || a[i].min != b[i].min || a[i].max != b[i].max ||
+        a[i].log_scale != b[i].log_scale || a[i].unit != b[i].unit ||
+        a[i].meaning != b[i].meaning || a[i].choices != b[i].choices)
+      return false;
+  return true;
+}
+
+// The shipped crytek-ssao-frames is crytek-ssao's program under the frames protocol: the same
+// declaration but for name and protocol, and the same AO bit for bit, frame k under the frames
+// protocol (seed + k applied by aoeval) against the per-run protocol given seed + k.
+TEST(FramesProtocol, TheFramesExampleIsCrytekSsao) {
+  const std::string shipped = shipped_plugins_dir();
+  const PluginManifest run = read_plugin_manifest(shipped + "/crytek-ssao");
+  const PluginManifest frames = read_plugin_manifest(shipped + "/crytek-ssao-frames");
+  EXPECT_EQ(run.protocol, ProcessProtocol::run);
+  EXPECT_EQ(frames.protocol, ProcessProtocol::frames);
+  EXPECT_TRUE(same_params(run.params, frames.params));
+  EXPECT_EQ(plugin_definition_doc(run), plugin_definition_doc(frames));
+  EXPECT_EQ(run.open_plane_tolerance, frames.open_plane_tolerance);
+  EXPECT_EQ(run.timeout_s, frames.timeout_s);
+  EXPECT_EQ(run.bent, frames.bent);
+  const EstimatorInfo run_info = plugin_estimator(run), frames_info = plugin_estimator(frames);
+  EXPECT_FALSE(run_info.keeps_state);
+  auto persistent = frames_info.create(default_params(frames_info));
+  const TestView& v = floor_view();
+  std::vector<std::vector<float>> seen;
+  for (int k = 0; k < 2; ++k) {
+    const EstimateResult a = run_frame(*persistent, k, static_cast<uint64_t>(k));
+    seen.push_back(a.ao);
+    auto once = run_info.create(resolve_params(run.name, run.params, {{"seed", 7 + k}}, "test"));
+    const EstimateContext context{v.scene, *v.embree, v.gbuffer};
+    once->prepare(context);
+    const EstimateResult b = once->run(context);
+    EXPECT_EQ(a.ao, b.ao) << "frame " << k;
+    EXPECT_EQ(a.timing_source, "plugin-frames");
+  }
+  EXPECT_NE(seen[0], seen[1]) << "frame 1's seed (8) gives other sample offsets than frame 0's";
+}
+
+}  // namespace
+}  // namespace aoeval

@@ -2,6 +2,7 @@
 // history-ssao: a deliberately noisy screen-space AO (few samples per pixel, a pattern that changes
 // every frame) made smooth over time by the ABI's temporal bindings (aoeval estimators abi):
 //   new_k  = 1 - (occluded samples) / s, from s points in the normal's hemisphere around P;
+//            occluded: behind the visible surface (depth and its tangent plane), within R;
 //   AO_k   = mix(new_k, aoeval_history at p - aoeval_motion, w)   where the point was visible,
 //   AO_k   = new_k                                                at frame 0 and where disoccluded.
 // An exponential average of independent frames with weight w keeps (1 - w) / (1 + w) of their
@@ -41,8 +42,12 @@ void main() {
     if (S.z >= 0.0) continue;  // behind the camera
     const ivec2 q = ivec2(floor(aoeval_project(S)));
     if (!aoeval_covered(q)) continue;  // the background never occludes
-    const float gap = -S.z - imageLoad(aoeval_depth, q).r;  // > 0: a surface in front of S
-    if (gap > aoeval.params.bias && gap < R) occluded += 1.0;
+    // Occluded: the visible surface at q is in front of S in depth, within range, and S lies
+    // behind that surface's tangent plane (which keeps a plane seen at a grazing angle from
+    // occluding itself between pixel centres, where the depth at q's centre is not S's surface).
+    const float gap = -S.z - imageLoad(aoeval_depth, q).r;
+    const vec3 Q = imageLoad(aoeval_position, q).xyz, Nq = imageLoad(aoeval_normal, q).xyz;
+    if (gap > aoeval.params.bias && gap < R && dot(S - Q, Nq) < 0.0) occluded += 1.0;
   }
   float ao = 1.0 - occluded / float(s);
   const float w = aoeval.params.history;
