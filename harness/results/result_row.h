@@ -40,7 +40,8 @@ struct ResultRow {
   std::string status = "ok";  // "ok", or "skipped: <reason>" (e.g. no Vulkan device)
   // What the time columns measure: "wall" (the harness's clock around one frame),
   // "gpu-timestamps", "plugin-frames" (a process plug-in's own frame_ms), "process-wall" (a
-  // process plug-in's whole process: start-up and file I/O included). CONTRACT §7.
+  // process plug-in's whole process: start-up and file I/O included), "frame-wall" (a
+  // "protocol": "frames" plug-in's request-to-answer round trip). CONTRACT §7, §10.
   std::string timing_source;
 };
 
