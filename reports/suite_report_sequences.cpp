@@ -19,6 +19,7 @@
 #include "harness/results/results_store.h"
 #include "reports/html.h"
 #include "reports/suite_report_leaderboard.h"
+#include "reports/suite_report_mosaics.h"
 #include "reports/viewer.h"
 #include "text_files.h"
 
@@ -58,15 +59,6 @@ OIIO::ImageBuf stack(const std::vector<OIIO::ImageBuf>& parts, bool across) {
     at += (across ? p.roi().width() : p.roi().height()) + kGap;
   }
   return out;
-}
-
-bool newer_than(const fs::path& target, const std::vector<fs::path>& sources) {
-  std::error_code ec;
-  const auto t = fs::last_write_time(target, ec);
-  if (ec) return false;
-  for (const auto& s : sources)
-    if (fs::last_write_time(s, ec) > t || ec) return false;
-  return true;
 }
 
 // One kept frame's pair of images, read through the one AO-EXR reader.
@@ -274,8 +266,8 @@ std::string sequence_sections(const std::string& out_dir, const SuiteReport& rep
       const std::vector<size_t> pick =
           strip_frames(kept, m.value("disoccluded_pixels", nlohmann::json::array()));
       const std::string strip = (dir / "strip.png").string(), video = (dir / "video.gif").string();
-      if (!newer_than(out / strip, sources)) draw_strip(out, kept, pick, out / strip);
-      if (!newer_than(out / video, sources))
+      if (!up_to_date(out / strip, sources)) draw_strip(out, kept, pick, out / strip);
+      if (!up_to_date(out / video, sources))
         write_video(out, kept, m.value("fps", 0.0), out / video);
       const double fps = m.value("fps", 0.0);
       ViewerSpec spec;
@@ -297,7 +289,7 @@ std::string sequence_sections(const std::string& out_dir, const SuiteReport& rep
         << "</figure>\n";
     }
     const std::string chart = (dir / "rmse_excess.png").string();
-    if (!newer_than(out / chart, {manifest_path}))
+    if (!up_to_date(out / chart, {manifest_path}))
       charts.emplace_back(chart_of(m, r), (out / chart).string());
     h << "<figure><img class=\"chart\" src=\"" << html_escape(chart) << "\" alt=\""
       << html_escape(r.run_name) << ": rmse_excess by frame and by frames since disocclusion\">"
