@@ -20,11 +20,8 @@
 namespace aoeval {
 namespace {
 
-GtaoSettings settings_with(nlohmann::json overrides, uint64_t frame = 0) {
-  const EstimatorInfo& info = find_estimator("gtao-cpu");
-  GtaoSettings s = gtao_settings_of(resolve_params(info.name, info.params, overrides, "test"));
-  s.frame = frame;
-  return s;
+GtaoSettings settings_with(const nlohmann::json& overrides, uint64_t frame = 0) {
+  return settings_at_frame("gtao-cpu", gtao_settings_of, overrides, frame);
 }
 
 // rotations = 6 with 1 slice: over frames 0..5 every texel's slice angle a pi takes the six values

@@ -12,11 +12,8 @@
 namespace aoeval {
 namespace {
 
-HbaoSettings settings_with(nlohmann::json overrides, uint64_t frame = 0) {
-  const EstimatorInfo& info = find_estimator("hbao-split-cpu");
-  HbaoSettings s = hbao_settings_of(resolve_params(info.name, info.params, overrides, "test"));
-  s.frame = frame;
-  return s;
+HbaoSettings settings_with(const nlohmann::json& overrides, uint64_t frame = 0) {
+  return settings_at_frame("hbao-split-cpu", hbao_settings_of, overrides, frame);
 }
 
 // Frame k is the still estimate with seed + k (what the runner gave every built-in before it kept

@@ -48,4 +48,15 @@ inline EstimateResult run_still_frame(const std::string& name, const nlohmann::j
   return r;
 }
 
+// The settings a registered estimator's parameters give (`settings_of`: gtao_settings_of,
+// hbao_settings_of) with `overrides`, at sequence frame `frame` (Settings::frame).
+template <class SettingsOf>
+auto settings_at_frame(const std::string& name, SettingsOf settings_of,
+                       const nlohmann::json& overrides, uint64_t frame) {
+  const EstimatorInfo& info = find_estimator(name);
+  auto s = settings_of(resolve_params(info.name, info.params, overrides, "test"));
+  s.frame = frame;
+  return s;
+}
+
 }  // namespace aoeval
