@@ -115,7 +115,7 @@ struct EstimateResult {
   std::map<std::string, double> pass_ms;
   // Where the frame time comes from, the results' timing_source: "" = the harness's wall clock
   // around run(), or GPU timestamps when pass_ms has "total_ms"; plug-ins name theirs
-  // ("plugin-frames", "process-wall").
+  // ("plugin-frames", "process-wall", "frame-wall").
   std::string timing_source;
 };
 

@@ -13,6 +13,7 @@
 #include "reports/suite_report_charts.h"
 #include "reports/suite_report_leaderboard.h"
 #include "reports/suite_report_mosaics.h"
+#include "reports/suite_report_sequences.h"
 #include "reports/viewer.h"
 
 namespace aoeval {
@@ -72,7 +73,8 @@ const char* kStyle =
     "table.summary th{text-align:left}section{border-top:2px solid #ccc;margin-top:1.5em}"
     "figure{margin:.6em 0}figcaption{font-size:.85em;color:#444}img.mosaic{max-width:100%;"
     "border:1px solid #ccc}img.chart{max-width:100%;border:1px solid #ccc;background:#fff}"
-    "tr.front td{font-weight:bold}.skipped{color:#a60}nav a{margin-right:.8em}";
+    "img.video{max-width:100%;border:1px solid #ccc}tr.front "
+    "td{font-weight:bold}.skipped{color:#a60}nav a{margin-right:.8em}";
 
 void summary(std::ostringstream& h, const SuiteReport& r, const std::vector<std::string>& scenes,
              const std::vector<EstimatorChart>& charts) {
@@ -240,7 +242,8 @@ void estimator_section(std::ostringstream& h, const EstimatorChart& c) {
     << ": error against time\"></a><figcaption>" << kChartMetric
     << " against the median time per frame, one series per scene view; the Pareto front (no "
        "other point of the series is both at least as fast and more accurate, times closer than "
-       "their repetitions' interquartile range counting as equal) is marked and listed in bold below. The image "
+       "their repetitions' interquartile range counting as equal) is marked and listed in bold "
+       "below. The image "
        "links to the plotted data, each run name to its estimate "
        "EXR.</figcaption></figure>\n";
   h << "<details><summary>" << c.rows.size() << (c.rows.size() == 1 ? " row" : " rows")
@@ -268,6 +271,7 @@ std::string write_suite_report(const std::string& out_dir, const SuiteReport& re
   // A sweep features no point of its own: its Pareto-front points are shown (mosaics drawn here).
   const SuiteReport r = with_featured_mosaics(out_dir, report);
   const std::vector<EstimatorChart> charts = write_estimator_charts(out_dir, r);
+  const std::string sequences = sequence_sections(out_dir, r);
   std::vector<std::string> scenes;
   std::map<std::string, std::vector<const SuiteReportEntry*>> featured;
   for (const auto& e : r.entries) {
@@ -290,6 +294,7 @@ std::string write_suite_report(const std::string& out_dir, const SuiteReport& re
   for (const auto& c : charts)
     h << "<a href=\"#estimator-" << slug(c.estimator) << "\">" << html_escape(c.estimator)
       << "</a>";
+  if (!sequences.empty()) h << "<br><a href=\"#sequences\">Sequences (AO over time)</a>";
   h << "</nav>\n<p>Each scene shows every estimator's featured run (its default point unless the "
        "suite says otherwise; in a sweep, the points on its Pareto fronts). A mosaic opens in the "
        "viewer (click it: zoom to pixels, probe values, flip A/B, exposure; press ? there for its "
@@ -301,6 +306,7 @@ std::string write_suite_report(const std::string& out_dir, const SuiteReport& re
        "reference bent normal's own noise removed). "
        "Each mosaic links to the estimate EXR; its caption links to the reference EXRs.</p>\n";
   for (const auto& s : scenes) scene_section(h, out_dir, s, featured[s]);
+  h << sequences;
   for (const auto& c : charts) estimator_section(h, c);
   h << "</body></html>\n";
   const std::string page = (fs::path(out_dir) / "index.html").string();

@@ -46,15 +46,6 @@ void feature_fronts(SuiteReport& r) {
   }
 }
 
-bool up_to_date(const fs::path& target, const std::vector<fs::path>& sources) {
-  std::error_code ec;
-  const auto t = fs::last_write_time(target, ec);
-  if (ec) return false;
-  for (const auto& s : sources)
-    if (fs::last_write_time(s, ec) > t || ec) return false;
-  return true;
-}
-
 // reference | estimate | |error| | signed error, as suite_runner.cpp draws it while running.
 std::string draw_mosaic(const std::string& out_dir, const std::string& run_id,
                         const SuiteReportEntry& e) {
@@ -80,6 +71,15 @@ std::string draw_mosaic(const std::string& out_dir, const std::string& run_id,
 }
 
 }  // namespace
+
+bool up_to_date(const fs::path& target, const std::vector<fs::path>& sources) {
+  std::error_code ec;
+  const auto t = fs::last_write_time(target, ec);
+  if (ec) return false;
+  for (const auto& s : sources)
+    if (fs::last_write_time(s, ec) > t || ec) return false;
+  return true;
+}
 
 SuiteReport with_featured_mosaics(const std::string& out_dir, const SuiteReport& report) {
   SuiteReport r = report;

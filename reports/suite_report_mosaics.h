@@ -4,7 +4,9 @@
 // their mosaics here from the kept EXRs. Internal to reports/suite_report.
 #pragma once
 
+#include <filesystem>
 #include <string>
+#include <vector>
 
 #include "harness/results/suite_record.h"
 
@@ -14,5 +16,9 @@ namespace aoeval {
 // `sweep` is set), and every featured ok entry with an estimate and a reference EXR but no mosaic
 // gets one, written under <out_dir>/runs/<run id>/mosaics/ (kept when newer than its EXRs).
 SuiteReport with_featured_mosaics(const std::string& out_dir, const SuiteReport& report);
+
+// True when `target` exists and no source is newer (a drawn image is redrawn only then).
+bool up_to_date(const std::filesystem::path& target,
+                const std::vector<std::filesystem::path>& sources);
 
 }  // namespace aoeval

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <stdexcept>
 
 #include "errors.h"
 #include "exr_io.h"
@@ -90,8 +91,11 @@ const std::vector<std::string>& gbuffer_viewer_channels() {
 }
 
 std::string write_viewer_data(const std::string& page_dir, const std::vector<std::string>& exrs,
-                              const std::vector<std::string>& channels) {
+                              const std::vector<std::string>& channels,
+                              const std::vector<int>& frame_numbers, double fps) {
   if (exrs.empty()) throw InputError("viewer data: no EXR given");
+  if (!frame_numbers.empty() && frame_numbers.size() != exrs.size())
+    throw std::invalid_argument("write_viewer_data: one frame number per EXR");
   // One name per EXR path (frame 0): "runs/x/estimates/e.exr" -> "runs__x__estimates__e".
   std::string stem = exrs.front();
   if (stem.ends_with(".exr")) stem.resize(stem.size() - 4);
@@ -139,6 +143,8 @@ std::string write_viewer_data(const std::string& page_dir, const std::vector<std
   record["channels"] = planes;
   record["mask"] = masks;
   record["source"] = exrs;
+  if (!frame_numbers.empty()) record["frame_numbers"] = frame_numbers;
+  if (fps > 0.0) record["fps"] = fps;
   write_text(target.string(), "(window.AOEVAL_DATA=window.AOEVAL_DATA||{})[" +
                                   nlohmann::json(name).dump() + "]=" + record.dump() + ";\n");
   return rel;

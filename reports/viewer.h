@@ -23,9 +23,12 @@ const std::vector<std::string>& gbuffer_viewer_channels();
 // coverage mask of each frame's EXR (one file per frame; all the same size), as base64 of the
 // little-endian float32s, exactly the EXRs' floats. Rewritten only when older than an EXR.
 // `exrs` are relative to `page_dir`; returns the script's path relative to it. InputError naming
-// the file when an EXR is unreadable, lacks A, or differs in size from frame 0.
+// the file when an EXR is unreadable, lacks A, or differs in size from frame 0. A sequence's
+// kept frames give `frame_numbers` (the sequence frame of each EXR: the viewer's slider and
+// aoevalProbe's frame argument use them) and `fps` (its play speed).
 std::string write_viewer_data(const std::string& page_dir, const std::vector<std::string>& exrs,
-                              const std::vector<std::string>& channels);
+                              const std::vector<std::string>& channels,
+                              const std::vector<int>& frame_numbers = {}, double fps = 0.0);
 
 // The viewer element around `static_html` (what a page shows without JavaScript). kind "compare":
 // `a` the reference's data script, `b` the estimate's, `labels` their names ("reference,

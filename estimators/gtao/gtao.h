@@ -5,9 +5,15 @@
 // hemisphere (eq. 7-8), the closed-form inner integral "a^" (eq. 10), the bent normal extension
 // (the cosine-weighted mean unoccluded direction, the paper's Algorithm 2), a polynomial arccosine
 // (§5), the thin-occluder (thickness) heuristic, a final power and the spatial 4 x 4 denoise of the
-// per-pixel slice rotation noise (§5.2). The paper's temporal accumulation and multi-bounce
-// approximation are not part of AO and are left out. The formulas, and which are ours, are in
-// gtao_kernel.glsl.
+// per-pixel slice rotation noise (§5.2). The multi-bounce approximation is not part of AO and is
+// left out. The formulas, and which are ours, are in gtao_kernel.glsl.
+//
+// Over time (§5.2's temporal half): `rotations` makes the slice rotation and the sample offset
+// advance every frame (gtao_noise_of: the paper's 6 rotations x 4 offsets on top of the 4 x 4
+// spatial noise). Both twins keep state over a sequence (they read the frame index themselves); a
+// still view is frame 0, which is the still estimate bit for bit, and its row says so
+// (frame_derived). The paper's accumulation of the rotated frames (the shared temporal stage of
+// issue 31) is not wired in here yet: over a sequence each frame is its own estimate.
 //
 // The per-pixel algorithm is one source, gtao_kernel.glsl, compiled as C++ for the CPU twin
 // (gtao-cpu, TBB over rows) and as GLSL for the Vulkan twin (gtao); both read the same eye-space
@@ -59,6 +65,10 @@ struct GtaoSettings {
   int tile;
   uint64_t seed;
   bool half_res;  // resolution = half (half_res.h)
+  int rotations;  // the temporal noise schedule (gtao_noise_of)
+  // Not a parameter: the sequence frame whose noise the tables hold, the seed rule's k
+  // (FrameInfo::seed_offset; 0 for a still view and when the run keeps one seed).
+  uint64_t frame = 0;
 };
 
 // The parameter table shared by both twins (gtao adds `gbuffer`).
@@ -68,10 +78,34 @@ AoDefinition gtao_definition(const GtaoSettings& settings);
 extern const char* const kGtaoPaper;
 extern const char* const kGtaoDefinitionDoc;
 
+// The noise of frame `settings.frame` over a sequence (the paper's §5.2: spatial 4 x 4 noise and 6
+// temporal rotations). rotations = 1: each frame draws its own noise texture, from seed + k (the
+// seed rule every stochastic estimator follows, CONTRACT §10). rotations = N > 1: one texture
+// (seed) whose slice rotation advances by a rotation of j / N of the slice spacing pi / slices at
+// frame k, j = the k mod N-th entry of the schedule (for N = 6 the paper's 60, 300, 180, 240, 120,
+// 0 degrees read as sixths of the spacing, started at its 0 entry; otherwise the radical-inverse
+// order of 0..N-1, which spreads any run of consecutive frames evenly), and whose sample offset
+// advances by the paper's 0, 1/2, 1/4, 3/4 of a step every N frames (a period of 4 N frames). Frame
+// 0 is the still frame under every schedule.
+struct GtaoNoise {
+  uint64_t seed = 0;      // of the noise texture
+  double rotation = 0.0;  // added to each texel's rotation, a fraction of the slice spacing
+  double offset = 0.0;    // added to each texel's sample offset, a fraction of a step
+};
+GtaoNoise gtao_noise_of(const GtaoSettings& settings);
+// The j of frame k's rotation j / N (the schedule above), for tests and figures.
+int gtao_rotation_index(uint64_t frame, int rotations);
+// What a row records about the schedule (the twins' derived()): with rotations > 1, "rotations"
+// says a still view is frame 0 of the schedule, and a sequence which frames repeat; nothing with
+// rotations = 1 (frame k is then the still estimate of seed + k, as for any stochastic built-in).
+nlohmann::json frame_derived(const GtaoSettings& settings, bool still);
+extern const char* const kGtaoStillFrameNote;
+
 // The host-made inputs of the kernel. rotation: tile x tile texels (cos a, sin a), a uniform in
 // [0, pi / slices) from `seed` (a = pi / (2 slices), the middle, without jitter); steps: for each
 // texel, `steps` sample distances ((k + u) / steps)^power, u uniform in [0, 1) (1/2 without
-// jitter); slices: (cos, sin) of pi s / slices. All evaluated in double and rounded.
+// jitter); slices: (cos, sin) of pi s / slices. All evaluated in double and rounded. Over a
+// sequence a and u are those of frame settings.frame's noise (gtao_noise_of), wrapped into [0, 1).
 struct GtaoTables {
   std::vector<glm::vec2> rotation;
   std::vector<float> steps;

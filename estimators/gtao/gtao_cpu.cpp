@@ -81,6 +81,8 @@ class GtaoCpuEstimator : public Estimator {
  public:
   explicit GtaoCpuEstimator(const ParamSet& p) : settings_(gtao_settings_of(p)) {}
   void prepare(const EstimateContext& context) override {
+    settings_.frame = noise_frame(context);  // the noise of frame k (gtao_noise_of)
+    still_ = context.frame == nullptr;
     frame_ = hbao_frame_from_gbuffer(context.gbuffer);
     prepared_ = true;
   }
@@ -88,11 +90,13 @@ class GtaoCpuEstimator : public Estimator {
     if (!prepared_) prepare(context);
     return gtao_estimate_result(settings_, gtao_cpu(frame_, context.gbuffer.camera, settings_));
   }
+  nlohmann::json derived() const override { return frame_derived(settings_, still_); }
 
  private:
   GtaoSettings settings_;
   HbaoFrame frame_;
   bool prepared_ = false;
+  bool still_ = true;
 };
 
 }  // namespace
@@ -109,6 +113,7 @@ EstimatorInfo gtao_cpu_estimator() {
   info.definition_doc = kGtaoDefinitionDoc;
   info.definition = [](const ParamSet& p) { return gtao_definition(gtao_settings_of(p)); };
   info.create = [](const ParamSet& p) { return std::make_unique<GtaoCpuEstimator>(p); };
+  info.keeps_state = true;  // draws frame k's noise itself (gtao_noise_of)
   return info;
 }
 

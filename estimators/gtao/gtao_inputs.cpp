@@ -1,6 +1,7 @@
 // gtao's parameter table (declared once for both twins) and the host side that both twins share:
 // the noise and step tables, the constants, and the finishing step (final power, world-space bent
 // normals). See gtao.h.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -147,6 +148,17 @@ std::vector<ParamSpec> gtao_param_specs() {
        {}},
       {"seed", ParamType::integer, 7, 0, 1e15, false, "", "seed of the noise texture", {}},
       resolution_param(),
+      {"rotations",
+       ParamType::integer,
+       1,
+       1,
+       16,
+       false,
+       "frames",
+       "temporal noise over a sequence (§5.2: 6 rotations): 1 = a new noise texture every frame "
+       "(seed + k); N > 1 = one texture rotated by j/N of the slice spacing at frame k (the "
+       "paper's order for N = 6), its sample offset moved by 1/4 step every N frames",
+       {}},
   };
 }
 
@@ -166,7 +178,56 @@ GtaoSettings gtao_settings_of(const ParamSet& p) {
   s.tile = static_cast<int>(p.integer("tile"));
   s.seed = static_cast<uint64_t>(p.integer("seed"));
   s.half_res = half_resolution(p);
+  s.rotations = static_cast<int>(p.integer("rotations"));
   return s;
+}
+
+int gtao_rotation_index(uint64_t frame, int rotations) {
+  const auto n = static_cast<uint64_t>(rotations);
+  const uint64_t k = frame % n;
+  if (rotations == 6) {
+    // The paper's 60, 300, 180, 240, 120, 0 degrees in sixths, started at its 0 entry.
+    static constexpr int kPaper[6] = {0, 1, 5, 3, 4, 2};
+    return kPaper[k];
+  }
+  // The k-th of 0..N-1 in the order of their radical inverses in base 2 (bits reversed).
+  auto reversed = [](uint64_t j) {
+    uint64_t r = 0;
+    for (int b = 0; b < 16; ++b) r |= ((j >> b) & 1u) << (15 - b);
+    return r;
+  };
+  std::vector<uint64_t> order(n);
+  for (uint64_t j = 0; j < n; ++j) order[j] = j;
+  std::sort(order.begin(), order.end(),
+            [&](uint64_t a, uint64_t b) { return reversed(a) < reversed(b); });
+  return static_cast<int>(order[k]);
+}
+
+const char* const kGtaoStillFrameNote =
+    "still frame: frame 0 of the rotation schedule (rotation 0, offset 0), no history";
+
+nlohmann::json frame_derived(const GtaoSettings& s, bool still) {
+  nlohmann::json d = nlohmann::json::object();
+  if (s.rotations <= 1) return d;
+  d["rotations"] = still ? std::string(kGtaoStillFrameNote)
+                         : std::to_string(s.rotations) +
+                               " slice rotations x 4 sample offsets, one per "
+                               "frame: the noise repeats every " +
+                               std::to_string(4 * s.rotations) + " frames";
+  return d;
+}
+
+GtaoNoise gtao_noise_of(const GtaoSettings& s) {
+  GtaoNoise n;
+  if (s.rotations <= 1) {
+    n.seed = s.seed + s.frame;  // the seed rule
+    return n;
+  }
+  static constexpr double kOffsets[4] = {0.0, 0.5, 0.25, 0.75};  // the paper's step offsets
+  n.seed = s.seed;
+  n.rotation = gtao_rotation_index(s.frame, s.rotations) / static_cast<double>(s.rotations);
+  n.offset = kOffsets[(s.frame / static_cast<uint64_t>(s.rotations)) % 4];
+  return n;
 }
 
 AoDefinition gtao_definition(const GtaoSettings& s) {
@@ -183,10 +244,13 @@ GtaoTables gtao_tables(const GtaoSettings& s) {
   const double sector = std::numbers::pi / s.slices;
   t.rotation.resize(texels);
   t.steps.resize(texels * static_cast<size_t>(s.steps));
+  const GtaoNoise noise = gtao_noise_of(s);
+  // a + r for a, r in [0, 1), wrapped; exact (a + 0 = a) for the still frame.
+  auto wrapped = [](double a, double r) { return a + r >= 1.0 ? a + r - 1.0 : a + r; };
   for (size_t k = 0; k < texels; ++k) {
-    SplitMix64 rng(mix_seed(s.seed, k, 0x4754414F));  // "GTAO"
-    const double a = s.jitter ? rng.uniform_double() : 0.5;
-    const double u = s.jitter ? rng.uniform_double() : 0.5;
+    SplitMix64 rng(mix_seed(noise.seed, k, 0x4754414F));  // "GTAO"
+    const double a = wrapped(s.jitter ? rng.uniform_double() : 0.5, noise.rotation);
+    const double u = wrapped(s.jitter ? rng.uniform_double() : 0.5, noise.offset);
     t.rotation[k] = glm::vec2(static_cast<float>(std::cos(a * sector)),
                               static_cast<float>(std::sin(a * sector)));
     for (int step = 0; step < s.steps; ++step)

@@ -163,6 +163,7 @@ EstimatorInfo gtao_estimator() {
     return std::make_unique<FrameDeviceEstimator<GtaoDevice, GtaoSettings>>(
         gtao_settings_of(p), rasterises_frame(p), gtao_frame_result);
   };
+  info.keeps_state = true;  // draws frame k's noise itself (Settings::frame)
   return info;
 }
 

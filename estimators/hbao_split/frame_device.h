@@ -61,7 +61,9 @@ std::unique_ptr<Device> make_frame_device(vk::Context& vk, const Settings& setti
 }
 
 // The Estimator of such a technique (hbao-split, gtao): prepare() builds the device on the shared
-// Vulkan context, run() runs one frame and turns it into an EstimateResult with `result_of`.
+// Vulkan context with the noise of the context's frame (Settings::frame), run() runs one frame and
+// turns it into an EstimateResult with `result_of`; derived() is frame_derived() of the settings
+// (hbao_split.h, gtao.h): what a still view's row records about the technique's time design.
 template <class Device, class Settings>
 class FrameDeviceEstimator : public Estimator {
  public:
@@ -69,6 +71,8 @@ class FrameDeviceEstimator : public Estimator {
   FrameDeviceEstimator(const Settings& settings, bool raster, ResultOf result_of)
       : settings_(settings), raster_(raster), result_of_(result_of) {}
   void prepare(const EstimateContext& context) override {
+    settings_.frame = noise_frame(context);
+    still_ = context.frame == nullptr;
     device_ = make_frame_device<Device>(vk::require_shared_context(), settings_, raster_,
                                         context.scene, context.gbuffer);
   }
@@ -76,12 +80,14 @@ class FrameDeviceEstimator : public Estimator {
     if (!device_) prepare(context);
     return result_of_(settings_, *device_);
   }
+  nlohmann::json derived() const override { return frame_derived(settings_, still_); }
 
  private:
   Settings settings_;
   bool raster_;
   ResultOf result_of_;
   std::unique_ptr<Device> device_;
+  bool still_ = true;
 };
 
 // The `gbuffer` parameter of the estimators that run on an HbaoFrameDevice (hbao-split, gtao):

@@ -170,6 +170,7 @@ class HbaoCpuEstimator : public Estimator {
  public:
   explicit HbaoCpuEstimator(const ParamSet& p) : settings_(hbao_settings_of(p)) {}
   void prepare(const EstimateContext& context) override {
+    settings_.frame = noise_frame(context);  // the random texture of seed + k
     frame_ = hbao_frame_from_gbuffer(context.gbuffer);
     prepared_ = true;
   }
@@ -210,6 +211,7 @@ EstimatorInfo hbao_split_cpu_estimator() {
   info.definition_doc = kHbaoDefinitionDoc;
   info.definition = [](const ParamSet& p) { return hbao_definition(hbao_settings_of(p)); };
   info.create = [](const ParamSet& p) { return std::make_unique<HbaoCpuEstimator>(p); };
+  info.keeps_state = true;  // draws frame k's random texture itself (HbaoSettings::frame)
   return info;
 }
 

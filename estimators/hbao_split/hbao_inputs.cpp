@@ -116,7 +116,7 @@ std::vector<ParamSpec> hbao_param_specs() {
        1e15,
        false,
        "",
-       "seed of the random texture (§4.1.2)",
+       "seed of the random texture (§4.1.2); frame k of a sequence draws it from seed + k",
        {}},
       resolution_param(),
   };
@@ -152,7 +152,7 @@ std::vector<glm::vec3> hbao_random_texture(const HbaoSettings& s) {
   if (!s.jitter) return texture;
   const double sector = 2.0 * std::numbers::pi / s.directions;
   for (size_t k = 0; k < texels; ++k) {
-    SplitMix64 rng(mix_seed(s.seed, k, 0x4842414F));  // "HBAO"
+    SplitMix64 rng(mix_seed(s.seed + s.frame, k, 0x4842414F));  // "HBAO"; the seed rule
     const double alpha = rng.uniform_double() * sector;
     // (u + 0.5) / 2^24 lies strictly inside (0, 1), so beta = 2u - 1 lies inside (-1, 1).
     const double u = (static_cast<double>(rng.next() >> 40) + 0.5) / 16777216.0;

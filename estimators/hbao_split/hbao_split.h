@@ -43,7 +43,24 @@ struct HbaoSettings {
   bool blur;
   uint64_t seed;
   bool half_res;  // resolution = half (half_res.h)
+  // Not a parameter: the sequence frame whose random texture this is, the seed rule's k
+  // (FrameInfo::seed_offset; 0 for a still view and when the run keeps one seed): the texture of
+  // frame k is drawn from seed + k, so the per-pixel rotation advances every frame.
+  uint64_t frame = 0;
 };
+
+// The seed rule's k of the frame a context is (CONTRACT §10): FrameInfo::seed_offset, 0 for a still
+// view. hbao-split and gtao keep state over a sequence (EstimatorInfo::keeps_state) and draw frame
+// k's noise from it themselves (HbaoSettings::frame, GtaoSettings::frame).
+inline uint64_t noise_frame(const EstimateContext& context) {
+  return context.frame ? context.frame->seed_offset : 0;
+}
+
+// What a row records about the time design (FrameDeviceEstimator::derived): nothing; the texture
+// of frame k is the still texture of seed + k, so a still view is frame 0 and says nothing new.
+inline nlohmann::json frame_derived(const HbaoSettings&, bool /*still*/) {
+  return nlohmann::json::object();
+}
 
 // The parameter table shared by both twins (hbao-split adds `gbuffer`).
 std::vector<ParamSpec> hbao_param_specs();
@@ -70,8 +87,8 @@ HbaoFrame hbao_frame_from_gbuffer(const GBuffer& gbuffer);
 HbaoFrame hbao_frame_shape(const Camera& camera);
 
 // §4.1.2: tile x tile texels of (cos alpha, sin alpha, beta), alpha uniform in [0, 2 pi / Nd), beta
-// uniform in (-1, 1), from `seed`; all (1, 0, 0) without jitter. Row-major, texel (i mod tile,
-// j mod tile) serves pixel (i, j).
+// uniform in (-1, 1), from `seed` + `frame`; all (1, 0, 0) without jitter. Row-major, texel (i mod
+// tile, j mod tile) serves pixel (i, j).
 std::vector<glm::vec3> hbao_random_texture(const HbaoSettings& settings);
 // (cos, sin) of 2 pi d / Nd, d < Nd, evaluated in double and rounded.
 std::vector<glm::vec2> hbao_direction_table(int directions);

@@ -233,6 +233,7 @@ EstimatorInfo hbao_split_estimator() {
     return std::make_unique<FrameDeviceEstimator<HbaoDevice, HbaoSettings>>(
         hbao_settings_of(p), rasterises_frame(p), hbao_frame_result);
   };
+  info.keeps_state = true;  // draws frame k's random texture itself (HbaoSettings::frame)
   return info;
 }
 

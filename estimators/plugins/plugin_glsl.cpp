@@ -45,10 +45,14 @@ const std::vector<VkDescriptorType> kBindings = {
     VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 5 aoeval_bent
     VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,   // 6 aoeval_noise
     VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,  // 7 the aoeval block
+    // Version 2, over time (CONTRACT §10); version 1's bindings above never move.
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,  // 8 aoeval_motion
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,  // 9 aoeval_disoccluded
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,  // 10 aoeval_history
 };
 
 const char* kFixedPreamble =
-    R"(// ---- aoeval GLSL plug-in ABI, version 1 (aoeval estimators abi) ----
+    R"(// ---- aoeval GLSL plug-in ABI, version 2 (aoeval estimators abi) ----
 // Every image is width x height unless noted; pixel (i, j) has its centre at (i + 0.5, j + 0.5), row
 // 0 at the top. Eye space: right-handed, x right, y up, the camera looking down -z.
 layout(set = 0, binding = 0, r32f) uniform readonly image2D aoeval_depth;       // linear depth Z = -z_eye > 0; 0 where not covered
@@ -58,6 +62,10 @@ layout(set = 0, binding = 3, r32f) uniform readonly image2D aoeval_prev;        
 layout(set = 0, binding = 4, r32f) uniform writeonly image2D aoeval_out;        // this pass's output; the last pass's is the AO, in [0, 1]
 layout(set = 0, binding = 5, rgba32f) uniform image2D aoeval_bent;              // xyz: eye-space bent normal (outputs "bent": cleared to zero at the start of each frame, read back and turned to world space)
 layout(set = 0, binding = 6, rgba32f) uniform readonly image2D aoeval_noise;    // 64 x 64 tile of uniform random numbers in [0, 1), from aoeval.pass.z
+// Over time (version 2; CONTRACT §10). On a still view and at frame 0 all three hold zeros.
+layout(set = 0, binding = 8, rgba32f) uniform readonly image2D aoeval_motion;   // xy: motion.X/Y in pixels, this pixel's surface point was at its centre - xy in the previous frame; zw: 0; 0 where not covered
+layout(set = 0, binding = 9, r32f) uniform readonly image2D aoeval_disoccluded; // 1 where this pixel's point was not visible in the previous frame (off screen, hidden, another object), else 0
+layout(set = 0, binding = 10, r32f) uniform readonly image2D aoeval_history;    // this plug-in's own final output (the last pass's aoeval_out, as written) of the previous frame
 struct AoevalParams {
 )";
 
@@ -70,7 +78,8 @@ layout(std140, set = 0, binding = 7) uniform AoevalFrame {
   vec4 eye_world;    // camera position, world space (w = 1)
   vec4 size;         // width, height, 1 / width, 1 / height (pixels)
   vec4 lens;         // focal length f in pixels (= height / (2 tan(fov_y / 2))), tan(fov_x / 2), tan(fov_y / 2), aspect
-  ivec4 pass;        // this pass's index, the number of passes, the noise seed (parameter "seed" when declared, else 0), the noise tile size (64)
+  ivec4 pass;        // this pass's index, the number of passes, the noise seed (parameter "seed" when declared, + frame under the seed rule, else 0), the noise tile size (64)
+  int frame;         // the frame index k in the sequence (0 on a still view)
   AoevalParams params;  // the manifest's parameters, in manifest order
 } aoeval;
 // Continuous pixel coordinates of an eye-space point (pixel centres at i + 0.5).
@@ -201,6 +210,19 @@ std::string glsl_abi_text() {
          "row's derived column (\"warning\") when a shader compares with a constant above it,\n"
          "has a loop with no test of its own (while (true), for (;;)), or its integer parameters\n"
          "(other than seed) or their product exceed it; other bounds are not seen.\n\n"
+         "Over time (CONTRACT §10; ABI version 2, version 1's bindings 0-7 unchanged). Over a\n"
+         "sequence one instance of the plug-in runs every frame in order on one device, with that\n"
+         "frame's G-buffer and camera: aoeval.frame is the frame index k (0 on a still view);\n"
+         "aoeval_motion.xy is the G-buffer's motion.X/Y in pixels (the pixel's surface point was\n"
+         "at its centre - xy in frame k-1); aoeval_disoccluded is 1 where that point was not\n"
+         "visible in frame k-1; aoeval_history is the plug-in's own final output of frame k-1\n"
+         "(the last pass's aoeval_out as written, before aoeval clamps it to [0, 1]), to be read\n"
+         "at the pixel (a static camera) or at its centre - motion (reprojection, bilinear reads\n"
+         "your own). All three are zero on a still view and at frame 0, and history is zero again\n"
+         "after a frame past timeout_s (a new device). The seed rule: frame k runs with seed + k\n"
+         "(aoeval.params.seed, aoeval.pass.z and the noise tile; seed when the run says\n"
+         "\"seed_per_frame\": false), so a per-pixel noise rotation changes every frame by "
+         "itself.\n\n"
          "#version 450\n" +
          glsl_abi_preamble({});
 }
@@ -397,12 +419,17 @@ class GlslEstimator : public Estimator {
     return d;
   }
 
+  // Over a sequence one instance runs every frame in order (EstimatorInfo::keeps_state): the
+  // device, its pipelines and the last frame's output stay, and each frame uploads its own
+  // G-buffer, motion, noise (the seed rule: seed + k) and uniform block.
   void prepare(const EstimateContext& context) override {
-    vk::Context& vk = plugin_context();
-    on_lavapipe_ = vk.device_name().find("llvmpipe") != std::string::npos;
     const GBuffer& g = context.gbuffer;
-    device_ = std::make_unique<Device>(vk, g, static_cast<uint32_t>(shaders_.size()));
+    frame_ = context.frame ? *context.frame : FrameInfo{};  // a still view is frame 0
+    still_ = context.frame == nullptr;
+    if (!device_ || device_->depth.width() != g.width || device_->depth.height() != g.height)
+      make_device(g.width, g.height);
     Device& d = *device_;
+    d.upload(g);
     // The noise tile: kNoiseSize^2 texels of four uniform numbers in [0, 1), from the seed.
     SplitMix64 random(mix_seed(static_cast<uint64_t>(seed()), 0x4E4F4953));  // "NOIS"
     std::vector<float> noise(4 * kNoiseSize * kNoiseSize);
@@ -411,29 +438,27 @@ class GlslEstimator : public Estimator {
     for (size_t i = 0; i < shaders_.size(); ++i) {
       // One block per pass: they differ only in aoeval.pass.x.
       const std::vector<uint8_t> block = uniform_block(g, static_cast<int32_t>(i));
-      d.uniforms.emplace_back(vk, block.size(), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
-      d.uniforms.back().upload(block.data(), block.size());
-    }
-    for (size_t i = 0; i < shaders_.size(); ++i) {
-      vk::SpirvCode code;
-      code.words = shaders_[i].code.spirv.data();
-      code.bytes = shaders_[i].code.spirv.size() * sizeof(uint32_t);
-      auto pipeline = std::make_unique<vk::ComputePipeline>(
-          vk, manifest_.name + " " + shaders_[i].name, code, kBindings);
-      // Ping-pong: pass k writes ping[k % 2] and reads the other.
-      const vk::Image2D& out = d.ping[i % 2];
-      const vk::Image2D& prev = d.ping[(i + 1) % 2];
-      d.sets.push_back(pipeline->make_set(
-          {d.depth, d.normal, d.position, prev, out, d.bent, d.noise, d.uniforms[i]}));
-      d.pipelines.push_back(std::move(pipeline));
+      d.uniforms[i].upload(block.data(), block.size());
     }
     prepared_for_ = &g;
   }
 
   EstimateResult run(const EstimateContext& context) override {
-    if (prepared_for_ != &context.gbuffer || !device_) prepare(context);
+    const int index = context.frame ? context.frame->index : 0;
+    const uint64_t offset = context.frame ? context.frame->seed_offset : 0;
+    if (prepared_for_ != &context.gbuffer || !device_ || still_ != (context.frame == nullptr) ||
+        frame_.index != index || frame_.seed_offset != offset)
+      prepare(context);
     Device& d = *device_;
     const GBuffer& g = context.gbuffer;
+    // aoeval_history: frame k - 1's final output, still in its ping image; zero on a still view,
+    // at frame 0, and when frame k - 1 did not run on this device (a time-out gave a new one).
+    // A second run of frame k keeps its history (frame k - 1's), so repeated runs agree.
+    const History history = still_ || index == 0       ? History::clear
+                            : last_frame_ == index - 1 ? History::copy
+                            : last_frame_ == index     ? History::keep
+                                                       : History::clear;
+    const size_t last = (shaders_.size() - 1) % 2;
     // What the recording needs, by value: after a time-out the recording thread outlives this
     // call (and maybe the estimator); only `d`, then abandoned and never freed, is shared.
     struct Pass {
@@ -446,11 +471,23 @@ class GlslEstimator : public Estimator {
                         vk::group_count(static_cast<uint32_t>(g.width), s.code.local_size[0]),
                         vk::group_count(static_cast<uint32_t>(g.height), s.code.local_size[1])});
     const bool bent = manifest_.bent;
-    auto record = [&d, passes, bent](VkCommandBuffer cmd) {
+    auto record = [&d, passes, bent, history, last](VkCommandBuffer cmd) {
       d.timer.reset(cmd);
-      // A frame starts from zeros, whatever the last frame left.
       const VkClearColorValue zero{};
       VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+      if (history == History::copy) {
+        VkImageCopy copy{};
+        copy.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        copy.dstSubresource = copy.srcSubresource;
+        copy.extent = {static_cast<uint32_t>(d.history.width()),
+                       static_cast<uint32_t>(d.history.height()), 1};
+        vkCmdCopyImage(cmd, d.ping[last].handle(), VK_IMAGE_LAYOUT_GENERAL, d.history.handle(),
+                       VK_IMAGE_LAYOUT_GENERAL, 1, &copy);
+        vk::pass_barrier(cmd);
+      } else if (history == History::clear) {
+        vkCmdClearColorImage(cmd, d.history.handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
+      }
+      // A frame's passes start from zeros, whatever the last frame left.
       for (const vk::Image2D* image : {&d.ping[0], &d.ping[1], &d.bent})
         if (image != &d.bent || bent)
           vkCmdClearColorImage(cmd, image->handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
@@ -464,10 +501,11 @@ class GlslEstimator : public Estimator {
       }
     };
     submit_within_timeout(record);
+    last_frame_ = still_ ? -1 : index;
     EstimateResult r;
     r.pass_ms = d.timer.read();
     if (!r.pass_ms.empty()) r.timing_source = "gpu-timestamps";
-    r.ao = d.ping[(shaders_.size() - 1) % 2].download<float>();
+    r.ao = d.ping[last].download<float>();
     for (size_t k = 0; k < r.ao.size(); ++k) {
       if (!g.covered(k)) {
         r.ao[k] = 0.0f;
@@ -506,24 +544,32 @@ class GlslEstimator : public Estimator {
  private:
   struct Device {
     vk::Context& vk;
-    vk::Image2D depth, normal, position, ping[2], bent, noise;
+    vk::Image2D depth, normal, position, ping[2], bent, noise, motion, disoccluded, history;
     std::vector<vk::Buffer> uniforms;  // one per pass
     vk::PassTimer timer;
     std::vector<std::unique_ptr<vk::ComputePipeline>> pipelines;
     std::vector<VkDescriptorSet> sets;
 
-    Device(vk::Context& context, const GBuffer& g, uint32_t passes)
+    Device(vk::Context& context, int w, int h, uint32_t passes)
         : vk(context), timer(context, passes) {
-      const int w = g.width, h = g.height;
       depth = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
       normal = vk::Image2D(vk, w, h, VK_FORMAT_R32G32B32A32_SFLOAT);
       position = vk::Image2D(vk, w, h, VK_FORMAT_R32G32B32A32_SFLOAT);
       for (auto& p : ping) p = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
       bent = vk::Image2D(vk, w, h, VK_FORMAT_R32G32B32A32_SFLOAT);
       noise = vk::Image2D(vk, kNoiseSize, kNoiseSize, VK_FORMAT_R32G32B32A32_SFLOAT);
+      motion = vk::Image2D(vk, w, h, VK_FORMAT_R32G32B32A32_SFLOAT);
+      disoccluded = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
+      history = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
+    }
+
+    // The frame's G-buffer in eye space, its motion and disocclusion (zeros on a still view).
+    void upload(const GBuffer& g) {
       const Camera& c = g.camera;
-      std::vector<float> z(g.pixel_count()), n(4 * g.pixel_count()), p(4 * g.pixel_count());
-      for (size_t k = 0; k < g.pixel_count(); ++k) {
+      const size_t count = g.pixel_count();
+      const bool moving = g.motion.size() == count && g.disoccluded.size() == count;
+      std::vector<float> z(count), n(4 * count), p(4 * count), m(4 * count, 0.0f), dis(count, 0.0f);
+      for (size_t k = 0; k < count; ++k) {
         const bool covered = g.covered(k);
         z[k] = covered ? g.depth[k] : 0.0f;
         const glm::vec3 d = g.position[k] - c.eye;
@@ -536,12 +582,47 @@ class GlslEstimator : public Estimator {
         }
         n[4 * k + 3] = covered ? 1.0f : 0.0f;
         p[4 * k + 3] = covered ? g.object_id[k] : -1.0f;
+        if (moving && covered) {
+          m[4 * k] = g.motion[k].x;
+          m[4 * k + 1] = g.motion[k].y;
+          dis[k] = g.disoccluded[k];
+        }
       }
       depth.upload(z);
       normal.upload(n);
       position.upload(p);
+      motion.upload(m);
+      disoccluded.upload(dis);
     }
   };
+
+  enum class History { clear, copy, keep };
+
+  // A device of this size with the passes' pipelines and descriptor sets; frame k - 1's output is
+  // not on it, so the next frame's history is zero.
+  void make_device(int w, int h) {
+    vk::Context& vk = plugin_context();
+    on_lavapipe_ = vk.device_name().find("llvmpipe") != std::string::npos;
+    device_ = std::make_unique<Device>(vk, w, h, static_cast<uint32_t>(shaders_.size()));
+    Device& d = *device_;
+    last_frame_ = -1;
+    const size_t block_bytes = uniform_block_bytes();
+    for (size_t i = 0; i < shaders_.size(); ++i) {
+      d.uniforms.emplace_back(vk, block_bytes, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+      vk::SpirvCode code;
+      code.words = shaders_[i].code.spirv.data();
+      code.bytes = shaders_[i].code.spirv.size() * sizeof(uint32_t);
+      auto pipeline = std::make_unique<vk::ComputePipeline>(
+          vk, manifest_.name + " " + shaders_[i].name, code, kBindings);
+      // Ping-pong: pass k writes ping[k % 2] and reads the other.
+      const vk::Image2D& out = d.ping[i % 2];
+      const vk::Image2D& prev = d.ping[(i + 1) % 2];
+      d.sets.push_back(
+          pipeline->make_set({d.depth, d.normal, d.position, prev, out, d.bent, d.noise,
+                              d.uniforms[i], d.motion, d.disoccluded, d.history}));
+      d.pipelines.push_back(std::move(pipeline));
+    }
+  }
 
   // Submits the frame and waits for it at most the manifest's timeout_s. The wait runs on a
   // thread of its own because a driver may execute the work inside vkQueueSubmit (lavapipe may)
@@ -574,14 +655,21 @@ class GlslEstimator : public Estimator {
     finished.get();  // a VulkanError of the submit, rethrown here
   }
 
-  // The std140 bytes of the aoeval block: 4 mat4, 3 vec4, 1 ivec4, then one 4-byte scalar per
-  // parameter in manifest order (a struct of scalars: 4-byte alignment, 16-byte size rounding).
-  // The noise seed: the parameter "seed" when the plug-in declares an integer one, else 0.
+  // The std140 bytes of the aoeval block: 4 mat4, 3 vec4, 1 ivec4, the int frame (padded to 16:
+  // a struct member starts on a 16-byte boundary), then one 4-byte scalar per parameter in
+  // manifest order (a struct of scalars: 4-byte alignment, 16-byte size rounding).
+  // The noise seed: the parameter "seed" when the plug-in declares an integer one, plus the
+  // frame's seed offset (the seed rule, CONTRACT §10: k, or 0 under "seed_per_frame": false),
+  // wrapped to 32 bits; else 0. aoeval.params.seed holds the same value.
   int32_t seed() const {
-    const nlohmann::json& values = params_.json();
-    return values.contains("seed") && values["seed"].is_number_integer()
-               ? static_cast<int32_t>(values["seed"].get<int64_t>())
-               : 0;
+    const nlohmann::json values = frame_param_values(manifest_, params_.json(), &frame_);
+    if (!values.contains("seed") || !values["seed"].is_number_integer()) return 0;
+    return static_cast<int32_t>(static_cast<uint32_t>(values["seed"].get<int64_t>()));
+  }
+
+  size_t uniform_block_bytes() const {
+    const size_t scalars = std::max<size_t>(manifest_.params.size(), 1);
+    return (4 * 64 + 4 * 16 + 16 + 4 * scalars + 15) / 16 * 16;
   }
 
   std::vector<uint8_t> uniform_block(const GBuffer& g, int32_t pass_index) const {
@@ -622,10 +710,15 @@ class GlslEstimator : public Estimator {
     put(size, 16);
     put(lens, 16);
     put(pass, 16);
+    const int32_t frame[4] = {frame_.index, 0, 0, 0};
+    put(frame, 16);
     for (const auto& p : manifest_.params) {
       const nlohmann::json& v = values.at(p.name);
       uint32_t bits = 0;
-      if (p.type == ParamType::real) {
+      if (p.name == "seed" && p.type == ParamType::integer) {
+        const int32_t x = seed();
+        std::memcpy(&bits, &x, 4);
+      } else if (p.type == ParamType::real) {
         const auto x = static_cast<float>(v.get<double>());
         std::memcpy(&bits, &x, 4);
       } else if (p.type == ParamType::integer) {
@@ -640,7 +733,7 @@ class GlslEstimator : public Estimator {
       put(&bits, 4);
     }
     if (manifest_.params.empty()) bytes.resize(bytes.size() + 4, 0);
-    bytes.resize((bytes.size() + 15) / 16 * 16, 0);
+    bytes.resize(uniform_block_bytes(), 0);
     return bytes;
   }
 
@@ -649,6 +742,9 @@ class GlslEstimator : public Estimator {
   std::vector<PassShader> shaders_;
   std::unique_ptr<Device> device_;
   const GBuffer* prepared_for_ = nullptr;
+  FrameInfo frame_;      // the frame prepared for (index 0, no seed offset on a still view)
+  bool still_ = true;    // prepared for a still view (EstimateContext::frame null)
+  int last_frame_ = -1;  // the frame whose output the device's last ping image holds; -1 none
   std::vector<std::string> loop_risks_;
   bool on_lavapipe_ = false;
 };

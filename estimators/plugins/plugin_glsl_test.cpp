@@ -87,12 +87,14 @@ TEST(GlslPlugin, SpirvIsCachedByContent) {
 
 TEST(GlslPlugin, TheAbiTextDeclaresEveryBindingAndTheParametersInOrder) {
   const std::string text = glsl_abi_text();
-  for (int b = 0; b <= 7; ++b)
+  for (int b = 0; b <= 10; ++b)
     EXPECT_NE(text.find("binding = " + std::to_string(b)), std::string::npos) << b;
   const std::vector<ParamSpec> params = {
       {"zeta", ParamType::real, 0.5, 0, 1, false, "", "m", {}},
       {"alpha", ParamType::boolean, true, 0, 0, false, "", "m", {}},
       {"mode", ParamType::choice, "b", 0, 0, false, "", "m", {"a", "b"}}};
+  for (const char* name : {"aoeval_motion", "aoeval_disoccluded", "aoeval_history", "int frame;"})
+    EXPECT_NE(text.find(name), std::string::npos) << name;
   const std::string preamble = glsl_abi_preamble(params);
   EXPECT_LT(preamble.find("float zeta;"), preamble.find("bool alpha;"));
   EXPECT_LT(preamble.find("bool alpha;"), preamble.find("int mode;"));
@@ -195,6 +197,110 @@ TEST(GlslPlugin, PassesRunInOrderAndReadThePreviousOutput) {
   EXPECT_EQ(r.timing_source, "gpu-timestamps");
   EXPECT_TRUE(r.pass_ms.count("first_ms") && r.pass_ms.count("second_ms") &&
               r.pass_ms.count("total_ms"));
+}
+
+// Over time (CONTRACT §10, ABI version 2): one instance runs the frames in order. A probe writes
+// what each new binding holds; `motion` and `disoccluded` are set here to known patterns.
+TEST(GlslPlugin, TheTemporalBindingsHoldTheFrameMotionAndDisocclusion) {
+  REQUIRE_VULKAN();
+  use_private_cache();
+  const std::string dir =
+      glsl_plugin("temporal-probe",
+                  R"([{"name": "probe", "type": "choice", "default": "frame", "meaning": "m",
+           "choices": ["frame", "motion_x", "motion_y", "disoccluded", "seed", "zw"]},
+          {"name": "seed", "type": "integer", "default": 5, "min": 0, "max": 1000, "meaning": "m"}])",
+                  R"(
+  const vec4 m = imageLoad(aoeval_motion, p);
+  float v = 0.0;
+  switch (aoeval.params.probe) {
+    case 0: v = float(aoeval.frame) / 16.0; break;
+    case 1: v = 0.5 + m.x / 64.0; break;
+    case 2: v = 0.5 + m.y / 64.0; break;
+    case 3: v = imageLoad(aoeval_disoccluded, p).r; break;
+    case 4: v = float(aoeval.params.seed) / 64.0 + (aoeval.pass.z == aoeval.params.seed ? 0.0 : 0.5); break;
+    case 5: v = abs(m.z) + abs(m.w); break;
+  }
+  imageStore(aoeval_out, p, vec4(clamp(v, 0.0, 1.0)));)");
+  const TestView v = grazing_floor(16, 12);
+  GBuffer moving = v.gbuffer;
+  const size_t n = moving.pixel_count();
+  moving.motion.resize(n);
+  moving.disoccluded.resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    const int i = static_cast<int>(k % 16), j = static_cast<int>(k / 16);
+    moving.motion[k] =
+        glm::vec2(0.75f * static_cast<float>(i % 7 - 3), 1.25f * static_cast<float>(j % 5 - 2));
+    moving.disoccluded[k] = (i + j) % 3 == 0 ? 1.0f : 0.0f;
+  }
+  const EstimatorInfo info = plugin_estimator(read_plugin_manifest(dir));
+  EXPECT_TRUE(info.keeps_state);
+  for (const char* probe : {"frame", "motion_x", "motion_y", "disoccluded", "seed", "zw"}) {
+    auto e = info.create(resolve_params(info.name, info.params, {{"probe", probe}}, "test"));
+    for (int f = 0; f < 3; ++f) {
+      // The seed rule: frame f runs with seed + offset (offset 0 under seed_per_frame false).
+      const uint64_t offset = f == 2 ? 0 : static_cast<uint64_t>(f);
+      const FrameInfo frame{.index = f, .count = 3, .fps = 30.0, .seed_offset = offset};
+      const EstimateContext context{v.scene, *v.embree, moving, &frame};
+      e->prepare(context);
+      const EstimateResult r = e->run(context);
+      for (size_t k = 0; k < n; ++k) {
+        if (!moving.covered(k)) continue;
+        const std::string what = std::string(probe) + " frame " + std::to_string(f);
+        const std::string p = probe;
+        const float expected = p == "frame"         ? static_cast<float>(f) / 16.0f
+                               : p == "motion_x"    ? 0.5f + moving.motion[k].x / 64.0f
+                               : p == "motion_y"    ? 0.5f + moving.motion[k].y / 64.0f
+                               : p == "disoccluded" ? moving.disoccluded[k]
+                               : p == "seed"        ? static_cast<float>(5 + offset) / 64.0f
+                                                    : 0.0f;
+        ASSERT_NEAR(r.ao[k], expected, 1e-6f) << what << " pixel " << k;
+      }
+    }
+  }
+  // A still view: frame 0, no motion, nothing disoccluded, the declared seed.
+  for (const char* probe : {"frame", "motion_x", "disoccluded", "seed"}) {
+    const EstimateResult r = run_plugin(dir, v, {{"probe", probe}});
+    const float expected = std::string(probe) == "motion_x" ? 0.5f
+                           : std::string(probe) == "seed"   ? 5.0f / 64.0f
+                                                            : 0.0f;
+    EXPECT_NEAR(r.ao[v.gbuffer.index(3, 11)], expected, 1e-6f) << probe;
+  }
+}
+
+// aoeval_history is the final pass's output of the previous frame: a second pass that adds 1/8 to
+// it counts the frames (the first pass writes 0.9, which history must not see), zero at frame 0,
+// on a still view and after a frame that did not run; a repeated frame keeps its history.
+TEST(GlslPlugin, HistoryIsThePreviousFramesFinalOutput) {
+  REQUIRE_VULKAN();
+  use_private_cache();
+  const fs::path dir = test_temp_dir("glsl") / "counter";
+  const std::string head = "#version 450\nlayout(local_size_x = 8, local_size_y = 8) in;\n";
+  make_plugin(
+      dir,
+      R"({"name": "counter", "summary": "s", "kind": "glsl",
+                  "shaders": ["first.comp", "count.comp"], "definition": {"weighting": "cosine"}})",
+      {{"first.comp", head + "void main() { imageStore(aoeval_out, "
+                             "ivec2(gl_GlobalInvocationID.xy), vec4(0.9)); }\n"},
+       {"count.comp", head + "void main() { const ivec2 p = ivec2(gl_GlobalInvocationID.xy);"
+                             " imageStore(aoeval_out, p, vec4(min(1.0, "
+                             "imageLoad(aoeval_history, p).r + 0.125))); }\n"}});
+  const TestView v = grazing_floor(16, 12);
+  const size_t px = v.gbuffer.index(3, 11);
+  const EstimatorInfo info = plugin_estimator(read_plugin_manifest(dir.string()));
+  auto e = info.create(default_params(info));
+  auto frame = [&](int k) {
+    const FrameInfo f{.index = k, .count = 8, .fps = 30.0, .seed_offset = static_cast<uint64_t>(k)};
+    const EstimateContext context{v.scene, *v.embree, v.gbuffer, &f};
+    e->prepare(context);
+    return e->run(context).ao[px];
+  };
+  for (int k = 0; k < 4; ++k) EXPECT_FLOAT_EQ(frame(k), 0.125f * static_cast<float>(k + 1)) << k;
+  EXPECT_FLOAT_EQ(frame(3), 0.5f) << "a repeated frame 3 reads frame 2's output again";
+  EXPECT_FLOAT_EQ(frame(5), 0.125f) << "frame 4 did not run: no history";
+  EXPECT_FLOAT_EQ(frame(0), 0.125f) << "frame 0 starts afresh";
+  const EstimateContext still{v.scene, *v.embree, v.gbuffer};
+  e->prepare(still);
+  for (int i = 0; i < 3; ++i) EXPECT_FLOAT_EQ(e->run(still).ao[px], 0.125f) << "still run " << i;
 }
 
 TEST(GlslPlugin, OutOfRangeOutputIsRejected) {

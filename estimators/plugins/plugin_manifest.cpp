@@ -21,6 +21,10 @@ const char* plugin_kind_name(PluginKind k) {
   return k == PluginKind::glsl ? "glsl" : "process";
 }
 
+const char* process_protocol_name(ProcessProtocol p) {
+  return p == ProcessProtocol::frames ? "frames" : "run";
+}
+
 namespace {
 
 using nlohmann::json;
@@ -303,7 +307,7 @@ PluginManifest read_plugin_manifest(const std::string& folder_text) {
   if (!j.is_object()) r.fail("(top level)", "expected an object");
   r.only_known(j,
                {"name", "summary", "paper", "kind", "command", "shaders", "params", "definition",
-                "outputs", "timeout_s", "frames", "open_plane_tolerance"},
+                "outputs", "timeout_s", "frames", "protocol", "open_plane_tolerance"},
                "");
   m.name = r.string_of(r.require(j, "name", "name"), "name");
   if (!is_estimator_name(m.name))
@@ -320,6 +324,7 @@ PluginManifest read_plugin_manifest(const std::string& folder_text) {
     m.shaders = r.strings_of(r.require(j, "shaders", "shaders"), "shaders");
     if (j.contains("command")) r.fail("command", "only for kind process");
     if (j.contains("frames")) r.fail("frames", "only for kind process");
+    if (j.contains("protocol")) r.fail("protocol", "only for kind process");
     std::set<std::string> passes;
     for (size_t i = 0; i < m.shaders.size(); ++i) {
       const std::string field = "shaders[" + std::to_string(i) + "]";
@@ -377,6 +382,20 @@ PluginManifest read_plugin_manifest(const std::string& folder_text) {
       r.fail("frames", "must be an integer in [1, 10000]");
     m.frames = static_cast<int>(f);
   }
+  if (j.contains("protocol")) {
+    const std::string protocol = r.string_of(j["protocol"], "protocol");
+    if (protocol == "frames")
+      m.protocol = ProcessProtocol::frames;
+    else if (protocol != "run")
+      r.fail("protocol", "\"" + protocol +
+                             "\" is not run (once per frame, the default) or frames "
+                             "(one process, a JSON line per frame on stdin)");
+    // A frames program is sent each frame once and times it itself (AO.exr.timing.json).
+    if (m.protocol == ProcessProtocol::frames && j.contains("frames"))
+      r.fail("frames",
+             "only for \"protocol\": \"run\" (a frames program gets one request per "
+             "frame)");
+  }
   // Last: the fields' own errors come first, then whether the program is there to run.
   if (m.kind == PluginKind::process) m.command[0] = resolve_command(r, folder, m.command[0]);
   return m;
@@ -415,6 +434,16 @@ std::string plugin_definition_doc(const PluginManifest& m) {
                                              : "unbounded";
   return std::string(weighting_name(m.weighting)) + " weighting, dmax = " + dmax + ", falloff " +
          falloff_name(m.falloff) + " (declared by the plug-in's estimator.json)";
+}
+
+nlohmann::json frame_param_values(const PluginManifest& m, const nlohmann::json& values,
+                                  const FrameInfo* frame) {
+  nlohmann::json out = values;
+  if (!frame || frame->seed_offset == 0) return out;
+  for (const ParamSpec& p : m.params)
+    if (p.name == "seed" && p.type == ParamType::integer && out.contains("seed"))
+      out["seed"] = out["seed"].get<int64_t>() + static_cast<int64_t>(frame->seed_offset);
+  return out;
 }
 
 std::vector<std::string> plugin_pass_names(const PluginManifest& m) {

@@ -23,6 +23,12 @@ namespace aoeval {
 enum class PluginKind { process, glsl };
 const char* plugin_kind_name(PluginKind k);
 
+// How a process plug-in's program is run (the manifest's "protocol"): `run` (the default, CONTRACT
+// §7) once per frame with the files on its command line; `frames` (CONTRACT §10) once per sequence
+// or still view, one JSON request line per frame on stdin (plugin_frames.h).
+enum class ProcessProtocol { run, frames };
+const char* process_protocol_name(ProcessProtocol p);
+
 struct PluginManifest {
   std::string folder;  // absolute path of the plug-in folder
   std::string file;    // folder + "/estimator.json", the name every error starts with
@@ -44,6 +50,7 @@ struct PluginManifest {
   double timeout_s = 120.0;  // process: its processes are killed after this long; glsl: a frame's
                              // wait ends and its Vulkan device is abandoned
   int frames = 1;            // process: the N of --frames N (frames the program times itself)
+  ProcessProtocol protocol = ProcessProtocol::run;  // process only
 };
 
 // Reads and validates `folder`/estimator.json; InputError "<file>: <field>: <why>" otherwise.
@@ -57,6 +64,12 @@ std::string plugin_name_hint(const std::string& folder);
 AoDefinition plugin_definition(const PluginManifest& m, const ParamSet& params);
 // One line for `aoeval estimators show`: "cosine weighting, dmax = radius, falloff none".
 std::string plugin_definition_doc(const PluginManifest& m);
+
+// The parameter values a plug-in that keeps state sends for one frame: `values` with the integer
+// parameter "seed" (when the manifest declares one) plus frame->seed_offset, the seed rule of
+// CONTRACT §10 (k, or 0 under "seed_per_frame": false); `values` itself on a still view (null).
+nlohmann::json frame_param_values(const PluginManifest& m, const nlohmann::json& values,
+                                  const FrameInfo* frame);
 
 // The shader pass names of a glsl plug-in: each shader's file stem ("ao.comp" -> "ao"), the prefix
 // of its "<pass>_ms" results column.

@@ -140,7 +140,8 @@ TEST(PluginManifest, ShippedExamplesAreValidAndRegistered) {
   std::vector<std::string> names;
   for (const auto& folder : plugin_folders_in(shipped_plugins_dir()))
     names.push_back(read_plugin_manifest(folder).name);
-  EXPECT_EQ(names, (std::vector<std::string>{"alchemy", "constant-copy", "crytek-ssao", "sao"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"alchemy", "constant-copy", "crytek-ssao",
+                                             "crytek-ssao-frames", "history-ssao", "sao"}));
   EXPECT_EQ(find_estimator("alchemy").kind, "glsl");
   EXPECT_EQ(find_estimator("alchemy").backend, Backend::vulkan);
   EXPECT_EQ(find_estimator("crytek-ssao").kind, "process");

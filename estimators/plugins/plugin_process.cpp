@@ -215,30 +215,18 @@ std::string pixel_text(const GBuffer& g, size_t k) {
 
 }  // namespace
 
-ProcessOutcome run_process(const std::vector<std::string>& argv, const std::string& cwd,
-                           double timeout_s, const std::string& stdout_path,
-                           const std::string& stderr_path) {
-  ProcessOutcome o;
+pid_t start_plugin_process(const std::vector<std::string>& argv, const std::string& cwd, int in_fd,
+                           int out_fd, int err_fd, std::string& error) {
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
-  const int out_fd = open(stdout_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0600);
-  const int err_fd = open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0600);
-  const int null_fd = open("/dev/null", O_RDONLY | O_CLOEXEC);
-  if (out_fd < 0 || err_fd < 0 || null_fd < 0) {
-    o.error = std::string("cannot open its output files: ") + std::strerror(errno);
-    for (int fd : {out_fd, err_fd, null_fd})
-      if (fd >= 0) close(fd);
-    return o;
-  }
   become_subreaper();
-  const auto t0 = std::chrono::steady_clock::now();
   std::unique_lock leaders_lock(leaders_mutex());  // registered before any scan can see it
   const pid_t pid = fork();
   if (pid == 0) {
     setpgid(0, 0);
     // dup2 leaves the new descriptors without FD_CLOEXEC; every other one of ours closes on exec.
-    if (dup2(null_fd, 0) < 0 || dup2(out_fd, 1) < 0 || dup2(err_fd, 2) < 0) _exit(127);
+    if (dup2(in_fd, 0) < 0 || dup2(out_fd, 1) < 0 || dup2(err_fd, 2) < 0) _exit(127);
     sigset_t none;
     sigemptyset(&none);
     sigprocmask(SIG_SETMASK, &none, nullptr);  // the program starts with no signal blocked
@@ -248,16 +236,19 @@ ProcessOutcome run_process(const std::vector<std::string>& argv, const std::stri
   }
   if (pid > 0) running_leaders().insert(pid);
   leaders_lock.unlock();
-  close(out_fd);
-  close(err_fd);
-  close(null_fd);
   if (pid < 0) {
-    o.error = std::string("cannot start a process: ") + std::strerror(errno);
-    return o;
+    error = std::string("cannot start a process: ") + std::strerror(errno);
+    return -1;
   }
   setpgid(pid, pid);  // also here: whichever of parent and child runs first makes the group
-  o.started = true;
-  o.timed_out = !wait_for_exit(pid, timeout_s * 1000.0);
+  return pid;
+}
+
+bool wait_for_plugin_exit(pid_t pid, double timeout_ms) {
+  return wait_for_exit(pid, timeout_ms);
+}
+
+void end_plugin_process(pid_t pid, ProcessOutcome& o) {
   // The leader is not reaped yet, so its id (the group's) cannot have been reused: kill the whole
   // group, on time-out and after a normal end alike (background children die with it).
   kill(-pid, SIGKILL);
@@ -270,11 +261,45 @@ ProcessOutcome run_process(const std::vector<std::string>& argv, const std::stri
     running_leaders().erase(pid);
   }
   kill_descendants(0);  // reaps what the leader's end reparented meanwhile
-  o.wall_ms = ms_between(t0, std::chrono::steady_clock::now());
   if (!o.timed_out) {
     if (WIFEXITED(status)) o.exit_code = WEXITSTATUS(status);
     if (WIFSIGNALED(status)) o.signal = WTERMSIG(status);
   }
+}
+
+std::string process_failure(const ProcessOutcome& o, double timeout_s) {
+  if (!o.started) return o.error;
+  if (o.timed_out)
+    return "timed out after " + format_param_value(timeout_s) + " s (process group killed)";
+  if (o.signal)
+    return "killed by signal " + std::to_string(o.signal) + " (" + sigabbrev_np(o.signal) + ")";
+  if (o.exit_code != 0) return "exited with status " + std::to_string(o.exit_code);
+  return "";
+}
+
+ProcessOutcome run_process(const std::vector<std::string>& argv, const std::string& cwd,
+                           double timeout_s, const std::string& stdout_path,
+                           const std::string& stderr_path) {
+  ProcessOutcome o;
+  const int out_fd = open(stdout_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0600);
+  const int err_fd = open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0600);
+  const int null_fd = open("/dev/null", O_RDONLY | O_CLOEXEC);
+  if (out_fd < 0 || err_fd < 0 || null_fd < 0) {
+    o.error = std::string("cannot open its output files: ") + std::strerror(errno);
+    for (int fd : {out_fd, err_fd, null_fd})
+      if (fd >= 0) close(fd);
+    return o;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const pid_t pid = start_plugin_process(argv, cwd, null_fd, out_fd, err_fd, o.error);
+  close(out_fd);
+  close(err_fd);
+  close(null_fd);
+  if (pid < 0) return o;
+  o.started = true;
+  o.timed_out = !wait_for_exit(pid, timeout_s * 1000.0);
+  end_plugin_process(pid, o);
+  o.wall_ms = ms_between(t0, std::chrono::steady_clock::now());
   return o;
 }
 
@@ -357,32 +382,38 @@ std::string read_process_output(const std::string& ao_path, const GBuffer& g, bo
   return "";
 }
 
+PluginFolder::~PluginFolder() {
+  std::error_code ignored;
+  if (!path_.empty()) fs::remove_all(path_, ignored);
+}
+
+void PluginFolder::write_inputs(const EstimateContext& context, const nlohmann::json& params) {
+  if (path_.empty()) {
+    std::string pattern = (fs::temp_directory_path() / "aoeval-plugin-XXXXXX").string();
+    if (!mkdtemp(pattern.data()))
+      throw std::runtime_error("plug-in " + name_ + ": cannot make a folder " + pattern + ": " +
+                               std::strerror(errno));
+    path_ = pattern;
+  }
+  const GBuffer& g = context.gbuffer;
+  write_exr(path_ + "/G.exr", gbuffer_to_image(g),
+            {{"aoeval:scene", context.scene.name},
+             {"aoeval:camera", camera_to_json(g.camera)},
+             {"aoeval:version", kAoevalVersion}});
+  write_text(path_ + "/P.json", params.dump(2) + "\n");
+}
+
 namespace {
 
 class ProcessEstimator : public Estimator {
  public:
   ProcessEstimator(PluginManifest m, ParamSet params)
-      : manifest_(std::move(m)), params_(std::move(params)) {}
-  ~ProcessEstimator() override {
-    std::error_code ignored;
-    if (!dir_.empty()) fs::remove_all(dir_, ignored);
-  }
+      : manifest_(std::move(m)), params_(std::move(params)), folder_(manifest_.name) {}
 
   void prepare(const EstimateContext& context) override {
-    if (dir_.empty()) {
-      std::string pattern = (fs::temp_directory_path() / "aoeval-plugin-XXXXXX").string();
-      if (!mkdtemp(pattern.data()))
-        throw std::runtime_error("plug-in " + manifest_.name + ": cannot make a folder " + pattern +
-                                 ": " + std::strerror(errno));
-      dir_ = pattern;
-    }
-    const GBuffer& g = context.gbuffer;
-    write_exr(dir_ + "/G.exr", gbuffer_to_image(g),
-              {{"aoeval:scene", context.scene.name},
-               {"aoeval:camera", camera_to_json(g.camera)},
-               {"aoeval:version", kAoevalVersion}});
-    write_text(dir_ + "/P.json", params_.json().dump(2) + "\n");
-    prepared_for_ = &g;
+    folder_.write_inputs(context, params_.json());
+    dir_ = folder_.path();
+    prepared_for_ = &context.gbuffer;
   }
 
   EstimateResult run(const EstimateContext& context) override {
@@ -396,16 +427,7 @@ class ProcessEstimator : public Estimator {
           std::string("--out"), ao, std::string("--frames"), std::to_string(manifest_.frames)})
       argv.push_back(a);
     const ProcessOutcome o = run_process(argv, manifest_.folder, manifest_.timeout_s, out, err);
-    std::string reason;
-    if (!o.started)
-      reason = o.error;
-    else if (o.timed_out)
-      reason = "timed out after " + format_param_value(manifest_.timeout_s) +
-               " s (process group killed)";
-    else if (o.signal)
-      reason = "killed by signal " + std::to_string(o.signal) + " (" + sigabbrev_np(o.signal) + ")";
-    else if (o.exit_code != 0)
-      reason = "exited with status " + std::to_string(o.exit_code);
+    std::string reason = process_failure(o, manifest_.timeout_s);
     EstimateResult r;
     if (reason.empty()) reason = read_process_output(ao, context.gbuffer, manifest_.bent, r);
     for (const std::string& f : {ao, ao + ".timing.json"}) fs::remove(f, ec);
@@ -425,6 +447,7 @@ class ProcessEstimator : public Estimator {
  private:
   PluginManifest manifest_;
   ParamSet params_;
+  PluginFolder folder_;
   std::string dir_;
   const GBuffer* prepared_for_ = nullptr;
 };

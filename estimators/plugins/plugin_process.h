@@ -31,6 +31,8 @@
 // "process_ms" records the whole process's wall clock.
 #pragma once
 
+#include <sys/types.h>
+
 #include <memory>
 #include <string>
 #include <vector>
@@ -59,6 +61,37 @@ struct ProcessOutcome {
 ProcessOutcome run_process(const std::vector<std::string>& argv, const std::string& cwd,
                            double timeout_s, const std::string& stdout_path,
                            const std::string& stderr_path);
+
+// The pieces run_process is made of, which the frames protocol (plugin_frames.h) shares:
+// start_plugin_process forks argv[0] (as above) in `cwd` as the leader of a new process group with
+// descriptors 0, 1, 2 = in_fd, out_fd, err_fd (pass FD_CLOEXEC ones: nothing else of aoeval's is
+// inherited) and returns its pid, or -1 with `error`; wait_for_plugin_exit waits at most
+// timeout_ms for it to end, without reaping it; end_plugin_process kills its process group and
+// every descendant (the subreaper's sweep), reaps it, and sets o.exit_code or o.signal unless
+// o.timed_out.
+pid_t start_plugin_process(const std::vector<std::string>& argv, const std::string& cwd, int in_fd,
+                           int out_fd, int err_fd, std::string& error);
+bool wait_for_plugin_exit(pid_t pid, double timeout_ms);
+void end_plugin_process(pid_t pid, ProcessOutcome& o);
+// "" when the program started and exited with status 0, else why not ("timed out after N s
+// (process group killed)", "killed by signal 11 (SEGV)", "exited with status 3", ...).
+std::string process_failure(const ProcessOutcome& o, double timeout_s);
+
+// A process plug-in's private folder (mkdtemp under $TMPDIR, made on first use, removed with the
+// object): write_inputs writes G.exr (the G-buffer of `context`, CONTRACT §4 channels, motion and
+// disoccluded on sequence frames, the camera in its aoeval:camera attribute) and P.json (`params`).
+class PluginFolder {
+ public:
+  explicit PluginFolder(std::string plugin_name) : name_(std::move(plugin_name)) {}
+  ~PluginFolder();
+  PluginFolder(const PluginFolder&) = delete;
+  PluginFolder& operator=(const PluginFolder&) = delete;
+  void write_inputs(const EstimateContext& context, const nlohmann::json& params);
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string name_, path_;
+};
 
 // The last non-empty line of a text file (at most 300 characters), "" when there is none.
 std::string last_line_of(const std::string& path);

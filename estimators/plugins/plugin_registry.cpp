@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "errors.h"
+#include "estimators/plugins/plugin_frames.h"
 #include "estimators/plugins/plugin_glsl.h"
 #include "estimators/plugins/plugin_process.h"
 
@@ -52,14 +53,26 @@ namespace {
 void read_every_param(const PluginManifest& m, const ParamSet& p) {
   for (const ParamSpec& spec : m.params) {
     switch (spec.type) {
-      case ParamType::real: p.real(spec.name); break;
-      case ParamType::integer: p.integer(spec.name); break;
-      case ParamType::boolean: p.boolean(spec.name); break;
-      case ParamType::choice: p.choice(spec.name); break;
+      case ParamType::real:
+        p.real(spec.name);
+        break;
+      case ParamType::integer:
+        p.integer(spec.name);
+        break;
+      case ParamType::boolean:
+        p.boolean(spec.name);
+        break;
+      case ParamType::choice:
+        p.choice(spec.name);
+        break;
     }
   }
 }
 }  // namespace
+
+std::string plugin_abi_text() {
+  return glsl_abi_text() + "\n" + process_protocol_text();
+}
 
 void prepare_plugin_for_run(const EstimatorInfo& e) {
   if (e.kind != plugin_kind_name(PluginKind::glsl)) return;
@@ -79,6 +92,10 @@ EstimatorInfo plugin_estimator(const PluginManifest& m) {
   info.params = m.params;
   info.definition_doc = plugin_definition_doc(m);
   info.definition = [m](const ParamSet& p) { return plugin_definition(m, p); };
+  // Over a sequence (CONTRACT §10): a GLSL plug-in's instance keeps its device and its last output
+  // (aoeval_history) from frame to frame, and a "protocol": "frames" process its program; both
+  // apply the seed rule themselves. A per-run process starts afresh each frame with seed + k.
+  info.keeps_state = m.kind == PluginKind::glsl || m.protocol == ProcessProtocol::frames;
   if (m.kind == PluginKind::glsl) {
     info.create = [m](const ParamSet& p) {
       read_every_param(m, p);
@@ -87,7 +104,8 @@ EstimatorInfo plugin_estimator(const PluginManifest& m) {
   } else {
     info.create = [m](const ParamSet& p) {
       read_every_param(m, p);
-      return make_process_estimator(m, p);
+      return m.protocol == ProcessProtocol::frames ? make_frames_process_estimator(m, p)
+                                                   : make_process_estimator(m, p);
     };
   }
   return info;

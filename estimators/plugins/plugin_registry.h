@@ -22,6 +22,10 @@ std::vector<std::string> env_plugin_dirs();
 // The plug-in folders `dir` stands for (see above); InputError naming `dir` when it is neither.
 std::vector<std::string> plugin_folders_in(const std::string& dir);
 
+// What `aoeval estimators abi` prints: the GLSL ABI (plugin_glsl.h), then the process protocols
+// (plugin_frames.h).
+std::string plugin_abi_text();
+
 // The registry entry of a validated manifest: backend process or vulkan, kind "process"/"glsl".
 EstimatorInfo plugin_estimator(const PluginManifest& m);
 

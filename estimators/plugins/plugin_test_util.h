@@ -5,8 +5,8 @@
 #include <fstream>
 #include <string>
 
-#include "estimators/testing/ssao_test_scenes.h"
 #include "estimators/plugins/plugin_registry.h"
+#include "estimators/testing/ssao_test_scenes.h"
 #include "test_temp_dir.h"
 
 namespace aoeval::plugin_test {

@@ -1,5 +1,7 @@
 // `aoeval compare REF.exr EST.exr [--json FILE] [--errmap FILE.png] [--signed FILE.png]
 //  [--mosaic FILE.png] [--true-ref TRUE.exr]`: metrics over the pixels both images cover, and maps.
+// `aoeval compare --sequence REFDIR ESTDIR (--motion GBUFDIR | --static) [--json FILE]`: the
+// sequence keys of CONTRACT §10 over two frame folders (compare_sequence.h).
 #include <OpenImageIO/imageio.h>
 
 #include <cstdio>
@@ -12,6 +14,7 @@
 #include "errors.h"
 #include "exr_io.h"
 #include "harness/cli/commands.h"
+#include "harness/cli/compare_sequence.h"
 #include "harness/scoring/bent_metrics.h"
 #include "harness/scoring/metrics.h"
 #include "json_reader.h"
@@ -66,21 +69,51 @@ class OutputSet {
 
 void add_compare_command(CLI::App& app) {
   struct Options {
-    std::string ref, est, json, errmap, signed_map, mosaic, true_ref;
+    std::string ref, est, json, errmap, signed_map, mosaic, true_ref, motion;
+    bool sequence = false, assume_static = false;
   };
   static Options o;
   auto* cmd =
       app.add_subcommand("compare", "metrics and error maps of an estimate against a reference");
   cmd->add_option("REF", o.ref,
-                  "reference EXR (channels AO, A, optional AO_stderr, bent.X/Y/Z, bent_stderr)")
+                  "reference EXR (channels AO, A, optional AO_stderr, bent.X/Y/Z, bent_stderr); "
+                  "with --sequence a folder of them")
       ->required();
-  cmd->add_option("EST", o.est, "estimate EXR (channels AO, A, optional bent.X/Y/Z)")->required();
+  cmd->add_option("EST", o.est,
+                  "estimate EXR (channels AO, A, optional bent.X/Y/Z); with --sequence a folder")
+      ->required();
   cmd->add_option("--json", o.json, "write the metrics as JSON to this file (else to stdout)");
   cmd->add_option("--errmap", o.errmap, "absolute-error map (PNG)");
   cmd->add_option("--signed", o.signed_map, "signed-error map (PNG)");
   cmd->add_option("--mosaic", o.mosaic, "reference | estimate | |error| | signed error (PNG)");
   cmd->add_option("--true-ref", o.true_ref, "unbounded cosine reference: adds true_* metrics");
+  cmd->add_flag("--sequence", o.sequence,
+                "REF and EST are frame folders, each frame_0000.exr, frame_0001.exr, ... with no "
+                "gaps (references; estimates): prints the sequence keys of CONTRACT §10 and "
+                "rmse_excess_by_frame");
+  cmd->add_option("--motion", o.motion,
+                  "with --sequence: folder of the frames' G-buffers, frame_KKKK.exr from `aoeval "
+                  "gbuffer --frame K` (motion.X/Y, disoccluded)");
+  cmd->add_flag("--static", o.assume_static,
+                "with --sequence, instead of --motion: nothing moves (zero motion, nothing "
+                "disoccluded)");
   cmd->callback([] {
+    if (!o.sequence && (!o.motion.empty() || o.assume_static))
+      throw InputError(std::string(o.assume_static ? "--static" : "--motion") +
+                       " needs --sequence");
+    if (o.sequence) {
+      for (const auto& [value, name] : {std::pair{o.errmap, "--errmap"},
+                                        {o.signed_map, "--signed"},
+                                        {o.mosaic, "--mosaic"},
+                                        {o.true_ref, "--true-ref"}})
+        if (!value.empty()) throw InputError(std::string(name) + " does not go with --sequence");
+      const nlohmann::json out = compare_sequence({o.ref, o.est, o.motion, o.assume_static});
+      if (o.json.empty())
+        std::printf("%s\n", out.dump(2).c_str());
+      else
+        write_text(o.json, out.dump(2) + "\n");
+      return;
+    }
     check_image_output(o.errmap, "--errmap");
     check_image_output(o.signed_map, "--signed");
     check_image_output(o.mosaic, "--mosaic");

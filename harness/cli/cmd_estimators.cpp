@@ -4,6 +4,7 @@
 #include "errors.h"
 
 #include "estimators/plugins/plugin_glsl.h"
+#include "estimators/plugins/plugin_registry.h"
 #include "estimators/registry.h"
 #include "harness/cli/commands.h"
 #include "harness/plugins/plugin_options.h"
@@ -88,13 +89,15 @@ void add_estimators_command(CLI::App& app) {
   show_cmd->add_option("NAME", name, "estimator name")->required();
   show_cmd->add_flag("--json", json, "print JSON");
   auto* abi = cmd->add_subcommand(
-      "abi", "the GLSL plug-in ABI: bindings, uniform block (with NAME: that plug-in's preamble)");
+      "abi",
+      "the plug-in ABI: GLSL bindings and uniform block, the process protocols (with NAME: that "
+      "GLSL plug-in's preamble)");
   abi->add_option("NAME", name, "a GLSL plug-in");
   for (CLI::App* c : {cmd, list, show_cmd, abi}) add_plugins_option(c);
   cmd->callback([show_cmd, abi] {
     if (abi->parsed()) {
       if (name.empty()) {
-        std::printf("%s", glsl_abi_text().c_str());
+        std::printf("%s", plugin_abi_text().c_str());
         return;
       }
       const EstimatorInfo& e = find_estimator(name);

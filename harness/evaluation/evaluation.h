@@ -50,6 +50,22 @@ std::string run_name(const EstimatorInfo& e, const ParamSet& params,
                      const nlohmann::json& overrides, const std::string& scene,
                      const std::string& view, int width, int height);
 
+// The frames a sequence point keeps for its report (strip, video, viewer; CONTRACT §10): every
+// frame up to kMaxKeptFrames, else that many evenly spaced, first and last included, so a point
+// keeps at most kMaxKeptFrames times what a still point keeps, however long the sequence.
+inline constexpr int kMaxKeptFrames = 48;
+std::vector<int> kept_sequence_frames(int frames);
+
+// One kept frame: its estimate image (AO, A and extra channels, as the row's estimate EXR) with
+// its header, and the matched reference's cache entry it was scored against ("" without a disk
+// cache). The runners write them under the point's folder (harness/sweep/kept_sequence.h).
+struct KeptFrame {
+  int frame = 0;
+  OIIO::ImageBuf estimate;
+  Attributes attributes;
+  std::string reference_cache;
+};
+
 // What an evaluation measured before it is scored: the row so far (identity, timings, status),
 // the last frame's estimate and what scoring needs to find its references.
 struct Measurement {
@@ -65,6 +81,8 @@ struct Measurement {
   // its last frame's estimate, and `frames` are the rows of its frames.csv.
   bool scored = false;
   std::vector<nlohmann::json> frames;
+  std::vector<KeptFrame> kept_frames;        // kept_sequence_frames(), in order
+  std::map<int, double> rmse_excess_by_age;  // TemporalScorer::rmse_excess_by_age(), matched
 };
 
 // Thread-safety: measure() on one thread may run while score() of an earlier measurement runs on

@@ -7,6 +7,7 @@
 // afresh for every frame with its `seed` parameter + k (when it has one and the run does not say
 // "seed_per_frame": false), so a built-in without a temporal design of its own flickers exactly
 // as much as its per-frame noise makes it. Warm-up runs use a throw-away instance on frame 0.
+#include <algorithm>
 #include <chrono>
 #include <optional>
 
@@ -16,6 +17,7 @@
 #include "harness/results/summary.h"
 #include "harness/scoring/metrics.h"
 #include "harness/scoring/temporal.h"
+#include "references/reference_cache.h"
 #include "sequence_frame.h"
 
 namespace aoeval {
@@ -41,6 +43,18 @@ struct FrameScene {
 };
 
 }  // namespace
+
+std::vector<int> kept_sequence_frames(int frames) {
+  std::vector<int> kept;
+  if (frames <= 0) return kept;
+  const int n = std::min(frames, kMaxKeptFrames);
+  if (n == 1) return {frames - 1};
+  // k-th of n evenly spaced over 0..frames-1, rounded: distinct because frames - 1 >= n - 1.
+  for (int k = 0; k < n; ++k)
+    kept.push_back(
+        static_cast<int>((static_cast<int64_t>(k) * (frames - 1) + (n - 1) / 2) / (n - 1)));
+  return kept;
+}
 
 void EvaluationSession::measure_sequence(Measurement& m, bool seed_per_frame) {
   const EstimatorInfo& e = *m.estimator;
@@ -75,6 +89,8 @@ void EvaluationSession::measure_sequence(Measurement& m, bool seed_per_frame) {
   std::unique_ptr<Estimator> kept;  // keeps_state: the one instance
   GBuffer prev_g;
   SequenceFrame prev_f;
+  const std::vector<int> keep = kept_sequence_frames(seq.frames);
+  size_t next_kept = 0;
   try {
     for (int k = 0; k < seq.frames; ++k) {
       const SequenceFrame f = sequence_frame(base.scene, view, k);
@@ -149,6 +165,20 @@ void EvaluationSession::measure_sequence(Measurement& m, bool seed_per_frame) {
         truth_owned =
             reference_image(s, view, camera, g, frame_settings(view, k, true_ao_definition()));
       const ReferenceImage& truth = truth_owned ? *truth_owned : matched;
+      if (next_kept < keep.size() && keep[next_kept] == k) {  // for the report (kept_sequence.h)
+        const auto timer = stages_.time("estimate EXR");
+        KeptFrame kf;
+        kf.frame = k;
+        kf.estimate = estimate_to_image(g, result);
+        kf.attributes =
+            estimate_attributes(s.scene, s.content_hash, view, camera, e, params, m.derived);
+        kf.attributes.emplace_back("aoeval:frame", std::to_string(k));
+        if (disk_cache_)
+          kf.reference_cache = reference_cache_path(
+              reference_cache_key(s.content_hash, camera, frame_settings(view, k, definition)));
+        m.kept_frames.push_back(std::move(kf));
+        ++next_kept;
+      }
       const auto timer = stages_.time("scoring");
       nlohmann::json frame_row = {{"frame", k}, {"time_ms", times.back()}};
       size_t disoccluded = 0;
@@ -194,8 +224,10 @@ void EvaluationSession::measure_sequence(Measurement& m, bool seed_per_frame) {
     row.timestamp = utc_now();
     m.result = EstimateResult{};
     m.frames.clear();
+    m.kept_frames.clear();
     return;
   }
+  m.rmse_excess_by_age = matched_scores.rmse_excess_by_age();
   row.metrics.update(matched_scores.scores());
   row.true_metrics.update(true_scores.scores());
   row.set_times(times);

@@ -73,10 +73,13 @@ TEST(FiguresCli, EqualTimeQuickWritesRowsChecksAndBentScores) {
   EXPECT_EQ(csv.substr(0, csv.find('\n')),
             "scene,view,estimator,knob,value,budget_ms,time_ms,rmse_excess,true_rmse,"
             "bent_angle_mean,bent_angle_excess,bent_ref_stderr");
-  // 4 scenes x 6 contenders: gtao, hbao-split, raymarch-ssao and the shipped plug-ins that fit
-  // (alchemy, crytek-ssao, sao; constant-copy has no quality knob and is named in the notes)
-  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 25);
-  for (const char* plugin : {",alchemy,samples,", ",crytek-ssao,samples,", ",sao,samples,"})
+  // 4 scenes x 8 contenders: gtao, hbao-split, raymarch-ssao and the shipped plug-ins that fit
+  // (alchemy, crytek-ssao, crytek-ssao-frames, history-ssao, sao; constant-copy has no quality
+  // knob and is named in the notes)
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 33);
+  for (const char* plugin :
+       {",alchemy,samples,", ",crytek-ssao,samples,", ",crytek-ssao-frames,samples,",
+        ",history-ssao,samples,", ",sao,samples,"})
     EXPECT_NE(csv.find(plugin), std::string::npos) << plugin;
   std::istringstream lines(csv);
   std::string line;

@@ -33,14 +33,15 @@ namespace aoeval {
 namespace {
 
 const std::vector<std::string>& metric_names() {
-  static const std::vector<std::string> keys = {
-      "pixels", "rmse", "mae", "bias", "max_abs", "p95_abs", "psnr", "ssim", "flip_mean",
-      "ref_stderr_rms", "rmse_excess",
-      // bent_metrics.h: blank without bent normals
-      "bent_pixels", "bent_angle_mean", "bent_angle_p95", "bent_ref_stderr", "bent_angle_excess",
-      // scoring/temporal.h (CONTRACT §10): blank for still views
-      "seq_frames", "seq_rmse_excess", "steady_rmse_excess", "temporal_rmse",
-      "temporal_rmse_excess", "converge_frames", "settle_frames", "disocclusion_rmse_excess"};
+  static const std::vector<std::string> keys = [] {
+    std::vector<std::string> k = {"pixels", "rmse", "mae", "bias", "max_abs", "p95_abs", "psnr",
+                                  "ssim", "flip_mean", "ref_stderr_rms", "rmse_excess",
+                                  // bent_metrics.h: blank without bent normals
+                                  "bent_pixels", "bent_angle_mean", "bent_angle_p95",
+                                  "bent_ref_stderr", "bent_angle_excess"};
+    for (const auto& s : sequence_metric_names()) k.push_back(s);  // blank for still views
+    return k;
+  }();
   return keys;
 }
 
@@ -132,6 +133,13 @@ class FlatRow {
 };
 
 }  // namespace
+
+const std::vector<std::string>& sequence_metric_names() {
+  static const std::vector<std::string> keys = {
+      "seq_frames",           "seq_rmse_excess", "steady_rmse_excess", "temporal_rmse",
+      "temporal_rmse_excess", "converge_frames", "settle_frames",      "disocclusion_rmse_excess"};
+  return keys;
+}
 
 std::vector<std::string> identifying_columns() {
   return {"run_id", "run_name",   "estimator", "scene",  "view",  "width",

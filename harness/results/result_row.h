@@ -40,7 +40,8 @@ struct ResultRow {
   std::string status = "ok";  // "ok", or "skipped: <reason>" (e.g. no Vulkan device)
   // What the time columns measure: "wall" (the harness's clock around one frame),
   // "gpu-timestamps", "plugin-frames" (a process plug-in's own frame_ms), "process-wall" (a
-  // process plug-in's whole process: start-up and file I/O included). CONTRACT §7.
+  // process plug-in's whole process: start-up and file I/O included), "frame-wall" (a
+  // "protocol": "frames" plug-in's request-to-answer round trip). CONTRACT §7, §10.
   std::string timing_source;
 };
 
@@ -56,7 +57,10 @@ ResultRow unflatten(const nlohmann::json& flat, const std::string& where = "resu
 // The fixed columns in order, for writers that need a stable header. Parameter columns come
 // between the identifying columns and the metrics; pass-time columns at the end.
 std::vector<std::string> identifying_columns();  // run_id, run_name, estimator, scene, view, ...
-std::vector<std::string> measured_columns();     // metrics, true_ metrics, timings, context
+// The sequence keys of CONTRACT §10 (scoring/temporal.h computes them), in column order; blank
+// for still views.
+const std::vector<std::string>& sequence_metric_names();
+std::vector<std::string> measured_columns();  // metrics, true_ metrics, timings, context
 
 // A file name for a run name: "raytraced/rays:16/scene:bunny" -> "raytraced__rays-16__scene-bunny".
 std::string file_stem_for(const std::string& run_name);

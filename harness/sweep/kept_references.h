@@ -18,10 +18,23 @@ class KeptReferences {
   // path relative to the output folder.
   std::string keep(EvaluationSession& session, const std::string& scene_name, const View& view,
                    int w, int h, const AoDefinition& definition);
+  // Frame k of a sequence view's reference, copied from `cache_path` (the entry its frame was
+  // scored against, KeptFrame::reference_cache) to references/<keep()'s name>/frame_KKKK.exr, the
+  // layout `aoeval compare --sequence` reads; returns that path relative to the output folder.
+  std::string keep_frame(EvaluationSession& session, const std::string& scene_name,
+                         const View& view, int w, int h, const AoDefinition& definition, int frame,
+                         const std::string& cache_path);
 
  private:
+  std::string stem(EvaluationSession& session, const std::string& scene_name, const View& view,
+                   int w, int h, const AoDefinition& definition) const;
+  void copy(const std::string& from, const std::string& rel);
   std::string out_;
   std::set<std::string> written_;
 };
+
+// "frame_0007.exr": the name of frame k in a frame folder (kept estimates and references, and
+// what `aoeval compare --sequence` reads).
+std::string frame_file_name(int frame);
 
 }  // namespace aoeval

@@ -13,7 +13,6 @@
 #include "drawing/gbuffer_previews.h"
 #include "drawing/plot_workers.h"
 #include "errors.h"
-#include "text_files.h"
 #include "exr_io.h"
 #include "harness/evaluation/background_lane.h"
 #include "harness/evaluation/evaluation.h"
@@ -22,9 +21,11 @@
 #include "harness/results/results_store.h"
 #include "harness/results/suite_record.h"
 #include "harness/sweep/kept_references.h"
+#include "harness/sweep/kept_sequence.h"
 #include "harness/sweep/shard_plan.h"
 #include "harness/sweep/suite.h"
 #include "harness/sweep/sweep_runner.h"
+#include "text_files.h"
 
 namespace aoeval {
 
@@ -47,6 +48,11 @@ class RunImages {
   RunImages(std::string out, std::string run_dir)
       : out_(std::move(out)), run_dir_(std::move(run_dir)), references_(out_) {}
 
+  // A sequence point's kept frames, references and manifest (kept_sequence.h).
+  void keep_sequence(EvaluationSession& session, const SweepPoint& p, const Measurement& m,
+                     const std::string& run_dir) {
+    aoeval::keep_sequence(out_, run_dir, p, m, session, references_);
+  }
   // The reference EXR for (scene, view, resolution, definition) under references/.
   std::string reference(EvaluationSession& session, const std::string& scene_name, const View& view,
                         int w, int h, const AoDefinition& definition) {
@@ -169,9 +175,8 @@ SuiteReportEntry finish_point(const SuitePoint& sp, Measurement& measured,
   row.git_commit = context.git_commit;
   if (row.status != "ok") return entry;
   if (!measured.frames.empty()) {  // before the row is committed: a committed row has its frames
-    const auto timer = stages.time("results CSV + JSON");
-    write_text(frames_csv_path((fs::path(out) / run_dir).string(), p.name),
-               frames_csv(measured.frames));
+    const auto timer = stages.time("sequence frames kept");
+    images.keep_sequence(session, p, measured, run_dir);
   }
   row.estimate_file = estimate_rel;
   const AoDefinition definition = p.estimator->definition(measured.params);

@@ -16,6 +16,7 @@
 #include "harness/results/stage_times.h"
 #include "harness/results/suite_record_io.h"
 #include "harness/sweep/kept_references.h"
+#include "harness/sweep/kept_sequence.h"
 #include "harness/sweep/shard_plan.h"
 #include "harness/sweep/sweep_spec.h"
 #include "text_files.h"
@@ -146,6 +147,28 @@ int run_sweep(const SweepOptions& o, std::string* out_dir) {
   g_interrupted = false;
   auto previous = std::signal(SIGINT, on_sigint);
   EvaluationSession session(spec.reference, spec.timing);
+  // The record is written when an invocation ends, so a SIGKILLed one leaves rows without their
+  // kept references: a resume keeps them again (from the reference cache) for every finished ok
+  // row the record lacks, so the page shows every row, not only those of the last invocation.
+  if (o.resume && o.keep_estimates) {
+    std::map<std::string, const ResultRow*> finished_rows;
+    for (const ResultRow& r : folder.rows()) finished_rows[r.run_name] = &r;
+    for (const auto& p : points) {
+      const auto row = finished_rows.find(p.name);
+      if (row == finished_rows.end() || row->second->status != "ok" ||
+          row->second->estimate_file.empty() || kept.count(p.name))
+        continue;
+      const auto timer = runner_stages.time("references copied");
+      const View& view = session.scene(p.scene).scene.view(p.view);
+      const ParamSet params = resolve_params(p.estimator->name, p.estimator->params, p.overrides,
+                                             "estimator " + p.estimator->name);
+      SuiteReportEntry& entry = kept[p.name];
+      entry.reference_exr = references.keep(session, p.scene, view, p.width, p.height,
+                                            p.estimator->definition(params));
+      entry.true_reference_exr =
+          references.keep(session, p.scene, view, p.width, p.height, true_ao_definition());
+    }
+  }
   Progress progress("sweep " + spec.name, pending.size());
   size_t finished = 0;
   {
@@ -175,8 +198,8 @@ int run_sweep(const SweepOptions& o, std::string* out_dir) {
               references.keep(session, p->scene, view, p->width, p->height, true_ao_definition());
         }
         if (!measured->frames.empty()) {  // before the row: a committed row has its frames
-          const auto timer = runner_stages.time("results CSV + JSON");
-          write_text(frames_csv_path(out, p->name), frames_csv(measured->frames));
+          const auto timer = runner_stages.time("sequence frames kept");
+          keep_sequence(out, "", *p, *measured, session, references, o.keep_estimates);
         }
         {
           const auto timer = runner_stages.time("results SQLite");

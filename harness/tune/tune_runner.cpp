@@ -39,6 +39,38 @@ ResultRow pooled(const ResultRow& first, ResultRow again) {
   return again;
 }
 
+// How many time samples a row's first measurement holds: the spec's repetitions for a still view,
+// the frame count for a sequence (each frame is timed once, CONTRACT §10). A row with more has been
+// re-timed.
+int first_samples(const ResultRow& row, int repetitions) {
+  const auto it = row.metrics.find("seq_frames");
+  return it != row.metrics.end() && it->is_number_integer() ? it->get<int>() : repetitions;
+}
+
+// A row's value of the objective `key`. psnr is null where the images are identical: as good as
+// psnr gets. A sequence score is null where it has no value: settle_frames when no age group got
+// within 1.1 x the steady error, which counts as the sequence's length (it had not settled when the
+// sequence ended); otherwise (nothing disoccluded, a single frame) the objective is undefined for
+// that row and the tune stops with the reason.
+double objective_of(const ResultRow& r, const nlohmann::json& m, const std::string& key,
+                    const std::string& objective, const std::string& where) {
+  const auto it = m.find(key);
+  if (it == m.end())
+    throw InputError(where + ": tune.objective: " + objective + " is absent from " + r.run_name +
+                     (key.rfind("bent_", 0) == 0 ? " (the estimator gives no bent normal)" : ""));
+  if (!it->is_null()) return it->get<double>();
+  if (key == "psnr") return 999.0;
+  if (key == "settle_frames" && m.contains("disocclusion_rmse_excess") &&
+      !m["disocclusion_rmse_excess"].is_null())
+    return m.value("seq_frames", 0.0);
+  const std::string why = key == "settle_frames" || key == "disocclusion_rmse_excess"
+                              ? "no pixel was disoccluded in that sequence; tune it on a "
+                                "sequence where something moves"
+                              : "the sequence has a single frame";
+  throw InputError(where + ": tune.objective: " + objective + " has no value for " + r.run_name +
+                   " (" + why + ")");
+}
+
 // What tune.json says of each trial, beyond the search's Outcome.
 struct TrialRecord {
   double objective = 0.0;  // as the metric reads (not negated)
@@ -141,6 +173,14 @@ int run_tune(const TuneOptions& o) {
     stored[row.run_name] = row;
     return row;
   };
+  // A point through the sweep's own steps (sweep_runner.cpp): a sequence point runs through the
+  // temporal runner (sequence_evaluation.cpp) and its frames.csv is written before its row.
+  auto measure_and_score = [&](EvaluationSession& s, const SweepPoint& p) {
+    Measurement measured = s.measure(evaluation_request(p));
+    if (!measured.frames.empty())
+      write_text(frames_csv_path(out, p.name), frames_csv(measured.frames));
+    return s.score(measured);
+  };
   Progress progress("tune " + spec.name, static_cast<size_t>(spec.evaluations));
   const EvaluateFn evaluate = [&](const nlohmann::json& overrides) {
     SweepSpec one = spec.sweep;
@@ -156,7 +196,7 @@ int run_tune(const TuneOptions& o) {
         continue;
       }
       if (g_interrupted) throw SearchStopped{};
-      rows.push_back(store_row(session.evaluate(evaluation_request(p))));
+      rows.push_back(store_row(measure_and_score(session, p)));
       ++computed;
     }
     Outcome outcome;
@@ -172,34 +212,31 @@ int run_tune(const TuneOptions& o) {
         return s;
       };
       bool all_retimed = true;
-      for (const ResultRow& r : rows) all_retimed = all_retimed && r.repetitions > repetitions;
+      for (const ResultRow& r : rows)
+        all_retimed = all_retimed && r.repetitions > first_samples(r, repetitions);
       record.time = judge_time(samples(), spec.budget_ms, all_retimed);
       if (record.time.verdict == TimeVerdict::borderline) {
         if (!retime_session)
           retime_session = std::make_unique<EvaluationSession>(
               spec.sweep.reference, TimingSpec{spec.sweep.timing.warmup, 2 * repetitions});
         for (size_t v = 0; v < rows.size(); ++v) {
-          if (rows[v].repetitions > repetitions) continue;  // re-timed before an interruption
+          // Re-timed before an interruption.
+          if (rows[v].repetitions > first_samples(rows[v], repetitions)) continue;
           if (g_interrupted) throw SearchStopped{};
-          const SweepPoint& p = points[v];
-          rows[v] = store_row(pooled(rows[v], retime_session->evaluate(evaluation_request(p))));
+          // A sequence point runs its frames once more (one sample a frame); a still view
+          // 2 x repetitions more frames.
+          rows[v] = store_row(pooled(rows[v], measure_and_score(*retime_session, points[v])));
         }
         ++retimed;
         record.time = judge_time(samples(), spec.budget_ms, true);
       }
       record.retimed = false;
       for (const ResultRow& r : rows)
-        record.retimed = record.retimed || r.repetitions > repetitions;
+        record.retimed = record.retimed || r.repetitions > first_samples(r, repetitions);
       double sum = 0.0;
-      for (const ResultRow& r : rows) {
-        const nlohmann::json& m = true_key ? r.true_metrics : r.metrics;
-        if (!m.contains(key))
-          throw InputError(o.spec_path + ": tune.objective: " + spec.objective +
-                           " is absent from " + r.run_name + " (" + spec.estimator->name +
-                           " gives no bent normal)");
-        // psnr is null where the images are identical: as good as psnr gets.
-        sum += m[key].is_null() ? 999.0 : m[key].get<double>();
-      }
+      for (const ResultRow& r : rows)
+        sum += objective_of(r, true_key ? r.true_metrics : r.metrics, key, spec.objective,
+                            o.spec_path);
       record.objective = sum / static_cast<double>(rows.size());
       outcome.objective = spec.maximise ? -record.objective : record.objective;
       outcome.time_ms = record.time.mean_median;
@@ -271,13 +308,15 @@ int run_tune(const TuneOptions& o) {
         {"optimiser_calls", result.calls}}},
       {"optimiser", result.settings},
       {"budget_rule",
-       "time = mean over views of the median frame time; feasible when the mean of the slowest "
+       "time = mean over views of the median frame time (a sequence's: of its per-frame times); "
+       "feasible when the mean of the slowest "
        "repetitions <= budget, infeasible when the mean of the fastest > budget; otherwise the "
-       "point is re-timed once (2 x repetitions more frames, pooled) and feasible when the pooled "
+       "point is re-timed once (2 x repetitions more frames, pooled; a sequence: its frames once "
+       "more) and feasible when the pooled "
        "mean median <= budget"},
       {"noise",
-       {{"objective", key == "rmse_excess"
-                          ? "rmse_excess: the reference's own noise (AO_stderr) removed"
+       {{"objective", key.size() >= 11 && key.compare(key.size() - 11, 11, "rmse_excess") == 0
+                          ? key + ": the reference's own noise (AO_stderr) removed"
                           : "as the metric reads (the reference's noise not removed)"},
         {"seed", "every point runs with the same estimator seed (common random numbers): " +
                      (spec.estimator->find_param("seed")

@@ -6,6 +6,7 @@
 // feasible.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
@@ -163,6 +164,78 @@ TEST(TuneRunner, ContinuesAnInterruptedTuneFromItsRows) {
   // Another spec in the same folder is refused before anything is touched.
   const fs::path other = write_spec(d / "other", synthetic_tune(30));
   EXPECT_THROW(tune(other, d / "resumed"), InputError);
+}
+
+// A real tune over a sequence (CONTRACT §8 and §10): raytraced's rays on an 8-frame static box at
+// 32x24 scored by temporal_rmse_excess. Every point runs through the temporal runner (a sequence
+// row, one time sample a frame, its frames.csv beside it), and the objective each trial reports is
+// its row's temporal_rmse_excess, not the last frame's rmse_excess.
+TEST(TuneRunner, TunesASequenceScoreThroughTheTemporalRunner) {
+  const fs::path d = testutil::test_temp_dir("tune_sequence");
+  const fs::path scene = d / "still.json";
+  std::ofstream(scene) << R"({"objects": [
+      {"name": "floor", "generator": "plane", "params": {"size": [4, 4]}},
+      {"name": "box", "generator": "box", "params": {"size": [0.6, 0.6, 0.6]},
+       "transform": {"translate": [0, 0.3, 0]}}],
+    "views": [{"name": "still", "eye": [0.9, 1.4, 1.3], "target": [0, 0.1, 0], "fov_y_deg": 50,
+               "width": 32, "height": 24, "sequence": {"frames": 8}}]})";
+  const nlohmann::json doc = {{"name", "sequence"},
+                              {"scenes", {scene.string()}},
+                              {"views", {"still"}},
+                              {"reference", {{"spp", 16}, {"sampler", "sobol"}}},
+                              {"timing", {{"warmup", 0}, {"repetitions", 3}}},
+                              {"tune",
+                               {{"estimator", "raytraced"},
+                                {"params", {{"rays", {1, 8}}}},
+                                {"fixed", {{"sampler", "random"}}},
+                                {"objective", "temporal_rmse_excess"},
+                                {"budget_ms", 1e6},
+                                {"evaluations", 3}}}};
+  const fs::path spec = d / "spec.json";
+  std::ofstream(spec) << doc.dump(1);
+  setenv("AOEVAL_CACHE", (d / "cache").c_str(), 1);
+  TuneOptions o;
+  o.spec_path = spec.string();
+  o.out_dir = (d / "out").string();
+  o.database = (d / "results.sqlite").string();
+  o.plot = false;
+  ASSERT_EQ(run_tune(o), 0);
+  const nlohmann::json t = parse_json_file((d / "out" / "tune.json").string());
+  const nlohmann::json rows = parse_json_file((d / "out" / "results.json").string())["rows"];
+  EXPECT_EQ(t["objective"]["key"], "temporal_rmse_excess");
+  ASSERT_EQ(t["trials"].size(), 3u);
+  ASSERT_EQ(rows.size(), 3u);
+  for (const auto& trial : t["trials"]) {
+    const std::string name = trial["run_names"][0];
+    nlohmann::json row;
+    for (const auto& r : rows)
+      if (r["run_name"] == name) row = r;
+    ASSERT_FALSE(row.is_null()) << name;
+    const auto& m = row;  // results.json rows are flat (CONTRACT §4)
+    EXPECT_EQ(m["seq_frames"], 8);
+    EXPECT_EQ(row["repetitions"], 8);  // one timed run per frame, not re-timed
+    EXPECT_FALSE(trial["retimed"].get<bool>());
+    EXPECT_EQ(trial["objective"].get<double>(), m["temporal_rmse_excess"].get<double>());
+    EXPECT_NE(trial["objective"].get<double>(), m["rmse_excess"].get<double>());
+    EXPECT_TRUE(fs::exists(d / "out" / "sequences" / file_stem_for(name) / "frames.csv")) << name;
+  }
+  EXPECT_TRUE(t["feasible"].get<bool>());
+  // The flicker of a mean of n Bernoulli visibilities falls as 1/sqrt(n): the best point found is
+  // the one with most rays.
+  int most = 0;
+  for (const auto& trial : t["trials"]) most = std::max(most, trial["params"]["rays"].get<int>());
+  EXPECT_EQ(t["best"]["params"]["rays"], most);
+
+  // The budget bounds the per-frame time (the trials' time_ms is a median frame time): below any
+  // frame's time no point is feasible, and the tune still ends 0 with no best point.
+  nlohmann::json tight = doc;
+  tight["tune"]["budget_ms"] = 1e-6;
+  std::ofstream(spec) << tight.dump(1);
+  o.out_dir = (d / "tight").string();
+  ASSERT_EQ(run_tune(o), 0);
+  const nlohmann::json tt = parse_json_file((d / "tight" / "tune.json").string());
+  EXPECT_FALSE(tt["feasible"].get<bool>());
+  for (const auto& trial : tt["trials"]) EXPECT_FALSE(trial["feasible"].get<bool>());
 }
 
 }  // namespace

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "corpus.h"
 #include "errors.h"
 #include "estimators/plugins/plugin_registry.h"
 #include "estimators/registry.h"
 #include "harness/scoring/bent_metrics.h"
 #include "harness/scoring/metrics.h"
+#include "harness/scoring/temporal.h"
 #include "json_reader.h"
 
 namespace aoeval {
@@ -16,8 +18,9 @@ namespace {
 
 // Keys whose value is not an error of the estimate: a count of pixels, the reference's own noise.
 // `bias` is signed, so its least value is not its best; mae or rmse measure the same thing.
-const std::vector<std::string> kNotObjectives = {"pixels", "ref_stderr_rms", "bias", "bent_pixels",
-                                                 "bent_ref_stderr"};
+// seq_frames is the sequence's length.
+const std::vector<std::string> kNotObjectives = {"pixels",      "ref_stderr_rms",  "bias",
+                                                 "bent_pixels", "bent_ref_stderr", "seq_frames"};
 const std::vector<std::string> kMaximised = {"ssim", "psnr"};
 
 bool contains(const std::vector<std::string>& list, const std::string& s) {
@@ -98,6 +101,14 @@ std::vector<std::string> tune_objective_keys() {
     if (!contains(kNotObjectives, k)) keys.push_back(k);
   for (const auto& k : bent_metric_keys())
     if (!contains(kNotObjectives, k)) keys.push_back(k);
+  for (const auto& k : tune_sequence_objective_keys()) keys.push_back(k);
+  return keys;
+}
+
+std::vector<std::string> tune_sequence_objective_keys() {
+  std::vector<std::string> keys;
+  for (const auto& k : TemporalScorer::keys())
+    if (!contains(kNotObjectives, k)) keys.push_back(k);
   return keys;
 }
 
@@ -169,6 +180,7 @@ TuneSpec parse_tune_spec(const nlohmann::json& doc, const std::string& file,
                                joined(tune_objective_keys()) + " (or true_ before one)");
   }
   spec.maximise = contains(kMaximised, bare);
+  spec.sequence_objective = contains(tune_sequence_objective_keys(), bare);
   spec.budget_ms = tune.has("budget_ms") ? tune.number("budget_ms", 1e-6, 1e9) : 0.0;
   spec.evaluations = static_cast<int>(tune.integer("evaluations", 60, 1, 100000));
   if (auto o = tune.optional_object("optimiser")) {
@@ -185,6 +197,21 @@ TuneSpec parse_tune_spec(const nlohmann::json& doc, const std::string& file,
   run.estimator = spec.estimator;
   run.fixed = spec.fixed;
   spec.sweep.runs.push_back(run);
+
+  // A sequence score exists only on a sequence view's row (CONTRACT §10): every view the tune
+  // evaluates must be one ("views": "all" takes the still views only, so it names none).
+  if (spec.sequence_objective) {
+    for (const SweepPoint& p : expand_sweep(spec.sweep)) {
+      const std::vector<View> views = load_scene_views(resolve_scene_path(p.scene));
+      for (const View& v : views)
+        if (v.name == p.view && !v.sequence)
+          throw InputError(file + ": tune.objective: '" + spec.objective +
+                           "' is a sequence score (CONTRACT §10) but view '" + p.view +
+                           "' of scene " + p.scene +
+                           " is a still view; name sequence views in \"views\" (e.g. "
+                           "[\"orbit\"] of bunny)");
+    }
+  }
   return spec;
 }
 

@@ -34,10 +34,11 @@ struct TuneSpec {
   const EstimatorInfo* estimator = nullptr;
   std::vector<TuneParam> params;  // declaration order
   nlohmann::json fixed = nlohmann::json::object();
-  std::string objective;   // a metric key, possibly "true_"-prefixed
-  bool maximise = false;   // ssim and psnr grow with quality; every other objective key is an error
-  double budget_ms = 0.0;  // 0 = no time budget
-  int evaluations = 60;    // distinct points (each over every view) the search may evaluate
+  std::string objective;  // a metric key, possibly "true_"-prefixed
+  bool maximise = false;  // ssim and psnr grow with quality; every other objective key is an error
+  bool sequence_objective = false;  // a sequence score (CONTRACT §10): every view is a sequence
+  double budget_ms = 0.0;           // 0 = no time budget
+  int evaluations = 60;  // distinct points (each over every view) the search may evaluate
   std::string algorithm = "direct-l+sbplx";
   uint64_t seed = 1;        // the optimiser's own random numbers (isres), not the estimator's
   nlohmann::json document;  // the spec as read: a re-run must be the same tune to reuse rows
@@ -54,7 +55,11 @@ TuneSpec parse_tune_spec(const nlohmann::json& doc, const std::string& file,
                          const EstimatorLookup& lookup = {});
 TuneSpec load_tune_spec(const std::string& path, const EstimatorLookup& lookup = {});
 
-// The objective keys a tune accepts, without the optional "true_" prefix.
+// The objective keys a tune accepts, without the optional "true_" prefix: the still metrics (§4),
+// the bent-normal metrics and the sequence scores (§10, tune_sequence_objective_keys()).
 std::vector<std::string> tune_objective_keys();
+// The sequence scores a tune accepts (harness/scoring/temporal.h's keys but seq_frames, the
+// sequence's length): they need sequence views, whose rows alone carry them.
+std::vector<std::string> tune_sequence_objective_keys();
 
 }  // namespace aoeval

@@ -3,6 +3,7 @@
 // closed-form problems whose optimum is known.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -103,14 +104,38 @@ TEST(TuneSpec, BadInputNamesTheField) {
   doc = hbao_spec(hbao_tune());
   doc["scens"] = {"bunny"};
   EXPECT_NE(error_of(doc).find("scens"), std::string::npos);
+  // A sequence score on a still view (bunny's first, or "all": still views only) has no value.
+  for (const nlohmann::json& views : {nlohmann::json(), nlohmann::json("all")}) {
+    doc = hbao_spec(hbao_tune());
+    doc["tune"]["objective"] = "steady_rmse_excess";
+    if (!views.is_null()) doc["views"] = views;
+    e = error_of(doc);
+    EXPECT_NE(e.find("tune.objective: 'steady_rmse_excess' is a sequence score"), std::string::npos)
+        << e;
+  }
+  e = with("objective", "seq_frames");
+  EXPECT_NE(e.find("not an error measure"), std::string::npos) << e;
 }
 
+// The sequence scores (CONTRACT §10) on a sequence view (bunny's orbit), the others on the first.
 TEST(TuneSpec, TakesEveryObjectiveKeyAndItsTrueTwin) {
+  const std::vector<std::string> sequence_keys = tune_sequence_objective_keys();
+  EXPECT_EQ(sequence_keys,
+            std::vector<std::string>({"seq_rmse_excess", "steady_rmse_excess", "temporal_rmse",
+                                      "temporal_rmse_excess", "converge_frames", "settle_frames",
+                                      "disocclusion_rmse_excess"}));
   for (const auto& key : tune_objective_keys()) {
+    const bool sequence =
+        std::find(sequence_keys.begin(), sequence_keys.end(), key) != sequence_keys.end();
     for (const std::string prefix : {"", "true_"}) {
       nlohmann::json t = hbao_tune();
       t["objective"] = prefix + key;
-      EXPECT_EQ(error_of(hbao_spec(t)), "") << prefix + key;
+      nlohmann::json doc = hbao_spec(t);
+      if (sequence) doc["views"] = {"orbit"};
+      EXPECT_EQ(error_of(doc), "") << prefix + key;
+      if (sequence) {
+        EXPECT_TRUE(parse_tune_spec(doc, "s").sequence_objective) << key;
+      }
     }
   }
   nlohmann::json t = hbao_tune();

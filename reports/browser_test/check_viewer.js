@@ -86,7 +86,8 @@ async function probeMatchesExr(page, spec) {
   await el.scrollIntoViewIfNeeded();
   await (await el.$('.av-opener')).click();
   await page.waitForFunction((e) => typeof e.aoevalProbe === 'function', el, { timeout: 60000 });
-  const got = await el.evaluate((e, s) => s.map((p) => e.aoevalProbe(p.x, p.y)), spec.samples);
+  // A sequence's samples carry their frame (CONTRACT §11: aoevalProbe(x, y, frame)).
+  const got = await el.evaluate((e, s) => s.map((p) => e.aoevalProbe(p.x, p.y, p.frame)), spec.samples);
   const worst = spec.kind === 'gbuffer' ? { Z: 0, 'N.X': 0, 'N.Y': 0, 'N.Z': 0 }
     : { reference: 0, estimate: 0, error: 0, stderr: 0 };
   got.forEach((g, i) => {
@@ -99,7 +100,30 @@ async function probeMatchesExr(page, spec) {
     if (!(worst[k] <= 1e-6)) fail(`aoevalProbe ${k} differs from the EXR by ${worst[k]} (${spec.b})`);
   console.log(`probe: ${got.length} covered pixels of ${spec.a}${spec.b ? ' and ' + spec.b : ''}: max |difference| ` +
     Object.entries(worst).map(([k, v]) => `${k} ${v}`).join(', '));
+  if (spec.frames) await frameSlider(el, spec);
   return el;
+}
+
+// A sequence's viewer: moving the frame slider to the last kept frame shows that frame (its
+// number in the view state and the probe's values without a frame argument), as play does.
+async function frameSlider(el, spec) {
+  const last = spec.frames.length - 1, want = spec.frames[last];
+  const slider = await el.$$eval('label.av-slider', (ls) => ls.findIndex((l) => l.textContent.startsWith('frame')));
+  if (slider < 0) return fail(`no frame slider on the sequence viewer ${spec.b}`);
+  await el.evaluate((e, a) => {
+    const s = e.querySelectorAll('label.av-slider')[a.slider].querySelector('input');
+    s.value = a.last; s.dispatchEvent(new Event('input'));
+  }, { slider, last });
+  const st = await el.evaluate((e) => e.aoevalView());
+  if (st.frameNumber !== want) fail(`frame slider: the view shows frame ${st.frameNumber}, not ${want} (${spec.b})`);
+  const atLast = spec.samples.filter((p) => p.frame === want);
+  for (const p of atLast) {
+    const g = await el.evaluate((e, q) => e.aoevalProbe(q.x, q.y), p);
+    if (Math.abs(g.estimate - p.estimate) > 1e-6 || Math.abs(g.reference - p.reference) > 1e-6)
+      fail(`frame slider: frame ${want}'s pixel (${p.x}, ${p.y}) probes ${g.estimate}, the EXR holds ${p.estimate}`);
+  }
+  const shown = await el.$eval('label.av-slider output', (o) => o.textContent).catch(() => '');
+  console.log(`frame slider: ${spec.frames.length} kept frames, moved to frame ${want}; ${atLast.length} probes of it match (${shown})`);
 }
 
 // Screen position of image pixel (x, y)'s centre in panel `i` of an opened viewer.

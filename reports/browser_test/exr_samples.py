@@ -6,6 +6,9 @@
 # test zooms to, the darkest compared pixel of the reference (a crease: where AO errors live).
 #
 # A G-buffer gallery page (viewers of kind "gbuffer"): its Z and N.X/Y/Z at covered pixels.
+# A sequence's viewer (data with several frames, CONTRACT §10): the samples are spread over its
+# first, middle and last frame, each with its sequence frame number ("frame"), and the viewer's
+# frame numbers are listed ("frames") for the slider check.
 #
 #   exr_samples.py PAGE.html COUNT OUT.json
 import json, os, re, sys
@@ -23,10 +26,14 @@ def channels(path, names):
     return {n: pixels[:, :, spec.channelindex(n)] for n in names}
 
 
-def source(page_dir, script):
-    # viewer-data/NAME.js names the EXR(s) it came from: "source": [...]
+def record(page_dir, script):
+    # viewer-data/NAME.js names the EXR(s) it came from: "source": [...], one per frame
     text = open(os.path.join(page_dir, script)).read()
-    return json.loads(text[text.index("]=") + 2:].rstrip().rstrip(";"))["source"][0]
+    return json.loads(text[text.index("]=") + 2:].rstrip().rstrip(";"))
+
+
+def source(page_dir, script):
+    return record(page_dir, script)["source"][0]
 
 
 def main():
@@ -48,21 +55,35 @@ def main():
                         **{n: float(g[n][ys[k], xs[k]]) for n in names}) for k in pick]
         result.append({"a": a, "kind": "gbuffer", "samples": samples})
     for a, b in viewers:
-        ref = channels(os.path.join(page_dir, source(page_dir, a)), ["AO", "AO_stderr", "A"])
-        est = channels(os.path.join(page_dir, source(page_dir, b)), ["AO", "A"])
-        covered = (ref["A"] > 0.5) & (est["A"] > 0.5)
-        ys, xs = np.nonzero(covered)
-        dark = np.argmin(np.where(covered, ref["AO"], np.inf))
-        pick = rng.choice(len(xs), size=min(count, len(xs)), replace=False)
-        samples = []
-        for k in pick:
-            x, y = int(xs[k]), int(ys[k])
-            r, e, s = ref["AO"][y, x], est["AO"][y, x], ref["AO_stderr"][y, x]
-            # float32 values as exact doubles; the error subtracted in float32, as the EXRs would.
-            samples.append({"x": x, "y": y, "reference": float(r), "estimate": float(e),
-                            "error": float(np.float32(e) - np.float32(r)), "stderr": float(s)})
-        focus = {"x": int(dark % ref["AO"].shape[1]), "y": int(dark // ref["AO"].shape[1])}
-        result.append({"a": a, "b": b, "samples": samples, "focus": focus})
+        ra, rb = record(page_dir, a), record(page_dir, b)
+        n = len(ra["source"])
+        if len(rb["source"]) != n:
+            sys.exit(f"exr_samples.py: {a} has {n} frames, {b} {len(rb['source'])}")
+        numbers = ra.get("frame_numbers", list(range(n)))
+        picks = sorted({0, n // 2, n - 1})
+        samples, focus = [], None
+        for i in picks:
+            ref = channels(os.path.join(page_dir, ra["source"][i]), ["AO", "AO_stderr", "A"])
+            est = channels(os.path.join(page_dir, rb["source"][i]), ["AO", "A"])
+            covered = (ref["A"] > 0.5) & (est["A"] > 0.5)
+            ys, xs = np.nonzero(covered)
+            if focus is None:
+                dark = np.argmin(np.where(covered, ref["AO"], np.inf))
+                focus = {"x": int(dark % ref["AO"].shape[1]), "y": int(dark // ref["AO"].shape[1])}
+            pick = rng.choice(len(xs), size=min(max(1, count // len(picks)), len(xs)), replace=False)
+            for k in pick:
+                x, y = int(xs[k]), int(ys[k])
+                r, e, s = ref["AO"][y, x], est["AO"][y, x], ref["AO_stderr"][y, x]
+                # float32 values as exact doubles; the error subtracted in float32, as the EXRs would.
+                sample = {"x": x, "y": y, "reference": float(r), "estimate": float(e),
+                          "error": float(np.float32(e) - np.float32(r)), "stderr": float(s)}
+                if n > 1:
+                    sample["frame"] = numbers[i]
+                samples.append(sample)
+        entry = {"a": a, "b": b, "samples": samples, "focus": focus}
+        if n > 1:
+            entry["frames"] = numbers
+        result.append(entry)
     with open(out, "w") as f:
         json.dump(result, f)
 

@@ -134,6 +134,29 @@ if [ "$checker" -ne 1 ] || ! grep -q "aoevalProbe estimate differs" viewer-check
 fi
 NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" \
   --screenshots "$build/test-artifacts" --samples samples.json suite-b/index.html
+# A sequence sweep's page (CONTRACT §10-11): its viewers hold every kept frame; aoevalProbe(x, y,
+# frame) equals each frame's EXR floats, and the frame slider shows the frame it is moved to.
+cat >slide.json <<'JSON'
+{"objects": [{"name": "floor", "generator": "plane", "params": {"size": [4, 4]}},
+             {"name": "box", "generator": "box", "params": {"size": [0.5, 0.5, 0.5]}}],
+ "views": [{"name": "slide", "eye": [0, 1.2, 1.6], "target": [0, 0.2, 0], "fov_y_deg": 50,
+            "width": 48, "height": 36,
+            "sequence": {"frames": 6, "fps": 10,
+              "camera": [{"frame": 5, "eye": [0.4, 1.2, 1.6], "target": [0.1, 0.2, 0]}],
+              "objects": {"box": [{"frame": 0, "translate": [-0.4, 0, 0]},
+                                  {"frame": 5, "translate": [0.4, 0, 0]}]}}}]}
+JSON
+cat >seq.json <<JSON
+{"name": "seq", "scenes": ["$work/slide.json"], "views": ["slide"],
+ "reference": {"spp": 16, "sampler": "sobol"}, "timing": {"warmup": 0, "repetitions": 1},
+ "runs": [{"estimator": "raytraced", "fixed": {"rays": 2}}]}
+JSON
+expect_status 0 "$aoeval" sweep seq.json --out seq --db seq.sqlite
+grep -q '<section class="sequence" ' seq/index.html || { echo "browser_test: no sequence section"; exit 1; }
+/usr/bin/python3 "$here/exr_samples.py" seq/index.html 60 seq-samples.json
+grep -q '"frames"' seq-samples.json || { echo "browser_test: the sequence page has no multi-frame viewer"; exit 1; }
+NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --interact -1 \
+  --screenshots "$build/test-artifacts" --samples seq-samples.json seq/index.html
 # The G-buffer gallery's viewers: Z and N under the probe equal the EXR's.
 /usr/bin/python3 "$here/exr_samples.py" suite-b/gbuffers/index.html 100 gbuffer-samples.json
 NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --interact -1 \

@@ -5,7 +5,8 @@
 // Why script files: Chromium forbids fetch() and canvas pixel reads of file:// images, but a
 // <script src> loads from file://. So reports/viewer.cpp writes each EXR's channels as a script
 // (viewer-data/NAME.js) that stores, in window.AOEVAL_DATA[NAME], {w, h, frames, channels: {CH:
-// [base64 of little-endian float32 per frame]}, mask: [base64 of one byte per pixel per frame]};
+// [base64 of little-endian float32 per frame]}, mask: [base64 of one byte per pixel per frame]}
+// and, for a sequence's kept frames, frame_numbers (the sequence frame of each) and fps;
 // a viewer loads its scripts only when it is opened, so the page paints as fast as without it.
 //
 // Markup (reports/viewer.cpp writes it): <div class="aoeval-viewer" data-kind="compare|gbuffer"
@@ -129,6 +130,9 @@
     const kind = el.dataset.kind || 'compare';
     const labels = (el.dataset.labels || 'reference,estimate').split(',');
     const w = recs[0].w, h = recs[0].h, frames = recs[0].frames || 1;
+    // Sequence frame numbers of the data's frames (a long sequence keeps some of its frames):
+    // the slider, the readout and aoevalProbe's frame argument speak in them.
+    const numbers = recs[0].frame_numbers || Array.from({ length: frames }, (_, i) => i);
     for (const r of recs) if (r.w !== w || r.h !== h) throw new Error('viewer: images differ in size');
     const st = { scale: 1, tx: 0, ty: 0, grid: true, flip: false, hoverFlip: false, exposure: 0,
       contrast: 1, falseColour: false, frame: 0, probe: null };
@@ -256,10 +260,10 @@
 
     // The values under the cursor (CONTRACT §11): the EXRs' floats, unrounded.
     function probe(x, y, frame) {
-      const f = frame === undefined ? st.frame : frame;
+      const f = frame === undefined ? st.frame : numbers.indexOf(frame);
       if (!(Number.isInteger(x) && Number.isInteger(y) && x >= 0 && y >= 0 && x < w && y < h))
         throw new RangeError('aoevalProbe: pixel (' + x + ', ' + y + ') is outside ' + w + 'x' + h);
-      if (!(Number.isInteger(f) && f >= 0 && f < frames)) throw new RangeError('aoevalProbe: no frame ' + f);
+      if (!(Number.isInteger(f) && f >= 0 && f < frames)) throw new RangeError('aoevalProbe: no frame ' + frame + ' (frames ' + numbers.join(', ') + ')');
       const i = y * w + x;
       if (kind === 'gbuffer') {
         const out = {};
@@ -273,7 +277,7 @@
       if (!st.probe) return;
       const [x, y] = st.probe, v = probe(x, y);
       const parts = Object.keys(v).map((k) => k + ' ' + fmt(v[k]));
-      readout.textContent = 'pixel (' + x + ', ' + y + ')' + (frames > 1 ? ' frame ' + st.frame : '') + ': ' +
+      readout.textContent = 'pixel (' + x + ', ' + y + ')' + (frames > 1 ? ' frame ' + numbers[st.frame] : '') + ': ' +
         parts.join(' · ') + (mask(st.frame)[y * w + x] ? '' : ' (not compared: uncovered)');
     }
 
@@ -323,13 +327,14 @@
       flipButton.addEventListener('mouseleave', function () { st.hoverFlip = false; repaint(); });
     }
     const falseButton = button('false colour', 'AO panels in false colour (inferno) with its colour bar (m)', function () { st.falseColour = !st.falseColour; falseButton.classList.toggle('av-on', st.falseColour); repaint(); });
-    function slider(label, min, max, step, value, set) {
+    function slider(label, min, max, step, value, set, show) {
+      show = show || String;
       const l = tag('label', 'av-slider', bar, label + ' ');
       const s = tag('input', '', l);
       s.type = 'range'; s.min = min; s.max = max; s.step = step; s.value = value;
-      const out = tag('output', '', l, String(value));
-      s.addEventListener('input', function () { set(Number(s.value)); out.textContent = s.value; repaint(); });
-      return { sync: function (v) { s.value = v; out.textContent = String(v); } };
+      const out = tag('output', '', l, show(value));
+      s.addEventListener('input', function () { set(Number(s.value)); out.textContent = show(Number(s.value)); repaint(); });
+      return { sync: function (v) { s.value = v; out.textContent = show(v); } };
     }
     const exposure = slider('exposure', -8, 8, 0.25, 0, function (v) { st.exposure = v; });
     const contrast = slider('contrast', 0.25, 4, 0.05, 1, function (v) { st.contrast = v; });
@@ -340,7 +345,7 @@
       timer = setInterval(function () { setFrame(st.frame + 1); }, 1000 / (recs[0].fps || 10));
     }
     if (frames > 1) {  // sequences (CONTRACT §10): a frame slider and play
-      frameSlider = slider('frame', 0, frames - 1, 1, 0, function (v) { st.frame = v; });
+      frameSlider = slider('frame', 0, frames - 1, 1, 0, function (v) { st.frame = v; showProbe(); }, (i) => String(numbers[i]));
       button('play', 'play the frames (p)', play);
     }
     button('?', 'keyboard help (?)', function () { help.hidden = !help.hidden; });
@@ -369,7 +374,7 @@
     repaint();
     el.aoevalProbe = probe;
     // For tests and scripts: the view's state (zoom in screen pixels per image pixel, pan, flip...).
-    el.aoevalView = function () { return JSON.parse(JSON.stringify(st)); };
+    el.aoevalView = function () { return Object.assign(JSON.parse(JSON.stringify(st)), { frameNumber: numbers[st.frame] }); };
     el.aoevalViewer = { zoom: zoom, pan: pan, close: close };
   }
 

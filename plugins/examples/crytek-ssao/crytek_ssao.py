@@ -10,6 +10,14 @@ in this folder. G.exr holds the channels of CONTRACT §4 (A, Z, P.X.., N.X.., Ng
 and the camera as JSON in its "aoeval:camera" header attribute. P.json maps every parameter of
 estimator.json to its value. Anything written to stderr is quoted when the run fails.
 
+Over time, the same program serves `"protocol": "frames"` (CONTRACT §10; the crytek-ssao-frames
+example runs it so): started once as `python3 crytek_ssao.py --protocol frames`, it reads one JSON
+request per line on stdin, {"frame": K, "gbuffer": G, "params": P, "out": O}, computes that frame
+and answers {"frame": K, "ok": true} (or {"frame": K, "error": "..."}) on stdout, until EOF. Its
+imports (numpy, OpenImageIO: most of a run's time at small sizes) are then paid once per sequence,
+not once per frame. P.json's seed is the frame's (seed + K, the seed rule), so the sample offsets
+change every frame.
+
 Algorithm (Mittring 2007, §8.5.4.3): for each pixel's point P, `samples` points S_i uniform in the
 ball of radius R around P (reflected into the normal's hemisphere when `hemisphere`, after Filion
 and McNaughton 2008) are projected to the screen; S_i is occluded when the depth buffer there is
@@ -79,36 +87,60 @@ def ball_offsets(seed, samples, n):
     return out
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--gbuffer", required=True)
-    ap.add_argument("--params", required=True)
-    ap.add_argument("--out", required=True)
-    ap.add_argument("--frames", type=int, default=1)
-    args = ap.parse_args()
-
-    g, camera = read_gbuffer(args.gbuffer)
-    with open(args.params) as f:
+def estimate(gbuffer, params, out, frames=1):
+    """One frame: reads the G-buffer and the parameters, writes AO and its timing file."""
+    g, camera = read_gbuffer(gbuffer)
+    with open(params) as f:
         p = json.load(f)
     n = int(np.count_nonzero(g["A"] > 0.5))
     offsets = ball_offsets(p["seed"], p["samples"], n)
 
     frame_ms = []
-    for _ in range(max(1, args.frames)):
+    for _ in range(max(1, frames)):
         t0 = time.perf_counter()
         ao = crytek_ssao(g, camera, p, offsets)
         frame_ms.append(1000.0 * (time.perf_counter() - t0))
 
     spec = oiio.ImageSpec(ao.shape[1], ao.shape[0], 1, "float")
     spec.channelnames = ("AO",)
-    out = oiio.ImageOutput.create(args.out)
+    image = oiio.ImageOutput.create(out)
     # (height, width, 1): OpenImageIO 2.4's Python binding misreads a 2-D array.
-    if out is None or not out.open(args.out, spec) or not out.write_image(ao[:, :, None]):
-        sys.exit("cannot write %s: %s" % (args.out, oiio.geterror()))
-    out.close()
+    if image is None or not image.open(out, spec) or not image.write_image(ao[:, :, None]):
+        sys.exit("cannot write %s: %s" % (out, oiio.geterror()))
+    image.close()
     # Optional: our own per-frame times, so the row times the algorithm, not Python's start-up.
-    with open(args.out + ".timing.json", "w") as f:
+    with open(out + ".timing.json", "w") as f:
         json.dump({"frame_ms": frame_ms}, f)
+
+
+def serve_frames():
+    """The frames protocol: one request line in, one answer line out (flushed), until EOF."""
+    for line in sys.stdin:
+        request = json.loads(line)
+        answer = {"frame": request["frame"]}
+        try:
+            estimate(request["gbuffer"], request["params"], request["out"])
+            answer["ok"] = True
+        except Exception as e:  # the frame fails, with its reason; the program goes on
+            print("frame %d: %r" % (request["frame"], e), file=sys.stderr)
+            answer["error"] = repr(e)
+        print(json.dumps(answer), flush=True)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--protocol", choices=["run", "frames"], default="run")
+    ap.add_argument("--gbuffer")
+    ap.add_argument("--params")
+    ap.add_argument("--out")
+    ap.add_argument("--frames", type=int, default=1)
+    args = ap.parse_args()
+    if args.protocol == "frames":
+        serve_frames()
+    elif not (args.gbuffer and args.params and args.out):
+        ap.error("--gbuffer, --params and --out are required (or --protocol frames)")
+    else:
+        estimate(args.gbuffer, args.params, args.out, args.frames)
 
 
 if __name__ == "__main__":

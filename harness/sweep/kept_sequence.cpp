@@ -1,0 +1,58 @@
+#include "harness/sweep/kept_sequence.h"
+
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "exr_io.h"
+#include "harness/evaluation/background_lane.h"
+#include "harness/results/results_store.h"
+#include "text_files.h"
+
+namespace aoeval {
+
+namespace fs = std::filesystem;
+
+void keep_sequence(const std::string& out, const std::string& base, const SweepPoint& p,
+                   const Measurement& m, EvaluationSession& session, KeptReferences& references,
+                   bool keep_frames) {
+  // The point's folder relative to <out>: where frames.csv goes.
+  const fs::path dir_rel =
+      fs::path(frames_csv_path(base.empty() ? "." : base, p.name)).parent_path().lexically_normal();
+  const View& view = *m.view;
+  const AoDefinition definition = p.estimator->definition(m.params);
+  nlohmann::json manifest = {{"run_name", p.name},
+                             {"frames", view.frame_count()},
+                             {"fps", view.sequence ? view.sequence->fps : 0.0},
+                             {"width", m.width},
+                             {"height", m.height}};
+  nlohmann::json kept = nlohmann::json::array();
+  for (const KeptFrame& f : keep_frames ? m.kept_frames : std::vector<KeptFrame>{}) {
+    const std::string estimate = (dir_rel / frame_file_name(f.frame)).string();
+    write_exr((fs::path(out) / estimate).string(), f.estimate, f.attributes);
+    nlohmann::json entry = {{"frame", f.frame}, {"estimate", estimate}};
+    if (!f.reference_cache.empty())
+      entry["reference"] = references.keep_frame(session, p.scene, view, m.width, m.height,
+                                                 definition, f.frame, f.reference_cache);
+    kept.push_back(entry);
+    BackgroundLane::checkpoint();  // a timed frame loop may wait for no more than one frame
+  }
+  manifest["kept"] = kept;
+  nlohmann::json by_frame = nlohmann::json::array(), disoccluded = nlohmann::json::array();
+  for (const auto& f : m.frames) {
+    by_frame.push_back(f.value("rmse_excess", nlohmann::json()));
+    disoccluded.push_back(f.value("disoccluded_pixels", 0));
+  }
+  manifest["rmse_excess_by_frame"] = by_frame;
+  manifest["disoccluded_pixels"] = disoccluded;
+  nlohmann::json by_age = nlohmann::json::array();
+  for (const auto& [age, excess] : m.rmse_excess_by_age)
+    by_age.push_back(
+        {{"age", age},
+         {"rmse_excess", std::isfinite(excess) ? nlohmann::json(excess) : nlohmann::json()}});
+  manifest["rmse_excess_by_age"] = by_age;
+  write_text((fs::path(out) / dir_rel / "sequence.json").string(), manifest.dump(1) + "\n");
+  write_text((fs::path(out) / dir_rel / "frames.csv").string(), frames_csv(m.frames));
+}
+
+}  // namespace aoeval

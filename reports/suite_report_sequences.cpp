@@ -1,0 +1,312 @@
+#include "reports/suite_report_sequences.h"
+
+#include <OpenImageIO/imagebufalgo.h>
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "ao_exr.h"
+#include "drawing/error_maps.h"
+#include "drawing/plot.h"
+#include "errors.h"
+#include "exr_io.h"
+#include "harness/results/results_store.h"
+#include "reports/html.h"
+#include "reports/suite_report_leaderboard.h"
+#include "reports/suite_report_mosaics.h"
+#include "reports/viewer.h"
+#include "text_files.h"
+
+namespace aoeval {
+
+namespace fs = std::filesystem;
+
+std::string sequence_folder(const ResultRow& row) {
+  // estimate_file is <base>/estimates/<stem>.exr; its frames are in <base>/sequences/<stem>/.
+  const fs::path base = row.estimate_file.empty()
+                            ? fs::path(".")
+                            : fs::path(row.estimate_file).parent_path().parent_path();
+  return fs::path(frames_csv_path(base.empty() ? "." : base.string(), row.run_name))
+      .parent_path()
+      .lexically_normal()
+      .string();
+}
+
+namespace {
+
+const float kCanvas[3] = {0.12f, 0.12f, 0.12f};  // the error maps' dark canvas
+constexpr int kGap = 4;
+
+// Images side by side (or one above the other), top- (left-) aligned on the dark canvas.
+OIIO::ImageBuf stack(const std::vector<OIIO::ImageBuf>& parts, bool across) {
+  int w = 0, h = 0;
+  for (const auto& p : parts) {
+    const OIIO::ROI r = p.roi();
+    w = across ? w + r.width() + (w ? kGap : 0) : std::max(w, r.width());
+    h = across ? std::max(h, r.height()) : h + r.height() + (h ? kGap : 0);
+  }
+  OIIO::ImageBuf out(OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::UINT8));
+  OIIO::ImageBufAlgo::fill(out, {kCanvas[0], kCanvas[1], kCanvas[2]});
+  int at = 0;
+  for (const auto& p : parts) {
+    OIIO::ImageBufAlgo::paste(out, across ? at : 0, across ? 0 : at, 0, 0, p);
+    at += (across ? p.roi().width() : p.roi().height()) + kGap;
+  }
+  return out;
+}
+
+// One kept frame's pair of images, read through the one AO-EXR reader.
+struct FramePair {
+  int frame = 0;
+  AoExr ref, est;
+  std::vector<uint8_t> mask;
+};
+FramePair read_pair(const fs::path& out, const nlohmann::json& kept) {
+  FramePair p;
+  p.frame = kept.at("frame").get<int>();
+  p.ref = read_ao_exr((out / kept.at("reference").get<std::string>()).string());
+  p.est = read_ao_exr((out / kept.at("estimate").get<std::string>()).string());
+  if (p.ref.width != p.est.width || p.ref.height != p.est.height)
+    throw InputError(p.est.path + ": not the size of " + p.ref.path);
+  p.mask.resize(p.ref.ao.size());
+  for (size_t k = 0; k < p.mask.size(); ++k)
+    p.mask[k] = p.ref.coverage[k] > 0.5f && p.est.coverage[k] > 0.5f;
+  return p;
+}
+
+// The strip's frames (indices into `kept`): the first, the one with most disoccluded pixels
+// (the middle one when nothing was disoccluded: a static camera) and the last.
+std::vector<size_t> strip_frames(const nlohmann::json& kept, const nlohmann::json& disoccluded) {
+  size_t heavy = kept.size() / 2;
+  int most = 0;
+  for (size_t i = 1; i < kept.size(); ++i) {
+    const int k = kept[i]["frame"].get<int>();
+    const int n = k < static_cast<int>(disoccluded.size()) ? disoccluded[k].get<int>() : 0;
+    if (n > most) {
+      most = n;
+      heavy = i;
+    }
+  }
+  std::vector<size_t> pick = {0, heavy, kept.size() - 1};
+  pick.erase(std::unique(pick.begin(), pick.end()), pick.end());
+  return pick;
+}
+
+// reference | estimate | |error| per strip frame, one error scale for all; returns the scale.
+float draw_strip(const fs::path& out, const nlohmann::json& kept, const std::vector<size_t>& pick,
+                 const fs::path& png) {
+  std::vector<FramePair> pairs;
+  float p99 = 0.0f;
+  for (size_t i : pick) {
+    pairs.push_back(read_pair(out, kept[i]));
+    const FramePair& f = pairs.back();
+    p99 = std::max(
+        p99, abs_error_p99(f.ref.width, f.ref.height, f.ref.ao.data(), f.est.ao.data(), f.mask));
+  }
+  const float scale = nice_ceiling(p99);
+  std::vector<OIIO::ImageBuf> rows;
+  for (const FramePair& f : pairs) {
+    const int w = f.ref.width, h = f.ref.height;
+    const std::string frame = "frame " + std::to_string(f.frame);
+    rows.push_back(stack({ao_image(w, h, f.ref.ao.data(), f.mask, "reference, " + frame),
+                          ao_image(w, h, f.est.ao.data(), f.mask, "estimate, " + frame),
+                          abs_error_map(w, h, f.ref.ao.data(), f.est.ao.data(), f.mask, scale)},
+                         true));
+  }
+  write_image(png.string(), stack(rows, false));
+  return scale;
+}
+
+// reference | estimate of every kept frame as an animated GIF at the sequence's fps: GIF because
+// OpenImageIO writes it (no new package) and every browser plays it in an <img> without a script;
+// its 256-entry palette holds the 8-bit grey panels exactly (README "AO over time" has sizes).
+void write_video(const fs::path& out, const nlohmann::json& kept, double fps, const fs::path& gif) {
+  std::vector<OIIO::ImageBuf> frames;
+  for (const auto& k : kept) {
+    const FramePair f = read_pair(out, k);
+    const int w = f.ref.width, h = f.ref.height;
+    frames.push_back(stack(
+        {ao_image(w, h, f.ref.ao.data(), f.mask, "reference, frame " + std::to_string(f.frame)),
+         ao_image(w, h, f.est.ao.data(), f.mask, "estimate")},
+        true));
+  }
+  const std::string temp = temporary_path_for(gif.string());
+  auto writer = OIIO::ImageOutput::create(temp);
+  if (!writer) throw std::runtime_error(gif.string() + ": OpenImageIO cannot write GIF");
+  OIIO::ImageSpec spec = frames.front().spec();
+  const int rate[2] = {static_cast<int>(std::lround(fps > 0.0 ? fps : 10.0)), 1};
+  spec.attribute("FramesPerSecond", OIIO::TypeRational, rate);
+  spec.attribute("oiio:Movie", 1);
+  spec.attribute("gif:LoopCount", 0);  // loop for ever
+  const std::vector<OIIO::ImageSpec> specs(frames.size(), spec);
+  bool ok = writer->open(temp, static_cast<int>(specs.size()), specs.data());
+  for (size_t i = 0; ok && i < frames.size(); ++i) {
+    if (i > 0) ok = writer->open(temp, spec, OIIO::ImageOutput::AppendSubimage);
+    ok = ok && writer->write_image(OIIO::TypeDesc::UINT8, frames[i].localpixels());
+  }
+  ok = writer->close() && ok;
+  if (!ok) {
+    std::error_code ec;
+    fs::remove(temp, ec);
+    throw std::runtime_error(gif.string() + ": " + writer->geterror());
+  }
+  commit_temporary(temp, gif.string());
+}
+
+// rmse_excess by frame (steady_rmse_excess dashed over the frames it averages) | by frames since
+// disocclusion.
+PlotSpec chart_of(const nlohmann::json& manifest, const ResultRow& row) {
+  PlotSpec by_frame, by_age;
+  by_frame.title = "rmse_excess by frame";
+  by_frame.x_label = "frame";
+  by_frame.y_label = "rmse_excess (matched reference)";
+  PlotSeries frames;
+  frames.label = "rmse_excess";
+  const auto& values = manifest["rmse_excess_by_frame"];
+  for (size_t k = 0; k < values.size(); ++k)
+    if (values[k].is_number()) {
+      frames.x.push_back(static_cast<double>(k));
+      frames.y.push_back(values[k].get<double>());
+    }
+  by_frame.series.push_back(frames);
+  const auto steady = row.metrics.find("steady_rmse_excess");
+  if (steady != row.metrics.end() && steady->is_number() && !values.empty()) {
+    PlotSeries s;
+    s.label = "steady_rmse_excess";
+    s.dashed = true;
+    s.x = {std::floor(values.size() / 2.0), static_cast<double>(values.size() - 1)};
+    s.y = {steady->get<double>(), steady->get<double>()};
+    by_frame.series.push_back(s);
+  }
+  by_age.title = "rmse_excess by frames since disocclusion";
+  by_age.x_label = "frames since the pixel was disoccluded";
+  by_age.y_label = "rmse_excess";
+  PlotSeries ages;
+  ages.marker = "o";
+  for (const auto& a : manifest["rmse_excess_by_age"])
+    if (a["rmse_excess"].is_number()) {
+      ages.x.push_back(a["age"].get<double>());
+      ages.y.push_back(a["rmse_excess"].get<double>());
+    }
+  if (ages.x.empty())
+    by_age.notes.push_back("no pixel was disoccluded");
+  else
+    by_age.series.push_back(ages);
+  PlotSpec spec;
+  spec.title = row.run_name;
+  spec.width_in = 10.0;
+  spec.height_in = 3.6;
+  spec.panels = {by_frame, by_age};
+  return spec;
+}
+
+std::string value_of(const nlohmann::json& metrics, const std::string& key) {
+  const auto it = metrics.find(key);
+  if (it == metrics.end() || !it->is_number()) return "&ndash;";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", it->get<double>());
+  return buf;
+}
+
+std::string link(const std::string& href, const std::string& text) {
+  return "<a href=\"" + html_escape(href) + "\">" + html_escape(text) + "</a>";
+}
+
+}  // namespace
+
+std::string sequence_sections(const std::string& out_dir, const SuiteReport& report) {
+  const fs::path out(out_dir);
+  std::ostringstream h;
+  std::vector<std::pair<PlotSpec, std::string>> charts;
+  size_t sections = 0;
+  for (const auto& e : report.entries) {
+    const ResultRow& r = e.row;
+    if (r.status != "ok" || !r.metrics.contains("seq_frames")) continue;
+    const fs::path dir = sequence_folder(r), manifest_path = out / dir / "sequence.json";
+    std::error_code ec;
+    if (!fs::exists(manifest_path, ec)) continue;  // rows of an older aoeval: no kept frames
+    nlohmann::json m;
+    try {
+      std::ifstream in(manifest_path);
+      m = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception& x) {
+      throw InputError(manifest_path.string() + ": not a sequence manifest (" + x.what() + ")");
+    }
+    nlohmann::json kept = nlohmann::json::array();  // the frames with both images
+    for (const auto& k : m.value("kept", nlohmann::json::array()))
+      if (k.contains("reference") && fs::exists(out / k["estimate"].get<std::string>(), ec) &&
+          fs::exists(out / k["reference"].get<std::string>(), ec))
+        kept.push_back(k);
+    ++sections;
+    h << "<section class=\"sequence\" id=\"sequence-" << slug(r.run_name) << "\"><h3>"
+      << html_escape(r.estimator) << " " << html_escape(params_of(r)) << ", "
+      << html_escape(r.scene) << "/" << html_escape(r.view) << " " << r.width << "&times;"
+      << r.height << ", " << m.value("frames", 0) << " frames</h3>\n<table class=\"metrics\"><tr>";
+    for (const auto& k : sequence_metric_names()) h << "<th>" << k << "</th>";
+    h << "</tr>\n<tr>";
+    for (const auto& k : sequence_metric_names()) h << "<td>" << value_of(r.metrics, k) << "</td>";
+    h << "</tr></table>\n";
+    if (!kept.empty()) {
+      std::vector<fs::path> sources = {manifest_path};
+      std::vector<std::string> refs, ests;
+      std::vector<int> numbers;
+      for (const auto& k : kept) {
+        refs.push_back(k["reference"].get<std::string>());
+        ests.push_back(k["estimate"].get<std::string>());
+        numbers.push_back(k["frame"].get<int>());
+        sources.push_back(out / refs.back());
+        sources.push_back(out / ests.back());
+      }
+      const std::vector<size_t> pick =
+          strip_frames(kept, m.value("disoccluded_pixels", nlohmann::json::array()));
+      const std::string strip = (dir / "strip.png").string(), video = (dir / "video.gif").string();
+      if (!up_to_date(out / strip, sources)) draw_strip(out, kept, pick, out / strip);
+      if (!up_to_date(out / video, sources))
+        write_video(out, kept, m.value("fps", 0.0), out / video);
+      const double fps = m.value("fps", 0.0);
+      ViewerSpec spec;
+      spec.a = write_viewer_data(out_dir, refs, reference_viewer_channels(), numbers, fps);
+      spec.b = write_viewer_data(out_dir, ests, estimate_viewer_channels(), numbers, fps);
+      std::string picked;
+      for (size_t i : pick) picked += (picked.empty() ? "" : ", ") + std::to_string(numbers[i]);
+      h << "<figure>"
+        << viewer_html(spec, "<img class=\"mosaic strip\" src=\"" + html_escape(strip) +
+                                 "\" alt=\"" + html_escape(r.run_name) + ": frames " + picked +
+                                 "\">")
+        << "<figcaption>Frames " << picked
+        << " (the first, the one with most disoccluded pixels, the last): reference | estimate | "
+           "|estimate &minus; reference|, one error scale for the three. The viewer holds all "
+        << kept.size() << " kept frames (frame slider, play: , . p).</figcaption></figure>\n"
+        << "<figure><img class=\"video\" src=\"" << html_escape(video) << "\" alt=\""
+        << html_escape(r.run_name) << ": video\"><figcaption>Reference | estimate, every kept "
+        << "frame at " << value_of(m, "fps") << " frames per second (animated GIF).</figcaption>"
+        << "</figure>\n";
+    }
+    const std::string chart = (dir / "rmse_excess.png").string();
+    if (!up_to_date(out / chart, {manifest_path}))
+      charts.emplace_back(chart_of(m, r), (out / chart).string());
+    h << "<figure><img class=\"chart\" src=\"" << html_escape(chart) << "\" alt=\""
+      << html_escape(r.run_name) << ": rmse_excess by frame and by frames since disocclusion\">"
+      << "<figcaption>Left: each frame's rmse_excess, steady_rmse_excess dashed over the frames it "
+         "averages (the last half). Right: rmse_excess over pixels grouped by the frames since "
+         "they were last disoccluded (settle_frames is the first age within 1.1 &times; "
+         "steady).</figcaption></figure>\n<p>"
+      << link((dir / "frames.csv").string(), "frames.csv") << " &middot; "
+      << link((dir / "sequence.json").string(), "sequence.json") << "</p></section>\n";
+  }
+  if (sections == 0) return "";
+  if (!charts.empty()) render_plots(charts);
+  return "<section class=\"sequences\" id=\"sequences\"><h2>Sequences (AO over time)</h2>\n"
+         "<p>Each sequence point (CONTRACT &sect;10): its sequence keys, a strip of frames that "
+         "opens the viewer over every kept frame, a video of the estimate beside the reference, "
+         "and rmse_excess by frame and by frames since disocclusion.</p>\n" +
+         h.str() + "</section>\n";
+}
+
+}  // namespace aoeval

@@ -1,0 +1,27 @@
+// The report's section of each sequence point (CONTRACT §10), from what the runner kept in the
+// point's folder (harness/sweep/kept_sequence.h: sequence.json, the kept frames' estimate and
+// reference EXRs): the §10 keys; a strip of frames (reference | estimate | |error|, one row each
+// for the first frame, the frame with most disoccluded pixels and the last, one error scale for
+// all three) inside the viewer (CONTRACT §11) over every kept frame, with its frame slider and
+// play; a video of the estimate beside the reference (an animated GIF: it plays in an <img>
+// without scripts); and rmse_excess by frame and by frames since disocclusion (matplotlib).
+// Internal to reports/suite_report.
+#pragma once
+
+#include <string>
+
+#include "harness/results/suite_record.h"
+
+namespace aoeval {
+
+// The point's folder (relative to the output folder) where its runner kept sequence.json: beside
+// the estimates folder of `row.estimate_file` (a suite run's runs/<id>/, a sweep's top).
+std::string sequence_folder(const ResultRow& row);
+
+// Draws every sequence point's strip, video and chart into its folder (kept when newer than
+// their sources) and returns the HTML of the report's "Sequences" part: "" when no ok row of
+// `report` is a sequence point with a manifest. InputError naming the file when a manifest or
+// an EXR it names cannot be read.
+std::string sequence_sections(const std::string& out_dir, const SuiteReport& report);
+
+}  // namespace aoeval
