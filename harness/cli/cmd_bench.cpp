@@ -3,7 +3,6 @@
 #include "harness/bench/bench_gtao.h"
 #include "harness/bench/bench_hbao.h"
 #include "harness/bench/bench_reference.h"
-#include "harness/bench/bench_rtao.h"
 #include "harness/bench/bench_shadowmap.h"
 #include "harness/cli/commands.h"
 #include "harness/plugins/bench_plugins.h"
@@ -95,22 +94,6 @@ void add_bench_command(CLI::App& app) {
   shadowmap->add_option("--out", sm.out_dir, "output folder (bench_shadowmap.md/csv, results.*)");
   shadowmap->add_option("--db", sm.database, "SQLite results store");
   shadowmap->callback([] { bench_shadowmap(sm); });
-
-  static RtaoBenchOptions rt;
-  auto* rtao = cmd->add_subcommand(
-      "rtao",
-      "rtao: ms per frame and per pass (rays, temporal, variance, each a-trous pass) on a "
-      "static-camera sequence");
-  rtao->add_option("--scene", rt.scene, "corpus name or scene file (default bunny)");
-  rtao->add_option("--view", rt.view, "view name (default: the scene's first view)");
-  rtao->add_option("--res", rt.res, "resolution WIDTHxHEIGHT (default 640x480)");
-  rtao->add_option("--frames", rt.frames, "frames of the sequence (default 16)")
-      ->check(CLI::Range(2, 4096));
-  rtao->add_option("--set", rt.sets, "KEY=VALUE for rtao (repeatable)");
-  rtao->add_option("--warmup", rt.warmup, "untimed sequences first")->check(CLI::Range(0, 100));
-  rtao->add_option("--out", rt.out_dir, "output folder (bench_rtao.md/csv, results.*)");
-  rtao->add_option("--db", rt.database, "SQLite results store");
-  rtao->callback([] { bench_rtao(rt); });
   add_plugins_bench(cmd);
 }
 
