@@ -8,8 +8,10 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <set>
 
 #include "errors.h"
+#include "harness/results/metric_table.h"
 #include "reports/regression_config.h"
 
 namespace aoeval {
@@ -242,6 +244,20 @@ TEST(CompareRows, AccuracyBelowThresholdPassesAndClearRegressionFails) {
       check(compare_rows(row(0.05, -0.01, kTimes), row(0.05, 0.01, kTimes), t, 0.02), "|bias|")
           .verdict,
       Verdict::unchanged);
+}
+
+// The dashboard judges exactly the metrics the metric table marks as judged (|bias| for bias).
+TEST(CompareRows, ChecksTheMetricTablesDashboardKeys) {
+  ResultRow r = row(0.05, 0.01, kTimes);
+  r.metrics["bent_angle_excess"] = 2.0;
+  r.metrics["bent_ref_stderr"] = 0.5;
+  r.metrics["bent_pixels"] = 100;
+  std::set<std::string> judged;
+  for (const Check& c : compare_rows(r, r, Thresholds{}, 0.0))
+    if (c.figure != "time_ms_median" && c.figure != "status")
+      judged.insert(c.figure == "|bias|" ? "bias" : c.figure);
+  const auto keys = dashboard_metric_keys();
+  EXPECT_EQ(judged, std::set<std::string>(keys.begin(), keys.end()));
 }
 
 TEST(CompareRows, NoiseWidensTheThreshold) {

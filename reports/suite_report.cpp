@@ -9,6 +9,7 @@
 
 #include "exr_io.h"
 #include "harness/results/machine_class.h"
+#include "harness/results/metric_table.h"
 #include "reports/html.h"
 #include "reports/suite_report_charts.h"
 #include "reports/suite_report_leaderboard.h"
@@ -171,24 +172,34 @@ void scene_section(std::ostringstream& h, const std::string& out_dir, const std:
   }
   h << "<h3>Metrics</h3>\n<table class=\"metrics\"><tr><th class=\"l\">estimator</th><th "
        "class=\"l\">parameters</th><th class=\"l\">view</th><th class=\"l\">matched "
-       "definition</th><th>rmse</th><th>rmse_excess</th>"
-       "<th>ssim</th><th>flip_mean</th><th>bias</th><th>true_rmse</th><th>true_ssim</th>"
-       "<th>bent_angle_mean</th><th>bent_angle_p95</th><th>bent_angle_excess</th></tr>\n";
+       "definition</th>";
+  // The columns the metric table marks for the report: image keys against the matched reference,
+  // then against true AO, then the bent-normal keys (blank for estimators without them).
+  std::vector<std::pair<std::string, const nlohmann::json ResultRow::*>> columns;
+  for (const MetricFamily family : {MetricFamily::image, MetricFamily::bent}) {
+    for (const MetricDef& m : metric_table())
+      if (m.family == family && m.report_matched) columns.emplace_back(m.key, &ResultRow::metrics);
+    if (family == MetricFamily::image)
+      for (const MetricDef& m : metric_table())
+        if (m.family == family && m.report_true)
+          columns.emplace_back("true_" + m.key, &ResultRow::true_metrics);
+  }
+  for (const auto& c : columns) h << "<th>" << c.first << "</th>";
+  h << "</tr>\n";
   for (const auto* e : rows) {
     const ResultRow& r = e->row;
     h << "<tr><td class=\"l\">" << html_escape(r.estimator) << "</td><td class=\"l\">"
       << html_escape(params_of(r)) << "</td><td class=\"l\">" << view_of(r)
       << "</td><td class=\"l\">" << html_escape(definition_text(r.definition)) << "</td>";
     if (r.status != "ok") {
-      h << "<td colspan=\"10\" class=\"l skipped\">" << html_escape(r.status) << "</td></tr>\n";
+      h << "<td colspan=\"" << columns.size() << "\" class=\"l skipped\">" << html_escape(r.status)
+        << "</td></tr>\n";
       continue;
     }
-    for (const char* k : {"rmse", "rmse_excess", "ssim", "flip_mean", "bias"})
-      h << "<td>" << metric(r.metrics, k) << "</td>";
-    for (const char* k : {"rmse", "ssim"}) h << "<td>" << metric(r.true_metrics, k) << "</td>";
-    // Bent normals (degrees; blank for estimators without them, bent_metrics.h).
-    for (const char* k : {"bent_angle_mean", "bent_angle_p95", "bent_angle_excess"})
-      h << "<td>" << metric(r.metrics, k) << "</td>";
+    for (const auto& [key, metrics] : columns) {
+      const std::string bare = key.rfind("true_", 0) == 0 ? key.substr(5) : key;
+      h << "<td>" << metric(r.*metrics, bare.c_str()) << "</td>";
+    }
     h << "</tr>\n";
   }
   h << "</table>\n";

@@ -26,24 +26,15 @@
 #include <type_traits>
 
 #include "errors.h"
+#include "harness/results/metric_table.h"
 #include "harness/results/summary.h"
 
 namespace aoeval {
 
 namespace {
 
-const std::vector<std::string>& metric_names() {
-  static const std::vector<std::string> keys = [] {
-    std::vector<std::string> k = {"pixels", "rmse", "mae", "bias", "max_abs", "p95_abs", "psnr",
-                                  "ssim", "flip_mean", "ref_stderr_rms", "rmse_excess",
-                                  // bent_metrics.h: blank without bent normals
-                                  "bent_pixels", "bent_angle_mean", "bent_angle_p95",
-                                  "bent_ref_stderr", "bent_angle_excess"};
-    for (const auto& s : sequence_metric_names()) k.push_back(s);  // blank for still views
-    return k;
-  }();
-  return keys;
-}
+// Every metric column (metric_table.h, bent and sequence keys blank where they do not apply).
+const std::vector<std::string>& metric_names() { return all_metric_keys(); }
 
 const std::set<std::string>& fixed_columns() {
   static const std::set<std::string> fixed = [] {
@@ -135,9 +126,7 @@ class FlatRow {
 }  // namespace
 
 const std::vector<std::string>& sequence_metric_names() {
-  static const std::vector<std::string> keys = {
-      "seq_frames",           "seq_rmse_excess", "steady_rmse_excess", "temporal_rmse",
-      "temporal_rmse_excess", "converge_frames", "settle_frames",      "disocclusion_rmse_excess"};
+  static const std::vector<std::string> keys = metric_keys_of(MetricFamily::sequence);
   return keys;
 }
 

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "errors.h"
+#include "harness/results/metric_table.h"
 
 namespace aoeval {
 
@@ -72,10 +73,7 @@ void add_bent_json(const BentMetrics& m, nlohmann::json& out, const std::string&
   out[prefix + "bent_angle_excess"] = m.angle_excess;
 }
 
-std::vector<std::string> bent_metric_keys() {
-  return {"bent_pixels", "bent_angle_mean", "bent_angle_p95", "bent_ref_stderr",
-          "bent_angle_excess"};
-}
+std::vector<std::string> bent_metric_keys() { return metric_keys_of(MetricFamily::bent); }
 
 std::optional<std::vector<glm::vec3>> bent_of_channels(const std::vector<float>* x,
                                                        const std::vector<float>* y,

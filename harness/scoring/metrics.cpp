@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "errors.h"
+#include "harness/results/metric_table.h"
 #include "harness/scoring/flip.h"
 
 namespace aoeval {
@@ -149,10 +150,7 @@ std::vector<float> ssim_map_checked(ImageView ref, ImageView est, const std::vec
 
 }  // namespace
 
-std::vector<std::string> metric_keys() {
-  return {"pixels", "rmse", "mae",       "bias",           "max_abs",    "p95_abs",
-          "psnr",   "ssim", "flip_mean", "ref_stderr_rms", "rmse_excess"};
-}
+std::vector<std::string> metric_keys() { return metric_keys_of(MetricFamily::image); }
 
 nlohmann::json to_json(const Metrics& m, const std::string& prefix) {
   auto num = [](double v) {

@@ -5,6 +5,7 @@
 
 #include "bilinear_taps.h"
 #include "errors.h"
+#include "harness/results/metric_table.h"
 
 namespace aoeval {
 
@@ -13,9 +14,7 @@ double TemporalScorer::Sums::excess() const {
 }
 
 const std::vector<std::string>& TemporalScorer::keys() {
-  static const std::vector<std::string> k = {
-      "seq_frames",           "seq_rmse_excess", "steady_rmse_excess", "temporal_rmse",
-      "temporal_rmse_excess", "converge_frames", "settle_frames",      "disocclusion_rmse_excess"};
+  static const std::vector<std::string> k = metric_keys_of(MetricFamily::sequence);
   return k;
 }
 

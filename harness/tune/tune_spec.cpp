@@ -7,21 +7,12 @@
 #include "errors.h"
 #include "estimators/plugins/plugin_registry.h"
 #include "estimators/registry.h"
-#include "harness/scoring/bent_metrics.h"
-#include "harness/scoring/metrics.h"
-#include "harness/scoring/temporal.h"
+#include "harness/results/metric_table.h"
 #include "json_reader.h"
 
 namespace aoeval {
 
 namespace {
-
-// Keys whose value is not an error of the estimate: a count of pixels, the reference's own noise.
-// `bias` is signed, so its least value is not its best; mae or rmse measure the same thing.
-// seq_frames is the sequence's length.
-const std::vector<std::string> kNotObjectives = {"pixels",      "ref_stderr_rms",  "bias",
-                                                 "bent_pixels", "bent_ref_stderr", "seq_frames"};
-const std::vector<std::string> kMaximised = {"ssim", "psnr"};
 
 bool contains(const std::vector<std::string>& list, const std::string& s) {
   return std::find(list.begin(), list.end(), s) != list.end();
@@ -95,20 +86,21 @@ TuneParam parse_param(const EstimatorInfo& e, const ParamSpec& p, const nlohmann
 
 }  // namespace
 
+// The objectives are the metric table's error measures (harness/results/metric_table.h: a key whose
+// Better is none, a count of pixels or frames, the reference's own noise or the signed bias, is
+// not one), still-view keys first, then the sequence keys.
 std::vector<std::string> tune_objective_keys() {
   std::vector<std::string> keys;
-  for (const auto& k : metric_keys())
-    if (!contains(kNotObjectives, k)) keys.push_back(k);
-  for (const auto& k : bent_metric_keys())
-    if (!contains(kNotObjectives, k)) keys.push_back(k);
+  for (const auto& k : objective_metric_keys())
+    if (find_metric(k)->family != MetricFamily::sequence) keys.push_back(k);
   for (const auto& k : tune_sequence_objective_keys()) keys.push_back(k);
   return keys;
 }
 
 std::vector<std::string> tune_sequence_objective_keys() {
   std::vector<std::string> keys;
-  for (const auto& k : TemporalScorer::keys())
-    if (!contains(kNotObjectives, k)) keys.push_back(k);
+  for (const auto& k : objective_metric_keys())
+    if (find_metric(k)->family == MetricFamily::sequence) keys.push_back(k);
   return keys;
 }
 
@@ -173,13 +165,13 @@ TuneSpec parse_tune_spec(const nlohmann::json& doc, const std::string& file,
   const std::string bare =
       spec.objective.rfind("true_", 0) == 0 ? spec.objective.substr(5) : spec.objective;
   if (!contains(tune_objective_keys(), bare)) {
-    if (contains(kNotObjectives, bare))
+    if (find_metric(bare))
       tune.fail("objective", "'" + spec.objective + "' is not an error measure; use one of " +
                                  joined(tune_objective_keys()));
     tune.fail("objective", "'" + spec.objective + "' is not a metric key; use one of " +
                                joined(tune_objective_keys()) + " (or true_ before one)");
   }
-  spec.maximise = contains(kMaximised, bare);
+  spec.maximise = find_metric(bare)->better == Better::higher;
   spec.sequence_objective = contains(tune_sequence_objective_keys(), bare);
   spec.budget_ms = tune.has("budget_ms") ? tune.number("budget_ms", 1e-6, 1e9) : 0.0;
   spec.evaluations = static_cast<int>(tune.integer("evaluations", 60, 1, 100000));
