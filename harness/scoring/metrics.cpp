@@ -150,7 +150,9 @@ std::vector<float> ssim_map_checked(ImageView ref, ImageView est, const std::vec
 
 }  // namespace
 
-std::vector<std::string> metric_keys() { return metric_keys_of(MetricFamily::image); }
+std::vector<std::string> metric_keys() {
+  return metric_keys_of(MetricFamily::image);
+}
 
 nlohmann::json to_json(const Metrics& m, const std::string& prefix) {
   auto num = [](double v) {
@@ -162,6 +164,7 @@ nlohmann::json to_json(const Metrics& m, const std::string& prefix) {
           {prefix + "bias", num(m.bias)},
           {prefix + "max_abs", num(m.max_abs)},
           {prefix + "p95_abs", num(m.p95_abs)},
+          {prefix + "median_abs", num(m.median_abs)},
           {prefix + "psnr", num(m.psnr)},
           {prefix + "ssim", num(m.ssim)},
           {prefix + "flip_mean", num(m.flip_mean)},
@@ -227,6 +230,10 @@ Metrics compare_images(ImageView ref, ImageView est, const std::vector<uint8_t>&
   });
   const size_t rank = (95 * total.n + 99) / 100;  // ceil(0.95 n), >= 1
   std::nth_element(abs_d.begin(), abs_d.begin() + (rank - 1), abs_d.end());
+  const double p95_abs = abs_d[rank - 1];
+  // median_abs by the same rule, k = ceil(0.5 n) <= the p95 rank: among the values below it.
+  const size_t median_rank = (total.n + 1) / 2;
+  std::nth_element(abs_d.begin(), abs_d.begin() + (median_rank - 1), abs_d.begin() + rank);
 
   const double count = static_cast<double>(total.n);
   const double mse = total.sum_sq / count;
@@ -237,7 +244,8 @@ Metrics compare_images(ImageView ref, ImageView est, const std::vector<uint8_t>&
   out.mae = total.sum_abs / count;
   out.bias = total.sum / count;
   out.max_abs = total.max_abs;
-  out.p95_abs = abs_d[rank - 1];
+  out.p95_abs = p95_abs;
+  out.median_abs = abs_d[median_rank - 1];
   out.psnr = mse > 0 ? 10.0 * std::log10(1.0 / mse) : std::numeric_limits<double>::infinity();
   out.ssim = masked_mean(ssim_map_checked(ref, est, m), m, w, h);
   const bool prepared = flip_reference && flip_reference->width == w &&

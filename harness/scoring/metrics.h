@@ -10,6 +10,8 @@
 //   max_abs         max |d|
 //   p95_abs         95th percentile of |d| by nearest rank: the k-th smallest |d| with
 //                   k = ceil(0.95 n) (1-based), so always one of the observed values
+//   median_abs      the median of |d| by the same nearest-rank rule, k = ceil(0.5 n): the typical
+//                   pixel's error, which a few bad pixels (a halo) do not move, unlike mae
 //   psnr            peak 1: 10 log10(1 / mean d^2); +infinity when mean d^2 = 0, written as JSON
 //                   null (JSON has no infinity)
 //   ssim            Wang, Bovik, Sheikh, Simoncelli, "Image Quality Assessment: From Error
@@ -41,7 +43,8 @@ namespace aoeval {
 
 struct Metrics {
   size_t pixels;
-  double rmse, mae, bias, max_abs, p95_abs, psnr, ssim, flip_mean, ref_stderr_rms, rmse_excess;
+  double rmse, mae, bias, max_abs, p95_abs, median_abs, psnr, ssim, flip_mean, ref_stderr_rms,
+      rmse_excess;
 };
 
 // A plain float image, row-major, width * height values; row 0 is the top, pixel (i, j) is column
@@ -68,8 +71,7 @@ Metrics compare_images(ImageView ref, ImageView est, const std::vector<uint8_t>&
 // "true_"). `pixels` is an integer; psnr (or any other non-finite value) is null.
 nlohmann::json to_json(const Metrics& m, const std::string& prefix = "");
 
-// The fixed order of the keys: pixels, rmse, mae, bias, max_abs, p95_abs, psnr, ssim, flip_mean,
-// ref_stderr_rms, rmse_excess.
+// The image keys of the metric table (harness/results/metric_table.h), in its order.
 std::vector<std::string> metric_keys();
 
 // The per-pixel maps behind ssim and flip_mean (width * height, 0 at pixels not compared). Same

@@ -120,6 +120,28 @@ TEST(Metrics, P95NearestRankOnRamp) {
   EXPECT_NEAR(score(ref, est, mask).p95_abs, 19.0f / 1000.0f, 1e-12);
 }
 
+TEST(Metrics, MedianAbsNearestRankOnRampAndOneOutlier) {
+  // |d| = k / 1000 for k = 1..200: nearest rank ceil(0.5 * 200) = 100; n = 7: ceil(3.5) = 4.
+  Image ref(20, 10, 0.0f), est(20, 10, 0.0f);
+  for (size_t k = 0; k < 200; ++k) est.px[(k * 37) % 200] = static_cast<float>(k + 1) / 1000.0f;
+  const Metrics m = score(ref, est);
+  EXPECT_NEAR(m.median_abs, 100.0f / 1000.0f, 1e-12);
+  EXPECT_NEAR(m.p95_abs, 190.0f / 1000.0f, 1e-12);  // unchanged by the second partition
+  std::vector<uint8_t> mask(200, 0);
+  for (size_t k = 0; k < 7; ++k) mask[(k * 37) % 200] = 1;
+  EXPECT_NEAR(score(ref, est, mask).median_abs, 4.0f / 1000.0f, 1e-12);
+  // A halo of a few bad pixels moves mae but not the median: 99 pixels off by 0.01, one by 0.9.
+  Image a(10, 10, 0.5f), b = offset(a, 0.01f);
+  b.at(3, 3) = 0.5f + 0.4f;
+  const Metrics h = score(a, b);
+  EXPECT_NEAR(h.median_abs, 0.01, 1e-6);
+  EXPECT_NEAR(h.mae, (99 * 0.01 + 0.4) / 100.0, 1e-6);
+  // One compared pixel: the median is its error.
+  std::vector<uint8_t> one(100, 0);
+  one[33] = 1;
+  EXPECT_NEAR(score(a, b, one).median_abs, 0.4, 1e-6);
+}
+
 TEST(Metrics, StderrAndExcess) {
   const Image ref(10, 10, 0.5f);
   const Image est = offset(ref, 0.5f);  // rmse 0.5
