@@ -4,7 +4,9 @@
 #     aoeval_results) never reach, directly or through another target, an estimator, the Vulkan
 #     layer, a reference, or a runner (evaluation, sweep, bench, figures);
 #   - results/ (aoeval_results) is a leaf: of aoeval's targets it reaches only aoeval_files
-#     (errors, JSON reading, atomic writes), never aoeval_scenes and its Embree, OIIO and assimp;
+#     (errors, JSON reading, atomic writes) and base/, never aoeval_scenes and its Embree, OIIO and
+#     assimp;
+#   - base/ (aoeval_base, the ground floor) links nothing of ours and includes only base/;
 #   - only the `aoeval` binary (cli/), aoeval_figures and the reports' own tests link aoeval_reports;
 #   - estimators/ (the registry, every estimator folder, the Vulkan layer) never reach references/:
 #     an estimator that traces rays shares sampling/'s tracer with the ground truth instead.
@@ -68,7 +70,7 @@ function(aoeval_check_rooms)
     endif()
     if(t STREQUAL "aoeval_results")
       foreach(lib IN LISTS closure)
-        if(NOT lib STREQUAL "aoeval_files")
+        if(NOT lib MATCHES "^(aoeval_files|aoeval_base)$")
           list(APPEND errors "aoeval_results links ${lib}: results/ is a leaf (aoeval_files, JSON and SQLite only)")
         endif()
       endforeach()
@@ -83,6 +85,22 @@ function(aoeval_check_rooms)
        AND NOT dir MATCHES "^${PROJECT_SOURCE_DIR}/reports")
       list(APPEND errors "${t} links aoeval_reports: only cli/ (aoeval) and figures/ may")
     endif()
+  endforeach()
+  # base/ is the ground floor: it links none of our targets and includes nothing of ours but
+  # base/ itself (an include is read from the sources, so a header-only piece is checked too).
+  aoeval_link_closure(aoeval_base base_closure)
+  if(base_closure)
+    list(APPEND errors "aoeval_base links ${base_closure}: base/ links nothing of aoeval's")
+  endif()
+  file(GLOB base_sources ${PROJECT_SOURCE_DIR}/base/*.h ${PROJECT_SOURCE_DIR}/base/*.cpp)
+  foreach(f IN LISTS base_sources)
+    file(STRINGS ${f} includes REGEX "^[ \t]*#[ \t]*include[ \t]*\"")
+    foreach(line IN LISTS includes)
+      if(NOT line MATCHES "^[ \t]*#[ \t]*include[ \t]*\"base/")
+        file(RELATIVE_PATH rel ${PROJECT_SOURCE_DIR} ${f})
+        list(APPEND errors "${rel}: ${line}: base/ includes nothing of aoeval's but base/")
+      endif()
+    endforeach()
   endforeach()
   file(WRITE ${CMAKE_BINARY_DIR}/rooms_links.txt "${report}")
   if(errors)

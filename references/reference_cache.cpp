@@ -8,22 +8,12 @@
 #include <vector>
 
 #include "ao_exr.h"
+#include "base/hash.h"
 #include "errors.h"
 #include "exr_io.h"
 #include "gbuffer.h"
 
 namespace aoeval {
-
-namespace {
-uint64_t fnv1a(const std::string& s) {
-  uint64_t h = 0xcbf29ce484222325ull;
-  for (unsigned char c : s) {
-    h ^= c;
-    h *= 0x100000001b3ull;
-  }
-  return h;
-}
-}  // namespace
 
 std::string reference_cache_key(const Scene& scene, const Camera& camera,
                                 const ReferenceSettings& settings) {
@@ -70,13 +60,8 @@ std::string image_checksum(const OIIO::ImageBuf& image) {
   std::vector<std::pair<std::string, int>> channels;
   for (int c = 0; c < spec.nchannels; ++c) channels.emplace_back(spec.channel_name(c), c);
   std::sort(channels.begin(), channels.end());
-  uint64_t h = 0xcbf29ce484222325ull;
-  auto mix = [&h](const std::string& bytes) {
-    for (unsigned char c : bytes) {
-      h ^= c;
-      h *= 0x100000001b3ull;
-    }
-  };
+  Fnv1a hash;
+  auto mix = [&hash](const std::string& bytes) { hash.text(bytes); };
   std::vector<float> plane(static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height));
   for (const auto& [name, index] : channels) {
     mix(name);
@@ -88,7 +73,7 @@ std::string image_checksum(const OIIO::ImageBuf& image) {
     std::memcpy(bits.data(), plane.data(), bits.size());
     mix(bits);
   }
-  return hash_hex(h);
+  return hash_hex(hash.h);
 }
 
 void add_cache_attributes(Attributes& attributes, const std::string& key,

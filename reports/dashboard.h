@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "base/default_paths.h"
 #include "harness/results/results_store.h"
 #include "reports/image_change.h"
 #include "reports/regression.h"
@@ -32,7 +33,7 @@ namespace aoeval {
 class RegressionConfig;
 
 struct DashboardOptions {
-  std::string database = "out/results.sqlite";
+  std::string database = kDefaultDatabase;
   // "" = the previous run of the same command as the new run, `--set` overrides aside
   std::string baseline_run;
   std::string new_run;  // "" = the newest run that has rows

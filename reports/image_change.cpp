@@ -34,7 +34,7 @@ AoPlanes read_planes(const std::string& path) {
   p.ao = std::move(f.ao);
   p.stderr_ao = std::move(f.stderr_ao);
   p.covered.resize(f.coverage.size());
-  for (size_t k = 0; k < f.coverage.size(); ++k) p.covered[k] = f.coverage[k] > 0.5f;
+  for (size_t k = 0; k < f.coverage.size(); ++k) p.covered[k] = f.covered(k);
   return p;
 }
 

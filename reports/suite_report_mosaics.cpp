@@ -59,7 +59,7 @@ std::string draw_mosaic(const std::string& out_dir, const std::string& run_id,
     throw InputError(est_path.string() + ": not the size of " + ref_path.string());
   std::vector<uint8_t> mask(ref.ao.size());
   for (size_t k = 0; k < mask.size(); ++k)
-    mask[k] = ref.coverage[k] > 0.5f && est.coverage[k] > 0.5f;
+    mask[k] = ref.covered(k) && est.covered(k);
   char numbers[160];
   std::snprintf(numbers, sizeof numbers, "   rmse %.4f   ssim %.3f   flip %.3f",
                 r.metrics.value("rmse", 0.0), r.metrics.value("ssim", 0.0),

@@ -76,7 +76,7 @@ FramePair read_pair(const fs::path& out, const nlohmann::json& kept) {
     throw InputError(p.est.path + ": not the size of " + p.ref.path);
   p.mask.resize(p.ref.ao.size());
   for (size_t k = 0; k < p.mask.size(); ++k)
-    p.mask[k] = p.ref.coverage[k] > 0.5f && p.est.coverage[k] > 0.5f;
+    p.mask[k] = p.ref.covered(k) && p.est.covered(k);
   return p;
 }
 

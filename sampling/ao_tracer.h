@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "ao_definition.h"
+#include "base/coverage.h"
 #include "embree_scene.h"
 #include "gbuffer.h"
 #include "sampling/ray_offset.h"
@@ -51,9 +52,10 @@ struct TracedAo {
   // stratified and sobol). Empty when read from a reference file written without it.
   std::vector<float> bent_stderr;
   std::vector<float> coverage;  // A, copied from the G-buffer
-  std::vector<float> spp;       // rays actually used per pixel
-  uint64_t rays_traced = 0;     // rays sent to Embree (below-surface directions are not traced)
-  uint64_t samples = 0;         // directions evaluated, traced or not
+  bool covered(size_t k) const { return is_covered(coverage[k]); }
+  std::vector<float> spp;    // rays actually used per pixel
+  uint64_t rays_traced = 0;  // rays sent to Embree (below-surface directions are not traced)
+  uint64_t samples = 0;      // directions evaluated, traced or not
   double seconds = 0.0;
 };
 

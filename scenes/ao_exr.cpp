@@ -43,7 +43,7 @@ AoExr ao_exr_from_image(const OIIO::ImageBuf& image, const std::string& path, bo
     if (bent) f.bent[k] = {s[bx], s[by], s[bz]};
     if (sp >= 0) f.spp[k] = s[sp];
     if (bs >= 0) f.bent_stderr[k] = s[bs];
-    if (f.coverage[k] > 0.5f && !(f.ao[k] >= -kAoRangeSlack && f.ao[k] <= 1.0f + kAoRangeSlack)) {
+    if (f.covered(k) && !(f.ao[k] >= -kAoRangeSlack && f.ao[k] <= 1.0f + kAoRangeSlack)) {
       char value[32];
       std::snprintf(value, sizeof value, "%g", static_cast<double>(f.ao[k]));
       throw InputError(path + ": AO value " + value + " at pixel (" + std::to_string(k % f.width) +

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "base/coverage.h"
+
 namespace aoeval {
 
 // AO is accessibility in [0, 1] (CONTRACT §3). Values within this of the range are float rounding
@@ -20,7 +22,8 @@ inline constexpr float kAoRangeSlack = 1e-3f;
 struct AoExr {
   std::string path;  // the file it was read from
   int width = 0, height = 0;
-  std::vector<float> ao, coverage;      // per pixel, row-major
+  std::vector<float> ao, coverage;  // per pixel, row-major
+  bool covered(size_t k) const { return is_covered(coverage[k]); }
   std::vector<float> stderr_ao;         // empty when the file has no AO_stderr channel
   std::vector<glm::vec3> bent;          // empty unless bent.X, bent.Y and bent.Z are all present
   std::vector<float> spp;               // empty without an spp channel

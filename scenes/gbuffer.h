@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "base/coverage.h"
 #include "camera.h"
 #include "embree_scene.h"
 #include "exr_io.h"
@@ -32,7 +33,7 @@ struct GBuffer {
   std::vector<float> disoccluded;
 
   size_t index(int i, int j) const { return static_cast<size_t>(j) * width + i; }
-  bool covered(size_t k) const { return coverage[k] > 0.5f; }
+  bool covered(size_t k) const { return is_covered(coverage[k]); }
   size_t pixel_count() const { return static_cast<size_t>(width) * height; }
 };
 

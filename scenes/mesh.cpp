@@ -5,6 +5,7 @@
 #include <cstring>
 #include <glm/geometric.hpp>
 
+#include "base/hash.h"
 #include "errors.h"
 #include "input_limits.h"
 
@@ -70,19 +71,6 @@ void compute_vertex_normals(TriangleMesh& mesh) {
   }
   mesh.normals = std::move(n);
 }
-
-namespace {
-struct Fnv1a {
-  uint64_t h = 0xcbf29ce484222325ull;
-  void bytes(const void* data, size_t n) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (size_t i = 0; i < n; ++i) {
-      h ^= p[i];
-      h *= 0x100000001b3ull;
-    }
-  }
-};
-}  // namespace
 
 uint64_t content_hash(const TriangleMesh& mesh) {
   Fnv1a f;

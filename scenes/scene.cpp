@@ -10,6 +10,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/mat4x4.hpp>
 
+#include "base/hash.h"
 #include "generators/generators.h"
 #include "json_reader.h"
 #include "mesh_io.h"
@@ -47,8 +48,8 @@ Bounds Scene::bounds() const {
 uint64_t Scene::content_hash() const {
   uint64_t h = 0x84222325cbf29ce4ull;
   for (const auto& o : objects) {
-    h = (h ^ aoeval::content_hash(o.mesh)) * 0x100000001b3ull;
-    h = (h ^ static_cast<uint64_t>(o.role)) * 0x100000001b3ull;
+    h = fnv1a_fold(h, aoeval::content_hash(o.mesh));
+    h = fnv1a_fold(h, static_cast<uint64_t>(o.role));
   }
   return h;
 }

@@ -16,6 +16,7 @@
 #include <sstream>
 #include <thread>
 
+#include "base/hash.h"
 #include "errors.h"
 #include "estimators/plugins/plugin_process.h"
 #include "estimators/vulkan/vk_commands.h"
@@ -109,14 +110,6 @@ const char* glsl_type_of(ParamType t) {
       return "int";
   }
   return "float";
-}
-
-uint64_t fnv1a(const std::string& s, uint64_t h = 1469598103934665603ull) {
-  for (unsigned char c : s) {
-    h ^= c;
-    h *= 1099511628211ull;
-  }
-  return h;
 }
 
 std::string hex64(uint64_t v) {

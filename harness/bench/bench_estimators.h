@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "base/default_paths.h"
+
 namespace aoeval {
 
 struct EstimatorBenchOptions {
@@ -15,7 +17,7 @@ struct EstimatorBenchOptions {
   int warmup = 1;
   int repetitions = 5;
   std::string out_dir = "out/bench";
-  std::string database = "out/results.sqlite";
+  std::string database = kDefaultDatabase;
 };
 
 void bench_estimators(const EstimatorBenchOptions& options);

@@ -101,7 +101,7 @@ double rmse_against(const ReferenceImage& a, const ReferenceImage& truth) {
   double se = 0.0;
   size_t n = 0;
   for (size_t k = 0; k < a.ao.size(); ++k) {
-    if (truth.coverage[k] < 0.5f) continue;
+    if (!truth.covered(k)) continue;
     const double d = static_cast<double>(a.ao[k]) - truth.ao[k];
     se += d * d;
     ++n;
@@ -190,7 +190,7 @@ void bench_reference(const ReferenceBenchOptions& o) {
   double truth_se2 = 0.0;
   size_t covered = 0;
   for (size_t k = 0; k < truth.ao.size(); ++k)
-    if (truth.coverage[k] > 0.5f) {
+    if (truth.covered(k)) {
       truth_se2 += static_cast<double>(truth.stderr_ao[k]) * truth.stderr_ao[k];
       ++covered;
     }

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "base/default_paths.h"
+
 namespace aoeval {
 
 struct ShadowmapBenchOptions {
@@ -18,7 +20,7 @@ struct ShadowmapBenchOptions {
   int warmup = 1;
   int repetitions = 3;
   std::string out_dir = "out/bench-shadowmap";
-  std::string database = "out/results.sqlite";
+  std::string database = kDefaultDatabase;
 };
 
 void bench_shadowmap(const ShadowmapBenchOptions& options);

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "base/default_paths.h"
 #include "camera.h"
 #include "embree_scene.h"
 #include "estimators/registry.h"
@@ -28,7 +29,7 @@ struct TwinBenchOptions {
   int warmup = 1;
   int repetitions = 5;
   std::string out_dir;  // default: out/bench-<name>, set by the command
-  std::string database = "out/results.sqlite";
+  std::string database = kDefaultDatabase;
 };
 
 // One twin bench's set-up: both estimators' parameters from one --set list, the scene, camera and

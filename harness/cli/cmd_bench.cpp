@@ -17,9 +17,10 @@ namespace {
 void add_twin_bench_options(CLI::App& cmd, TwinBenchOptions& o, const std::string& estimator,
                             const std::string& stem, const std::string& out_dir) {
   o.out_dir = out_dir;
-  cmd.add_option("--scene", o.scene, "corpus name or scene file (default bunny)");
+  // Defaults are shown from the options' own values (capture_default_str), not written again here.
+  cmd.add_option("--scene", o.scene, "corpus name or scene file")->capture_default_str();
   cmd.add_option("--view", o.view, "view name (default: the scene's first view)");
-  cmd.add_option("--res", o.res, "resolution WIDTHxHEIGHT (default 640x480)");
+  cmd.add_option("--res", o.res, "resolution WIDTHxHEIGHT")->capture_default_str();
   cmd.add_option("--set", o.sets, "KEY=VALUE for " + estimator + " (repeatable)");
   cmd.add_option("--warmup", o.warmup, "untimed runs first")->check(CLI::Range(0, 100));
   cmd.add_option("--repetitions", o.repetitions, "timed runs")->check(CLI::Range(1, 1000));
@@ -82,8 +83,8 @@ void add_bench_command(CLI::App& app) {
   static ShadowmapBenchOptions sm;
   auto* shadowmap = cmd->add_subcommand(
       "shadowmap", "shadowmap-ao: time per pass against the number of lights and the map size");
-  shadowmap->add_option("--scene", sm.scene, "corpus name or scene file (default bunny)");
-  shadowmap->add_option("--res", sm.res, "camera resolution WIDTHxHEIGHT (default 320x240)");
+  shadowmap->add_option("--scene", sm.scene, "corpus name or scene file")->capture_default_str();
+  shadowmap->add_option("--res", sm.res, "camera resolution WIDTHxHEIGHT")->capture_default_str();
   shadowmap->add_option("--lights", sm.lights, "light counts (repeatable)")
       ->check(CLI::Range(1, 4096));
   shadowmap->add_option("--map-res", sm.resolutions, "shadow-map resolutions (repeatable)")

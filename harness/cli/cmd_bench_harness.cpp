@@ -40,10 +40,11 @@ void bench_harness(const HarnessBenchOptions& o) {
                             : fs::path(o.work_dir);
   fs::remove_all(work);
   const RunOutcome first = run_into(o, work / "first");
-  std::printf("bench harness: suite %s, %zu rows; first run (references computed or read): "
-              "%.1f s, estimator share %.1f %%\n",
-              o.suite.c_str(), first.rows, first.wall_ms / 1000.0,
-              100.0 * first.stages.estimator_ms() / first.wall_ms);
+  std::printf(
+      "bench harness: suite %s, %zu rows; first run (references computed or read): "
+      "%.1f s, estimator share %.1f %%\n",
+      o.suite.c_str(), first.rows, first.wall_ms / 1000.0,
+      100.0 * first.stages.estimator_ms() / first.wall_ms);
   std::fflush(stdout);
   std::vector<double> wall, share;
   std::vector<std::string> order;
@@ -62,9 +63,10 @@ void bench_harness(const HarnessBenchOptions& o) {
   }
   StageTimes medians;
   for (const auto& stage : order) medians.add(stage, median(per_stage[stage]));
-  std::printf("cached runs, median of %d (each stage's median; the shares are of the median "
-              "wall time):\n%s",
-              o.repetitions, medians.table(median(wall)).c_str());
+  std::printf(
+      "cached runs, median of %d (each stage's median; the shares are of the median "
+      "wall time):\n%s",
+      o.repetitions, medians.table(median(wall)).c_str());
   std::printf("estimator share of wall time: median %.1f %% (runs: ", median(share));
   for (size_t k = 0; k < share.size(); ++k) std::printf("%s%.1f", k ? ", " : "", share[k]);
   std::printf(")\n");
@@ -76,8 +78,10 @@ void bench_harness(const HarnessBenchOptions& o) {
 void add_bench_harness_command(CLI::App& bench) {
   static HarnessBenchOptions o;
   auto* cmd = bench.add_subcommand(
-      "harness", "a suite's wall time by stage, and the estimators' share of it (cached references)");
-  cmd->add_option("--suite", o.suite, "quick, default or paper, or a suite file (default quick)");
+      "harness",
+      "a suite's wall time by stage, and the estimators' share of it (cached references)");
+  cmd->add_option("--suite", o.suite, "quick, default or paper, or a suite file")
+      ->capture_default_str();
   cmd->add_option("--repetitions", o.repetitions, "cached runs after the first")
       ->check(CLI::Range(1, 100));
   cmd->add_option("--work-dir", o.work_dir, "scratch folder for the runs (removed afterwards)");

@@ -35,7 +35,7 @@ void check_same_view(const AoExr& a, const AoExr& b) {
 
 std::vector<uint8_t> joint_mask(const AoExr& a, const AoExr& b) {
   std::vector<uint8_t> m(a.ao.size());
-  for (size_t k = 0; k < m.size(); ++k) m[k] = a.coverage[k] > 0.5f && b.coverage[k] > 0.5f;
+  for (size_t k = 0; k < m.size(); ++k) m[k] = a.covered(k) && b.covered(k);
   return m;
 }
 

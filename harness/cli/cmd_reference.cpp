@@ -105,7 +105,7 @@ void run_reference(const Options& o) {
   double se2 = 0.0;
   size_t covered = 0;
   for (size_t k = 0; k < r.ao.size(); ++k) {
-    if (r.coverage[k] < 0.5f) continue;
+    if (!r.covered(k)) continue;
     se2 += static_cast<double>(r.stderr_ao[k]) * r.stderr_ao[k];
     ++covered;
   }

@@ -121,7 +121,7 @@ nlohmann::json compare_sequence(const SequenceCompareInput& in) {
     }
     std::vector<uint8_t> mask(ref.ao.size());
     for (size_t p = 0; p < mask.size(); ++p)
-      mask[p] = ref.coverage[p] > 0.5f && est.coverage[p] > 0.5f;
+      mask[p] = ref.covered(p) && est.covered(p);
     TemporalFrame tf;
     tf.width = w0;
     tf.height = h0;

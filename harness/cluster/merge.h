@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "base/default_paths.h"
 #include "harness/results/results_store.h"
 #include "harness/results/suite_record.h"
 
@@ -17,7 +18,7 @@ namespace aoeval {
 struct MergeOptions {
   std::vector<std::string> dirs;
   std::string out;
-  std::string database = "out/results.sqlite";
+  std::string database = kDefaultDatabase;
   // Optional: the shard plan of a --slurm submission (sweep/shard_plan.h). With it, every planned
   // point must be present (a failed shard is named, and nothing is merged), and rows follow the
   // plan's order, which is the single-machine order.

@@ -229,7 +229,7 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
 
 std::vector<uint8_t> compared_pixels(const GBuffer& g, const ReferenceImage& ref) {
   std::vector<uint8_t> mask(g.pixel_count());
-  for (size_t k = 0; k < mask.size(); ++k) mask[k] = g.covered(k) && ref.coverage[k] > 0.5f;
+  for (size_t k = 0; k < mask.size(); ++k) mask[k] = g.covered(k) && ref.covered(k);
   return mask;
 }
 

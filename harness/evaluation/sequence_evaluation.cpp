@@ -188,7 +188,7 @@ void EvaluationSession::measure_sequence(Measurement& m, bool seed_per_frame) {
       auto score_frame = [&](const ReferenceImage& ref, TemporalScorer& scorer,
                              const std::string& prefix) {
         std::vector<uint8_t> mask(g.pixel_count());
-        for (size_t p = 0; p < mask.size(); ++p) mask[p] = g.covered(p) && ref.coverage[p] > 0.5f;
+        for (size_t p = 0; p < mask.size(); ++p) mask[p] = g.covered(p) && ref.covered(p);
         const Metrics metrics =
             compare_images({w, h, ref.ao.data()}, {w, h, result.ao.data()}, mask, ref.stderr_ao);
         TemporalFrame tf;

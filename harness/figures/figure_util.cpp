@@ -62,7 +62,7 @@ std::vector<uint8_t> compared_mask(FigureContext& ctx, const std::string& scene,
   const ReferenceImage& ref = ctx.session->reference(scene, v, w, h, definition);
   std::vector<uint8_t> mask(g.pixel_count(), 0);
   for (size_t k = 0; k < mask.size(); ++k) {
-    if (!g.covered(k) || ref.coverage[k] < 0.5f) continue;
+    if (!g.covered(k) || !ref.covered(k)) continue;
     if (only_role >= 0) {
       const int id = static_cast<int>(g.object_id[k]);
       if (id < 0 || id >= static_cast<int>(data.scene.objects.size()) ||

@@ -34,7 +34,9 @@ namespace aoeval {
 namespace {
 
 // Every metric column (metric_table.h, bent and sequence keys blank where they do not apply).
-const std::vector<std::string>& metric_names() { return all_metric_keys(); }
+const std::vector<std::string>& metric_names() {
+  return all_metric_keys();
+}
 
 const std::set<std::string>& fixed_columns() {
   static const std::set<std::string> fixed = [] {

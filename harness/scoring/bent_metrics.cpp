@@ -73,7 +73,9 @@ void add_bent_json(const BentMetrics& m, nlohmann::json& out, const std::string&
   out[prefix + "bent_angle_excess"] = m.angle_excess;
 }
 
-std::vector<std::string> bent_metric_keys() { return metric_keys_of(MetricFamily::bent); }
+std::vector<std::string> bent_metric_keys() {
+  return metric_keys_of(MetricFamily::bent);
+}
 
 std::optional<std::vector<glm::vec3>> bent_of_channels(const std::vector<float>* x,
                                                        const std::vector<float>* y,

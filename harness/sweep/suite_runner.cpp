@@ -66,7 +66,7 @@ class RunImages {
     const ReferenceImage& ref = session.reference(p.scene, view, p.width, p.height, definition);
     const std::vector<float>& est = session.last_estimate();
     std::vector<uint8_t> mask(g.pixel_count());
-    for (size_t k = 0; k < mask.size(); ++k) mask[k] = g.covered(k) && ref.coverage[k] > 0.5f;
+    for (size_t k = 0; k < mask.size(); ++k) mask[k] = g.covered(k) && ref.covered(k);
     char numbers[160];
     std::snprintf(numbers, sizeof numbers, "   rmse %.4f   ssim %.3f   flip %.3f",
                   row.metrics.value("rmse", 0.0), row.metrics.value("ssim", 0.0),

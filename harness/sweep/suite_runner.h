@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "base/default_paths.h"
 #include "harness/results/stage_times.h"
 #include "harness/results/suite_record.h"
 
@@ -21,7 +22,7 @@ namespace aoeval {
 struct SuiteRunOptions {
   std::string suite = "default";  // a shipped suite's name or a suite file's path
   std::string out_dir;            // default out/<suite name>
-  std::string database = "out/results.sqlite";
+  std::string database = kDefaultDatabase;
   std::vector<std::string> sets;  // "ESTIMATOR:KEY=VALUE"
   std::string shard;              // "I/N", "auto" or "": this shard's points only (CONTRACT §9)
   std::string shard_plan;         // with shard: the cost-balanced plan (shard_plan.h)

@@ -6,6 +6,9 @@
 
 #include <string>
 
+#include "base/default_paths.h"
+#include "harness/sweep/sweep_spec.h"
+
 namespace aoeval {
 
 struct SweepOptions {
@@ -15,9 +18,9 @@ struct SweepOptions {
   std::string shard;  // "I/N", "auto" or ""
   std::string
       shard_plan;  // with shard: the plan's shard instead of every N-th point (shard_plan.h)
-  std::string database = "out/results.sqlite";
-  bool keep_estimates = true;  // write each estimate's EXR under <out>/estimates/
-  size_t max_points = 100000;  // kDefaultMaxSweepPoints (sweep_spec.h); --max-points
+  std::string database = kDefaultDatabase;
+  bool keep_estimates = true;                  // write each estimate's EXR under <out>/estimates/
+  size_t max_points = kDefaultMaxSweepPoints;  // --max-points
 };
 
 // Returns the exit status: 0 done, 130 interrupted. Besides the rows, writes the folder's

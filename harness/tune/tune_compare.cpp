@@ -89,8 +89,7 @@ int main() {
   const auto list = problems();
   std::printf("%-16s %5s %12s %12s %10s %12s %12s %10s\n", "algorithm", "evals", "hbao gap",
               "hbao <=2%", "hbao inf", "rays gap", "rays <=2%", "rays inf");
-  for (const std::string algorithm :
-       {"direct-l+sbplx", "direct-l+cobyla", "direct-l", "sbplx", "bobyqa", "cobyla", "isres"}) {
+  for (const std::string& algorithm : tune_algorithms()) {
     for (const int evaluations : {30, 60}) {
       double gap[2] = {0, 0};
       int within[2] = {0, 0}, none[2] = {0, 0}, count[2] = {0, 0};

@@ -16,6 +16,7 @@
 
 #include <string>
 
+#include "base/default_paths.h"
 #include "harness/tune/tune_spec.h"
 
 namespace aoeval {
@@ -23,7 +24,7 @@ namespace aoeval {
 struct TuneOptions {
   std::string spec_path;
   std::string out_dir;  // default out/<spec name>
-  std::string database = "out/results.sqlite";
+  std::string database = kDefaultDatabase;
   bool plot = true;        // tune.png (tests that do not need it save matplotlib's start-up)
   EstimatorLookup lookup;  // default: the registry
 };

@@ -57,9 +57,9 @@ struct Trial {
 };
 
 struct SearchSettings {
-  std::string algorithm = "direct-l+sbplx";
-  int evaluations = 60;  // distinct points
-  uint64_t seed = 1;
+  std::string algorithm = kDefaultTuneAlgorithm;
+  int evaluations = kDefaultTuneEvaluations;  // distinct points
+  uint64_t seed = kDefaultTuneSeed;
   double budget_ms = 0.0;  // 0: no budget (every ok point is feasible)
 };
 

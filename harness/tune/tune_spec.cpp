@@ -89,6 +89,12 @@ TuneParam parse_param(const EstimatorInfo& e, const ParamSpec& p, const nlohmann
 // The objectives are the metric table's error measures (harness/results/metric_table.h: a key whose
 // Better is none, a count of pixels or frames, the reference's own noise or the signed bias, is
 // not one), still-view keys first, then the sequence keys.
+const std::vector<std::string>& tune_algorithms() {
+  static const std::vector<std::string> names = {
+      kDefaultTuneAlgorithm, "direct-l+cobyla", "direct-l", "sbplx", "bobyqa", "cobyla", "isres"};
+  return names;
+}
+
 std::vector<std::string> tune_objective_keys() {
   std::vector<std::string> keys;
   for (const auto& k : objective_metric_keys())
@@ -174,12 +180,11 @@ TuneSpec parse_tune_spec(const nlohmann::json& doc, const std::string& file,
   spec.maximise = find_metric(bare)->better == Better::higher;
   spec.sequence_objective = contains(tune_sequence_objective_keys(), bare);
   spec.budget_ms = tune.has("budget_ms") ? tune.number("budget_ms", 1e-6, 1e9) : 0.0;
-  spec.evaluations = static_cast<int>(tune.integer("evaluations", 60, 1, 100000));
+  spec.evaluations =
+      static_cast<int>(tune.integer("evaluations", kDefaultTuneEvaluations, 1, 100000));
   if (auto o = tune.optional_object("optimiser")) {
-    spec.algorithm = o->choice(
-        "algorithm", spec.algorithm,
-        {"direct-l+sbplx", "direct-l+cobyla", "direct-l", "sbplx", "bobyqa", "cobyla", "isres"});
-    spec.seed = static_cast<uint64_t>(o->integer("seed", 1, 0, INT64_MAX));
+    spec.algorithm = o->choice("algorithm", spec.algorithm, tune_algorithms());
+    spec.seed = static_cast<uint64_t>(o->integer("seed", kDefaultTuneSeed, 0, INT64_MAX));
     o->finish();
   }
   tune.finish();

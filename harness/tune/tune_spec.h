@@ -20,6 +20,13 @@
 
 namespace aoeval {
 
+// The optimiser's defaults (CONTRACT §8), written once for the spec and the search.
+inline constexpr int kDefaultTuneEvaluations = 60;
+inline constexpr const char* kDefaultTuneAlgorithm = "direct-l+sbplx";
+inline constexpr uint64_t kDefaultTuneSeed = 1;
+// The optimisers a spec may name, kDefaultTuneAlgorithm first (tune_search.cpp maps each to NLopt).
+const std::vector<std::string>& tune_algorithms();
+
 struct TuneParam {
   const ParamSpec* spec = nullptr;
   double lo = 0.0, hi = 0.0;           // real and integer: the searched interval
@@ -38,9 +45,10 @@ struct TuneSpec {
   bool maximise = false;  // ssim and psnr grow with quality; every other objective key is an error
   bool sequence_objective = false;  // a sequence score (CONTRACT §10): every view is a sequence
   double budget_ms = 0.0;           // 0 = no time budget
-  int evaluations = 60;  // distinct points (each over every view) the search may evaluate
-  std::string algorithm = "direct-l+sbplx";
-  uint64_t seed = 1;        // the optimiser's own random numbers (isres), not the estimator's
+  int evaluations = kDefaultTuneEvaluations;  // distinct points (each over every view)
+  std::string algorithm = kDefaultTuneAlgorithm;
+  uint64_t seed =
+      kDefaultTuneSeed;     // the optimiser's own random numbers (isres), not the estimator's
   nlohmann::json document;  // the spec as read: a re-run must be the same tune to reuse rows
 };
 
