@@ -3,10 +3,10 @@
 #   - reports/ (aoeval_reports) and the code it draws and reads with (aoeval_drawing,
 #     aoeval_results) never reach, directly or through another target, an estimator, the Vulkan
 #     layer, a reference, or a runner (evaluation, sweep, bench, figures);
-#   - results/ (aoeval_results) is a leaf: of aoeval's targets it reaches only aoeval_files
-#     (errors, JSON reading, atomic writes) and base/, never aoeval_scenes and its Embree, OIIO and
-#     assimp;
+#   - results/ (aoeval_results) is a leaf: of aoeval's targets it reaches only aoeval_base (errors,
+#     JSON reading, atomic writes, the median), never aoeval_scenes and its Embree, OIIO and assimp;
 #   - base/ (aoeval_base, the ground floor) links nothing of ours and includes only base/;
+#   - cmd/ (the `aoeval` binary) is the top floor: no source outside cmd/ includes a header of it;
 #   - only the `aoeval` binary (cli/), aoeval_figures and the reports' own tests link aoeval_reports;
 #   - estimators/ (the registry, every estimator folder, the Vulkan layer) never reach references/:
 #     an estimator that traces rays shares sampling/'s tracer with the ground truth instead.
@@ -70,8 +70,8 @@ function(aoeval_check_rooms)
     endif()
     if(t STREQUAL "aoeval_results")
       foreach(lib IN LISTS closure)
-        if(NOT lib MATCHES "^(aoeval_files|aoeval_base)$")
-          list(APPEND errors "aoeval_results links ${lib}: results/ is a leaf (aoeval_files, JSON and SQLite only)")
+        if(NOT lib STREQUAL "aoeval_base")
+          list(APPEND errors "aoeval_results links ${lib}: results/ is a leaf (aoeval_base, JSON and SQLite only)")
         endif()
       endforeach()
     endif()
@@ -100,6 +100,20 @@ function(aoeval_check_rooms)
         file(RELATIVE_PATH rel ${PROJECT_SOURCE_DIR} ${f})
         list(APPEND errors "${rel}: ${line}: base/ includes nothing of aoeval's but base/")
       endif()
+    endforeach()
+  endforeach()
+  # cmd/ is the front door: a room that includes it would link against code only the binary
+  # compiles (as harness/bench once did for parse_resolution).
+  set(our_sources)
+  foreach(room base scenes sampling references estimators drawing reports harness plugins)
+    file(GLOB_RECURSE room_sources RELATIVE ${PROJECT_SOURCE_DIR}
+      ${PROJECT_SOURCE_DIR}/${room}/*.h ${PROJECT_SOURCE_DIR}/${room}/*.cpp)
+    list(APPEND our_sources ${room_sources})
+  endforeach()
+  foreach(rel IN LISTS our_sources)
+    file(STRINGS ${PROJECT_SOURCE_DIR}/${rel} includes REGEX "^[ \t]*#[ \t]*include[ \t]*\"cmd/")
+    foreach(line IN LISTS includes)
+      list(APPEND errors "${rel}: ${line}: nothing outside cmd/ includes cmd/ (the binary's own code)")
     endforeach()
   endforeach()
   file(WRITE ${CMAKE_BINARY_DIR}/rooms_links.txt "${report}")

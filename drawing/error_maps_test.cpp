@@ -12,8 +12,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "exr_io.h"
-#include "scenes/test_temp_dir.h"
+#include "base/testing/test_temp_dir.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 namespace {

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "exr_io.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 

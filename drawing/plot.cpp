@@ -12,7 +12,7 @@
 #include <stdexcept>
 
 #include "drawing/plot_workers.h"
-#include "exr_io.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 

@@ -1,5 +1,5 @@
 #include "drawing/plot.h"
-#include "scenes/test_temp_dir.h"
+#include "base/testing/test_temp_dir.h"
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>

@@ -12,8 +12,8 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "base/testing/test_temp_dir.h"
 #include "drawing/plot.h"
-#include "scenes/test_temp_dir.h"
 
 namespace aoeval {
 namespace {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "errors.h"
+#include "base/errors.h"
 
 namespace aoeval {
 

@@ -16,11 +16,11 @@
 #include <string>
 #include <vector>
 
-#include "ao_definition.h"
-#include "embree_scene.h"
-#include "gbuffer.h"
-#include "param_text.h"
-#include "scene.h"
+#include "base/param_text.h"
+#include "scenes/ao_definition.h"
+#include "scenes/embree_scene.h"
+#include "scenes/gbuffer.h"
+#include "scenes/scene.h"
 
 namespace aoeval {
 
@@ -28,6 +28,9 @@ enum class ParamType { real, integer, boolean, choice };
 const char* param_type_name(ParamType t);
 
 // One parameter, declared once (XeGTAO's settings, pbrt's parameter dictionaries).
+// One declared parameter. Rows are written with designated initialisers, so that a row reads as
+// names (`{.name = "R", .type = ParamType::real, .default_value = 0.3, .min = 0.01, ...}`); a field
+// left out keeps the default below (no range, linear scale, no unit, no choices).
 struct ParamSpec {
   std::string name;  // the --set key and the results column
   ParamType type = ParamType::real;
@@ -159,7 +162,7 @@ struct EstimatorInfo {
   std::function<std::unique_ptr<Estimator>(const ParamSet&)> create;
   std::string kind = "built-in";  // or a plug-in's kind: "process", "glsl" (CONTRACT §7)
   std::string folder;             // a plug-in's folder; "" for built-ins
-  ConformanceSpec conformance;  // defaults by backend; see ConformanceSpec
+  ConformanceSpec conformance;    // defaults by backend; see ConformanceSpec
   // Over a sequence (CONTRACT §10): false (every built-in today) = no temporal design of its own:
   // each frame runs on a fresh instance created with seed + k (the seed rule), prepared with that
   // frame's scene. true = one instance runs every frame in order and keeps its state; prepare() is

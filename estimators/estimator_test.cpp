@@ -1,7 +1,7 @@
 // The parameter declarations and the registry: defaults, ranges, unknown keys, text values.
 #include <gtest/gtest.h>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/registry.h"
 
 namespace aoeval {

@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <iostream>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/constant/constant.h"
 #include "estimators/gtao/gtao.h"
 #include "estimators/hbao_split/hbao_split.h"

@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "text_files.h"
+#include "base/text_files.h"
 
 namespace aoeval {
 

@@ -1,4 +1,4 @@
-#include "reference.h"
+#include "references/reference.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -12,8 +12,8 @@
 #include <limits>
 #include <numbers>
 
-#include "ao_exr.h"
-#include "errors.h"
+#include "base/errors.h"
+#include "scenes/ao_exr.h"
 
 namespace aoeval {
 

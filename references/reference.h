@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
-#include "ao_definition.h"
-#include "ao_exr.h"
-#include "embree_scene.h"
-#include "gbuffer.h"
 #include "sampling/ao_tracer.h"
+#include "scenes/ao_definition.h"
+#include "scenes/ao_exr.h"
+#include "scenes/embree_scene.h"
+#include "scenes/gbuffer.h"
 
 namespace aoeval {
 

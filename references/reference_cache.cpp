@@ -1,4 +1,4 @@
-#include "reference_cache.h"
+#include "references/reference_cache.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -7,11 +7,11 @@
 #include <utility>
 #include <vector>
 
-#include "ao_exr.h"
+#include "base/errors.h"
 #include "base/hash.h"
-#include "errors.h"
-#include "exr_io.h"
-#include "gbuffer.h"
+#include "scenes/ao_exr.h"
+#include "scenes/exr_io.h"
+#include "scenes/gbuffer.h"
 
 namespace aoeval {
 

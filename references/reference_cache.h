@@ -6,11 +6,11 @@
 #include <optional>
 #include <string>
 
-#include "camera.h"
-#include "exr_io.h"
-#include "gbuffer.h"
 #include "references/reference.h"
-#include "scene.h"
+#include "scenes/camera.h"
+#include "scenes/exr_io.h"
+#include "scenes/gbuffer.h"
+#include "scenes/scene.h"
 
 namespace aoeval {
 

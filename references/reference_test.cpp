@@ -6,9 +6,9 @@
 
 #include <cmath>
 
-#include "analytic_scenes.h"
 #include "generators/generators.h"
 #include "references/reference.h"
+#include "scenes/analytic_scenes.h"
 
 namespace aoeval {
 namespace {

@@ -8,10 +8,10 @@
 #include <map>
 #include <sstream>
 
-#include "errors.h"
-#include "exr_io.h"
-#include "param_text.h"
+#include "base/errors.h"
+#include "base/param_text.h"
 #include "reports/regression_config.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 

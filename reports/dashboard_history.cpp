@@ -11,7 +11,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "harness/results/machine_class.h"
 #include "reports/change_points.h"
 #include "reports/dashboard.h"

@@ -7,13 +7,13 @@
 #include <map>
 #include <thread>
 
-#include "ao_exr.h"
+#include "base/errors.h"
 #include "drawing/error_maps.h"
 #include "drawing/plot.h"
-#include "errors.h"
-#include "exr_io.h"
 #include "harness/results/result_row.h"
 #include "reports/dashboard.h"
+#include "scenes/ao_exr.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 

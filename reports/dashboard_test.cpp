@@ -9,7 +9,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "reports/dashboard_test_util.h"
 #include "reports/regression_config.h"
 

@@ -10,11 +10,11 @@
 #include <tuple>
 #include <vector>
 
-#include "exr_io.h"
+#include "base/testing/test_temp_dir.h"
 #include "harness/results/results_store.h"
 #include "reports/dashboard.h"
 #include "reports/regression_config.h"
-#include "scenes/test_temp_dir.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval::testutil {
 

@@ -1,13 +1,13 @@
-#include "gbuffer_gallery.h"
+#include "reports/gbuffer_gallery.h"
 
 #include <algorithm>
 #include <filesystem>
 #include <sstream>
 
 #include "drawing/gbuffer_previews.h"
-#include "exr_io.h"
 #include "reports/html.h"
 #include "reports/viewer.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 

@@ -7,7 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "ao_exr.h"
+#include "scenes/ao_exr.h"
 
 namespace aoeval {
 

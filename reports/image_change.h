@@ -24,12 +24,13 @@
 //                   median, since noise correlated over a few pixels (blurred kernels) has little
 //                   Laplacian and noise differs over the image (open areas have none); an uneven
 //                   real change only raises it (changed_pixels then errs low). Threshold
-//                   4 sigma + 1e-4 (pixel_threshold: the median over pixels). sigma_mean = sd(tile means) / sqrt(tiles) over 8x8
-//                   tiles: noise correlated over fewer than 8 pixels (screen-space kernels,
-//                   rotation textures) averages out within a tile, and any uneven real change only
-//                   raises the spread of the tile means, so the bound errs towards "unchanged".
-//                   Not covered: a seed that moves the whole image coherently (shadowmap-ao's light
-//                   set); raise change_mean_shift for such an estimator in the thresholds file.
+//                   4 sigma + 1e-4 (pixel_threshold: the median over pixels). sigma_mean = sd(tile
+//                   means) / sqrt(tiles) over 8x8 tiles: noise correlated over fewer than 8 pixels
+//                   (screen-space kernels, rotation textures) averages out within a tile, and any
+//                   uneven real change only raises the spread of the tile means, so the bound errs
+//                   towards "unchanged". Not covered: a seed that moves the whole image coherently
+//                   (shadowmap-ao's light set); raise change_mean_shift for such an estimator in
+//                   the thresholds file.
 #pragma once
 
 #include <cstdint>

@@ -3,7 +3,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "errors.h"
+#include "base/errors.h"
 
 namespace aoeval {
 

@@ -10,7 +10,7 @@
 #include <random>
 #include <set>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "harness/results/metric_table.h"
 #include "reports/regression_config.h"
 

@@ -7,7 +7,6 @@
 #include <set>
 #include <sstream>
 
-#include "exr_io.h"
 #include "harness/results/machine_class.h"
 #include "harness/results/metric_table.h"
 #include "reports/html.h"
@@ -16,6 +15,7 @@
 #include "reports/suite_report_mosaics.h"
 #include "reports/suite_report_sequences.h"
 #include "reports/viewer.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 

@@ -8,10 +8,10 @@
 #include <stdexcept>
 #include <thread>
 
+#include "base/param_text.h"
+#include "base/summary.h"
 #include "drawing/plot.h"
 #include "harness/results/result_row.h"
-#include "harness/results/summary.h"
-#include "param_text.h"
 
 namespace aoeval {
 

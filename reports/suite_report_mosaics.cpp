@@ -5,12 +5,12 @@
 #include <filesystem>
 #include <map>
 
-#include "ao_exr.h"
+#include "base/errors.h"
 #include "drawing/error_maps.h"
-#include "errors.h"
-#include "exr_io.h"
 #include "reports/suite_report.h"
 #include "reports/suite_report_charts.h"
+#include "scenes/ao_exr.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 
@@ -58,8 +58,7 @@ std::string draw_mosaic(const std::string& out_dir, const std::string& run_id,
   if (ref.width != est.width || ref.height != est.height)
     throw InputError(est_path.string() + ": not the size of " + ref_path.string());
   std::vector<uint8_t> mask(ref.ao.size());
-  for (size_t k = 0; k < mask.size(); ++k)
-    mask[k] = ref.covered(k) && est.covered(k);
+  for (size_t k = 0; k < mask.size(); ++k) mask[k] = ref.covered(k) && est.covered(k);
   char numbers[160];
   std::snprintf(numbers, sizeof numbers, "   rmse %.4f   ssim %.3f   flip %.3f",
                 r.metrics.value("rmse", 0.0), r.metrics.value("ssim", 0.0),

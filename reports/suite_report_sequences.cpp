@@ -11,17 +11,17 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "ao_exr.h"
+#include "base/errors.h"
+#include "base/text_files.h"
 #include "drawing/error_maps.h"
 #include "drawing/plot.h"
-#include "errors.h"
-#include "exr_io.h"
 #include "harness/results/results_store.h"
 #include "reports/html.h"
 #include "reports/suite_report_leaderboard.h"
 #include "reports/suite_report_mosaics.h"
 #include "reports/viewer.h"
-#include "text_files.h"
+#include "scenes/ao_exr.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 
@@ -75,8 +75,7 @@ FramePair read_pair(const fs::path& out, const nlohmann::json& kept) {
   if (p.ref.width != p.est.width || p.ref.height != p.est.height)
     throw InputError(p.est.path + ": not the size of " + p.ref.path);
   p.mask.resize(p.ref.ao.size());
-  for (size_t k = 0; k < p.mask.size(); ++k)
-    p.mask[k] = p.ref.covered(k) && p.est.covered(k);
+  for (size_t k = 0; k < p.mask.size(); ++k) p.mask[k] = p.ref.covered(k) && p.est.covered(k);
   return p;
 }
 

@@ -1,5 +1,5 @@
 #include "reports/suite_report.h"
-#include "scenes/test_temp_dir.h"
+#include "base/testing/test_temp_dir.h"
 
 #include <gtest/gtest.h>
 

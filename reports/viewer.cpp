@@ -7,11 +7,11 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "errors.h"
-#include "exr_io.h"
+#include "base/errors.h"
 #include "harness/results/result_row.h"
 #include "reports/html.h"
 #include "reports/viewer_assets.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 

@@ -8,12 +8,12 @@
 #include <fstream>
 #include <sstream>
 
-#include "errors.h"
-#include "exr_io.h"
+#include "base/errors.h"
+#include "base/testing/test_temp_dir.h"
 #include "reports/suite_report_leaderboard.h"
 #include "reports/viewer.h"
 #include "reports/viewer_assets.h"
-#include "scenes/test_temp_dir.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 namespace {

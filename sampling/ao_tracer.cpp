@@ -13,7 +13,7 @@
 #include <limits>
 #include <numbers>
 
-#include "errors.h"
+#include "base/errors.h"
 
 namespace aoeval {
 

@@ -13,12 +13,12 @@
 #include <cstdint>
 #include <vector>
 
-#include "ao_definition.h"
 #include "base/coverage.h"
-#include "embree_scene.h"
-#include "gbuffer.h"
 #include "sampling/ray_offset.h"
 #include "sampling/samplers.h"
+#include "scenes/ao_definition.h"
+#include "scenes/embree_scene.h"
+#include "scenes/gbuffer.h"
 
 namespace aoeval {
 

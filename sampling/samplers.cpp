@@ -10,8 +10,8 @@
 #include <bit>
 #include <cmath>
 
-#include "errors.h"
-#include "random.h"
+#include "base/errors.h"
+#include "scenes/random.h"
 
 namespace aoeval {
 

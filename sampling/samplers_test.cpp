@@ -17,9 +17,9 @@
 #include <thread>
 #include <vector>
 
-#include "errors.h"
-#include "random.h"
+#include "base/errors.h"
 #include "sampling/samplers.h"
+#include "scenes/random.h"
 
 namespace aoeval {
 namespace {

@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "gbuffer.h"
 #include "generators/generators.h"
-#include "scene.h"
+#include "scenes/gbuffer.h"
+#include "scenes/scene.h"
 
 namespace aoeval {
 

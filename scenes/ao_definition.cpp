@@ -1,10 +1,10 @@
-#include "ao_definition.h"
+#include "scenes/ao_definition.h"
 
 #include <charconv>
 #include <cstdlib>
 #include <sstream>
 
-#include "errors.h"
+#include "base/errors.h"
 
 namespace aoeval {
 

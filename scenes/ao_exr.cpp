@@ -1,9 +1,9 @@
-#include "ao_exr.h"
+#include "scenes/ao_exr.h"
 
 #include <cstdio>
 
-#include "errors.h"
-#include "exr_io.h"
+#include "base/errors.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 

@@ -7,7 +7,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
-#include "scene.h"
+#include "scenes/scene.h"
 
 namespace aoeval {
 

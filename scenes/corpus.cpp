@@ -1,10 +1,10 @@
-#include "corpus.h"
+#include "scenes/corpus.h"
 
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 
-#include "errors.h"
+#include "base/errors.h"
 
 namespace aoeval {
 

@@ -1,4 +1,4 @@
-#include "embree_scene.h"
+#include "scenes/embree_scene.h"
 
 #include <pmmintrin.h>
 #include <xmmintrin.h>

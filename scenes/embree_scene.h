@@ -9,7 +9,7 @@
 #include <atomic>
 #include <cstddef>
 
-#include "scene.h"
+#include "scenes/scene.h"
 
 namespace aoeval {
 

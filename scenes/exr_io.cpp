@@ -1,10 +1,10 @@
-#include "exr_io.h"
+#include "scenes/exr_io.h"
 
 #include <OpenImageIO/imageio.h>
 #include <filesystem>
 #include <fstream>
 
-#include "errors.h"
+#include "base/errors.h"
 
 namespace aoeval {
 

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "text_files.h"
+#include "base/text_files.h"
 
 namespace aoeval {
 

@@ -1,4 +1,4 @@
-#include "gbuffer.h"
+#include "scenes/gbuffer.h"
 
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
@@ -7,9 +7,9 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
-#include "errors.h"
-#include "input_limits.h"
-#include "version.h"
+#include "base/errors.h"
+#include "base/input_limits.h"
+#include "base/version.h"
 
 namespace aoeval {
 

@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "base/coverage.h"
-#include "camera.h"
-#include "embree_scene.h"
-#include "exr_io.h"
+#include "scenes/camera.h"
+#include "scenes/embree_scene.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 

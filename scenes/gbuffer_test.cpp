@@ -11,9 +11,9 @@
 #include <filesystem>
 #include <thread>
 
-#include "embree_scene.h"
-#include "gbuffer.h"
-#include "scenes/test_temp_dir.h"
+#include "base/testing/test_temp_dir.h"
+#include "scenes/embree_scene.h"
+#include "scenes/gbuffer.h"
 
 namespace aoeval {
 namespace {

@@ -1,13 +1,13 @@
-#include "mesh.h"
+#include "scenes/mesh.h"
 
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <glm/geometric.hpp>
 
+#include "base/errors.h"
 #include "base/hash.h"
-#include "errors.h"
-#include "input_limits.h"
+#include "base/input_limits.h"
 
 namespace aoeval {
 

@@ -1,4 +1,4 @@
-#include "mesh_io.h"
+#include "scenes/mesh_io.h"
 
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -12,8 +12,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "errors.h"
-#include "input_limits.h"
+#include "base/errors.h"
+#include "base/input_limits.h"
 
 namespace aoeval {
 

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "mesh.h"
+#include "scenes/mesh.h"
 
 namespace aoeval {
 

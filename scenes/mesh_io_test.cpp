@@ -4,9 +4,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "errors.h"
-#include "mesh_io.h"
-#include "scenes/test_temp_dir.h"
+#include "base/errors.h"
+#include "base/testing/test_temp_dir.h"
+#include "scenes/mesh_io.h"
 
 namespace aoeval {
 namespace {

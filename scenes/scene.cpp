@@ -1,4 +1,4 @@
-#include "scene.h"
+#include "scenes/scene.h"
 
 #include <tbb/parallel_for.h>
 
@@ -11,9 +11,9 @@
 #include <glm/mat4x4.hpp>
 
 #include "base/hash.h"
+#include "base/json_reader.h"
 #include "generators/generators.h"
-#include "json_reader.h"
-#include "mesh_io.h"
+#include "scenes/mesh_io.h"
 
 namespace aoeval {
 

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "mesh.h"
-#include "sequence.h"
+#include "scenes/mesh.h"
+#include "scenes/sequence.h"
 
 namespace aoeval {
 

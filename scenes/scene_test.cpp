@@ -6,10 +6,10 @@
 #include <fstream>
 #include <glm/geometric.hpp>
 
-#include "corpus.h"
-#include "errors.h"
-#include "scene.h"
-#include "scenes/test_temp_dir.h"
+#include "base/errors.h"
+#include "base/testing/test_temp_dir.h"
+#include "scenes/corpus.h"
+#include "scenes/scene.h"
 
 namespace aoeval {
 namespace {

@@ -1,12 +1,12 @@
-#include "sequence.h"
+#include "scenes/sequence.h"
 
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "errors.h"
-#include "json_reader.h"
+#include "base/errors.h"
+#include "base/json_reader.h"
 
 namespace aoeval {
 

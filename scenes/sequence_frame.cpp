@@ -1,4 +1,4 @@
-#include "sequence_frame.h"
+#include "scenes/sequence_frame.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -8,7 +8,7 @@
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
-#include "errors.h"
+#include "base/errors.h"
 
 namespace aoeval {
 

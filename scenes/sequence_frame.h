@@ -8,10 +8,10 @@
 #include <glm/vec2.hpp>
 #include <vector>
 
-#include "camera.h"
-#include "embree_scene.h"
-#include "gbuffer.h"
-#include "scene.h"
+#include "scenes/camera.h"
+#include "scenes/embree_scene.h"
+#include "scenes/gbuffer.h"
+#include "scenes/scene.h"
 
 namespace aoeval {
 

@@ -5,11 +5,11 @@
 #include <cmath>
 #include <fstream>
 
-#include "embree_scene.h"
-#include "errors.h"
-#include "scene.h"
-#include "scenes/test_temp_dir.h"
-#include "sequence_frame.h"
+#include "base/errors.h"
+#include "base/testing/test_temp_dir.h"
+#include "scenes/embree_scene.h"
+#include "scenes/scene.h"
+#include "scenes/sequence_frame.h"
 
 namespace aoeval {
 namespace {

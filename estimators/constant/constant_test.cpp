@@ -3,8 +3,8 @@
 
 #include <gtest/gtest.h>
 
-#include "analytic_scenes.h"
-#include "errors.h"
+#include "base/errors.h"
+#include "scenes/analytic_scenes.h"
 
 namespace aoeval {
 namespace {

@@ -39,9 +39,9 @@
 #include <string>
 #include <vector>
 
-#include "camera.h"
 #include "estimators/estimator.h"
 #include "estimators/hbao_split/hbao_split.h"
+#include "scenes/camera.h"
 
 namespace aoeval {
 namespace gtao_glsl {

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <numbers>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/gtao/gtao.h"
 #include "estimators/hbao_split/half_res.h"
-#include "random.h"
+#include "scenes/random.h"
 
 namespace aoeval {
 
@@ -27,138 +27,117 @@ const char* const kGtaoDefinitionDoc =
 
 std::vector<ParamSpec> gtao_param_specs() {
   return {
-      {"R",
-       ParamType::real,
-       0.3,
-       1e-4,
-       1e4,
-       true,
-       "scene units",
-       "radius: samples farther than R from P do not occlude (dmax of the definition, eq. 7)",
-       {}},
-      {"slices",
-       ParamType::integer,
-       4,
-       1,
-       64,
-       false,
-       "directions",
-       "slices per pixel, evenly spaced in [0, pi) around v and rotated per pixel (eq. 3, §5.2)",
-       {}},
-      {"steps",
-       ParamType::integer,
-       8,
-       1,
-       128,
-       false,
-       "samples",
-       "horizon samples per side of each slice (eq. 7)",
-       {}},
-      {"falloff",
-       ParamType::real,
-       0.0,
-       0.0,
-       1.0,
-       false,
-       "fraction of R",
-       "falloff range: a sample's horizon fades linearly to the tangent plane between (1 - "
-       "falloff) R and R; 0 = hard cut at R (the definition's falloff none)",
-       {}},
-      {"power",
-       ParamType::real,
-       2.0,
-       0.25,
-       8.0,
-       false,
-       "",
-       "sample distribution: sample k of a side lies at ((k + u) / steps)^power of the screen "
-       "radius (plus one pixel); > 1 puts more samples near P",
-       {}},
+      {.name = "R",
+       .type = ParamType::real,
+       .default_value = 0.3,
+       .min = 1e-4,
+       .max = 1e4,
+       .log_scale = true,
+       .unit = "scene units",
+       .meaning =
+           "radius: samples farther than R from P do not occlude (dmax of the definition, eq. 7)"},
+      {.name = "slices",
+       .type = ParamType::integer,
+       .default_value = 4,
+       .min = 1,
+       .max = 64,
+       .unit = "directions",
+       .meaning = "slices per pixel, evenly spaced in [0, pi) around v and rotated per pixel (eq. "
+                  "3, §5.2)"},
+      {.name = "steps",
+       .type = ParamType::integer,
+       .default_value = 8,
+       .min = 1,
+       .max = 128,
+       .unit = "samples",
+       .meaning = "horizon samples per side of each slice (eq. 7)"},
+      {.name = "falloff",
+       .type = ParamType::real,
+       .default_value = 0.0,
+       .min = 0.0,
+       .max = 1.0,
+       .unit = "fraction of R",
+       .meaning =
+           "falloff range: a sample's horizon fades linearly to the tangent plane between (1 - "
+           "falloff) R and R; 0 = hard cut at R (the definition's falloff none)"},
+      {.name = "power",
+       .type = ParamType::real,
+       .default_value = 2.0,
+       .min = 0.25,
+       .max = 8.0,
+       .meaning =
+           "sample distribution: sample k of a side lies at ((k + u) / steps)^power of the screen "
+           "radius (plus one pixel); > 1 puts more samples near P"},
       // Default 0.05 from `aoeval figures gtao-thickness` (README, "Thin occluders"): the least
       // worst ratio to each scene's own best rmse_excess over picket-fence, chair, wires, bunny,
       // dragon and cornell-box (1.49, on picket-fence; thin scenes are best at 0.1-0.2, thick
       // ones at 0-0.05: no one value serves both within 5 %).
-      {"thickness",
-       ParamType::real,
-       0.05,
-       0.0,
-       1.0,
-       false,
-       "",
-       "thin-occluder compensation (the paper's thickness heuristic): a sample below the horizon "
-       "pulls it down by this fraction; 0 = off (the exact horizon of a heightfield); 0.05 = the "
-       "least worst error over thin and thick scenes (figure gtao-thickness)",
-       {}},
-      {"final_power",
-       ParamType::real,
-       1.0,
-       0.1,
-       8.0,
-       false,
-       "",
-       "AO^final_power, an artistic contrast control; 1 estimates the declared definition",
-       {}},
-      {"normalise",
-       ParamType::boolean,
-       true,
-       0,
-       0,
-       false,
-       "",
-       "divide by the same slice sum over the unoccluded hemisphere, so that an open surface is "
-       "exactly 1 with any slice count (ours); false: the paper's (1/slices) sum |n_p| a^",
-       {}},
-      {"bent",
-       ParamType::boolean,
-       true,
-       0,
-       0,
-       false,
-       "",
-       "also output the bent normal (bent.X/Y/Z, world space, unit): the cosine-weighted mean "
-       "unoccluded direction in closed form (Algorithm 2)",
-       {}},
-      {"denoise",
-       ParamType::boolean,
-       true,
-       0,
-       0,
-       false,
-       "",
-       "spatial denoise: depth-aware tile x tile average over one period of the noise (§5.2)",
-       {}},
-      {"jitter",
-       ParamType::boolean,
-       true,
-       0,
-       0,
-       false,
-       "",
-       "per-pixel slice rotation and sample offset from the tiled noise (§5.2); off: the same "
-       "slices and samples everywhere",
-       {}},
-      {"tile",
-       ParamType::integer,
-       4,
-       1,
-       16,
-       false,
-       "pixels",
-       "side of the tiled noise texture and of the denoise window (§5.2: 4)",
-       {}},
-      {"seed", ParamType::integer, 7, 0, 1e15, false, "", "seed of the noise texture", {}},
+      {.name = "thickness",
+       .type = ParamType::real,
+       .default_value = 0.05,
+       .min = 0.0,
+       .max = 1.0,
+       .meaning = "thin-occluder compensation (the paper's thickness heuristic): a sample below "
+                  "the horizon "
+                  "pulls it down by this fraction; 0 = off (the exact horizon of a heightfield); "
+                  "0.05 = the "
+                  "least worst error over thin and thick scenes (figure gtao-thickness)"},
+      {.name = "final_power",
+       .type = ParamType::real,
+       .default_value = 1.0,
+       .min = 0.1,
+       .max = 8.0,
+       .meaning =
+           "AO^final_power, an artistic contrast control; 1 estimates the declared definition"},
+      {.name = "normalise",
+       .type = ParamType::boolean,
+       .default_value = true,
+       .meaning =
+           "divide by the same slice sum over the unoccluded hemisphere, so that an open surface "
+           "is "
+           "exactly 1 with any slice count (ours); false: the paper's (1/slices) sum |n_p| a^"},
+      {.name = "bent",
+       .type = ParamType::boolean,
+       .default_value = true,
+       .meaning =
+           "also output the bent normal (bent.X/Y/Z, world space, unit): the cosine-weighted mean "
+           "unoccluded direction in closed form (Algorithm 2)"},
+      {.name = "denoise",
+       .type = ParamType::boolean,
+       .default_value = true,
+       .meaning =
+           "spatial denoise: depth-aware tile x tile average over one period of the noise (§5.2)"},
+      {.name = "jitter",
+       .type = ParamType::boolean,
+       .default_value = true,
+       .meaning =
+           "per-pixel slice rotation and sample offset from the tiled noise (§5.2); off: the same "
+           "slices and samples everywhere"},
+      {.name = "tile",
+       .type = ParamType::integer,
+       .default_value = 4,
+       .min = 1,
+       .max = 16,
+       .unit = "pixels",
+       .meaning = "side of the tiled noise texture and of the denoise window (§5.2: 4)"},
+      {.name = "seed",
+       .type = ParamType::integer,
+       .default_value = 7,
+       .min = 0,
+       .max = 1e15,
+       .meaning = "seed of the noise texture"},
       resolution_param(),
-      {"rotations",
-       ParamType::integer,
-       1,
-       1,
-       16,
-       false,
-       "frames",
-       "temporal noise over a sequence (§5.2: 6 rotations): 1 = a new noise texture every frame "
-       "(seed + k); N > 1 = one texture rotated by j/N of the slice spacing at frame k (the "
-       "paper's order for N = 6), its sample offset moved by 1/4 step every N frames",
-       {}},
+      {.name = "rotations",
+       .type = ParamType::integer,
+       .default_value = 1,
+       .min = 1,
+       .max = 16,
+       .unit = "frames",
+       .meaning =
+           "temporal noise over a sequence (§5.2: 6 rotations): 1 = a new noise texture every "
+           "frame "
+           "(seed + k); N > 1 = one texture rotated by j/N of the slice spacing at frame k (the "
+           "paper's order for N = 6), its sample offset moved by 1/4 step every N frames"},
   };
 }
 

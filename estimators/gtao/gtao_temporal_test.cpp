@@ -10,12 +10,12 @@
 #include <numbers>
 #include <set>
 
-#include "corpus.h"
 #include "estimators/gtao/gtao.h"
 #include "estimators/gtao/gtao_vulkan.h"
 #include "estimators/registry.h"
 #include "estimators/testing/static_frames.h"
 #include "estimators/vulkan/vk_context.h"
+#include "scenes/corpus.h"
 
 namespace aoeval {
 namespace {

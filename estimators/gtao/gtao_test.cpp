@@ -7,13 +7,13 @@
 #include <cmath>
 #include <numbers>
 
-#include "corpus.h"
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/gtao/gtao.h"
 #include "estimators/gtao/gtao_vulkan.h"
 #include "estimators/registry.h"
 #include "estimators/testing/ssao_test_scenes.h"
 #include "estimators/vulkan/vk_context.h"
+#include "scenes/corpus.h"
 
 namespace aoeval {
 namespace {

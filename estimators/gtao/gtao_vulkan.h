@@ -5,10 +5,10 @@
 
 #include <memory>
 
-#include "camera.h"
 #include "estimators/gtao/gtao.h"
 #include "estimators/vulkan/vk_context.h"
-#include "scene.h"
+#include "scenes/camera.h"
+#include "scenes/scene.h"
 
 namespace aoeval {
 

@@ -2,7 +2,7 @@
 
 #include <glm/vec4.hpp>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/vulkan/raster_gbuffer.h"
 #include "estimators/vulkan/vk_pipelines.h"
 #include "hbao_eye_normals_comp_spv.h"
@@ -127,17 +127,13 @@ void check_frame_matches_camera(const HbaoFrame& frame, const Camera& camera) {
 ParamSpec frame_source_param(const std::string& geometry_pass) {
   const std::string timed_as =
       geometry_pass.empty() ? "timed as geometry_ms" : "timed as geometry_ms, " + geometry_pass;
-  return {"gbuffer",
-          ParamType::choice,
-          "raster",
-          0,
-          0,
-          false,
-          "",
-          "raster: the scene rasterised on the device every frame (" + timed_as +
-              "); embree: the shared Embree G-buffer, uploaded once in prepare() (no "
-              "geometry_ms)",
-          {"raster", "embree"}};
+  return {.name = "gbuffer",
+          .type = ParamType::choice,
+          .default_value = "raster",
+          .meaning = "raster: the scene rasterised on the device every frame (" + timed_as +
+                     "); embree: the shared Embree G-buffer, uploaded once in prepare() (no "
+                     "geometry_ms)",
+          .choices = {"raster", "embree"}};
 }
 
 bool rasterises_frame(const ParamSet& params) {

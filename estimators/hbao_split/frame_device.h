@@ -9,14 +9,14 @@
 #include <memory>
 #include <vector>
 
-#include "camera.h"
 #include "estimators/estimator.h"
 #include "estimators/hbao_split/hbao_split.h"
 #include "estimators/vulkan/vk_commands.h"
 #include "estimators/vulkan/vk_context.h"
 #include "estimators/vulkan/vk_resources.h"
-#include "gbuffer.h"
-#include "scene.h"
+#include "scenes/camera.h"
+#include "scenes/gbuffer.h"
+#include "scenes/scene.h"
 
 namespace aoeval {
 

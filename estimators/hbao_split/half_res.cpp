@@ -69,16 +69,14 @@ std::vector<T> upsample(const HbaoFrame& full, const std::vector<T>& low, T none
 }  // namespace
 
 ParamSpec resolution_param() {
-  return {"resolution",
-          ParamType::choice,
-          "full",
-          0,
-          0,
-          false,
-          "",
+  return {
+      .name = "resolution",
+      .type = ParamType::choice,
+      .default_value = "full",
+      .meaning =
           "full: AO at every pixel; half: AO on the half-resolution frame (pixel (2i, 2j) of each "
           "2 x 2 block), then a joint bilateral upsample on depth and normal (half_res.glsl)",
-          {"full", "half"}};
+      .choices = {"full", "half"}};
 }
 
 bool half_resolution(const ParamSet& params) {

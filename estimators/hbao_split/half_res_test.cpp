@@ -8,8 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "corpus.h"
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/gtao/gtao.h"
 #include "estimators/gtao/gtao_vulkan.h"
 #include "estimators/hbao_split/half_res.h"
@@ -17,6 +16,7 @@
 #include "estimators/registry.h"
 #include "estimators/testing/ssao_test_scenes.h"
 #include "estimators/vulkan/vk_context.h"
+#include "scenes/corpus.h"
 
 namespace aoeval {
 namespace {

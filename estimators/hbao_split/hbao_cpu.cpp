@@ -5,7 +5,7 @@
 
 #include "estimators/pixel_loops.h"
 
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/hbao_split/half_res.h"
 #include "estimators/hbao_split/hbao_split.h"
 

@@ -5,12 +5,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include "corpus.h"
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/hbao_split/hbao_split.h"
 #include "estimators/hbao_split/hbao_vulkan.h"
 #include "estimators/registry.h"
 #include "estimators/testing/ssao_test_scenes.h"
+#include "scenes/corpus.h"
 
 namespace aoeval {
 namespace {

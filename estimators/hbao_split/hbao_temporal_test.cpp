@@ -3,11 +3,11 @@
 // estimate bit for bit.
 #include <gtest/gtest.h>
 
-#include "corpus.h"
 #include "estimators/hbao_split/hbao_split.h"
 #include "estimators/hbao_split/hbao_vulkan.h"
 #include "estimators/testing/static_frames.h"
 #include "estimators/vulkan/vk_context.h"
+#include "scenes/corpus.h"
 
 namespace aoeval {
 namespace {

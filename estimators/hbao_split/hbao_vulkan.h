@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
-#include "camera.h"
 #include "estimators/hbao_split/hbao_split.h"
 #include "estimators/vulkan/vk_context.h"
 #include "estimators/vulkan/vk_resources.h"
-#include "scene.h"
+#include "scenes/camera.h"
+#include "scenes/scene.h"
 
 namespace aoeval {
 

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <glm/geometric.hpp>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/power_falloff_param.h"
 #include "sampling/ray_offset.h"
 
@@ -196,55 +196,42 @@ EstimatorInfo obscurances_estimator() {
   info.backend = Backend::embree;
   info.inputs = {EstimatorInput::gbuffer, EstimatorInput::scene_geometry};
   info.params = {
-      {"rays",
-       ParamType::integer,
-       16,
-       1,
-       65536,
-       true,
-       "rays",
-       "Nobs: obscurance rays per pixel, cosine-distributed (§4.1; Fig. 6 uses 16)",
-       {}},
-      {"dmax",
-       ParamType::real,
-       1.0,
-       1e-6,
-       1e6,
-       true,
-       "scene units",
-       "maximum distance of interaction: rho = 1 beyond it (eq. 2; Fig. 7)",
-       {}},
-      {"rho",
-       ParamType::choice,
-       "sqrt",
-       0,
-       0,
-       false,
-       "",
-       "obscurance function (§3): sqrt = sqrt(d/dmax), exp = (1-e^(-4d/dmax))/(1-e^-4), "
-       "constant = 0 within dmax (AO), power = (d/dmax)^rho_k (CONTRACT §3 power:K)",
-       {"exp", "sqrt", "constant", "power"}},
+      {.name = "rays",
+       .type = ParamType::integer,
+       .default_value = 16,
+       .min = 1,
+       .max = 65536,
+       .log_scale = true,
+       .unit = "rays",
+       .meaning = "Nobs: obscurance rays per pixel, cosine-distributed (§4.1; Fig. 6 uses 16)"},
+      {.name = "dmax",
+       .type = ParamType::real,
+       .default_value = 1.0,
+       .min = 1e-6,
+       .max = 1e6,
+       .log_scale = true,
+       .unit = "scene units",
+       .meaning = "maximum distance of interaction: rho = 1 beyond it (eq. 2; Fig. 7)"},
+      {.name = "rho",
+       .type = ParamType::choice,
+       .default_value = "sqrt",
+       .meaning = "obscurance function (§3): sqrt = sqrt(d/dmax), exp = (1-e^(-4d/dmax))/(1-e^-4), "
+                  "constant = 0 within dmax (AO), power = (d/dmax)^rho_k (CONTRACT §3 power:K)",
+       .choices = {"exp", "sqrt", "constant", "power"}},
       power_exponent_param(
           "rho_k",
           "the exponent K of rho = power, rho(x) = x^K (1 = linear, 0.5 = sqrt); unused otherwise"),
-      {"sampling",
-       ParamType::choice,
-       "systematic",
-       0,
-       0,
-       false,
-       "",
-       "random, or systematic: an n1 x n2 grid with one random offset (§4.2)",
-       {"random", "systematic"}},
-      {"seed",
-       ParamType::integer,
-       7,
-       0,
-       1e15,
-       false,
-       "",
-       "random seed (the references use 1, so the two never share samples)",
-       {}},
+      {.name = "sampling",
+       .type = ParamType::choice,
+       .default_value = "systematic",
+       .meaning = "random, or systematic: an n1 x n2 grid with one random offset (§4.2)",
+       .choices = {"random", "systematic"}},
+      {.name = "seed",
+       .type = ParamType::integer,
+       .default_value = 7,
+       .min = 0,
+       .max = 1e15,
+       .meaning = "random seed (the references use 1, so the two never share samples)"},
   };
   info.definition_doc =
       "cosine weighting, dmax = dmax, falloff = rho (sqrt -> sqrt, exp -> exp, constant -> none, "

@@ -7,12 +7,12 @@
 
 #include <cmath>
 
-#include "analytic_scenes.h"
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/obscurances/obscurances.h"
 #include "estimators/registry.h"
 #include "generators/generators.h"
 #include "references/reference.h"
+#include "scenes/analytic_scenes.h"
 
 namespace aoeval {
 namespace {

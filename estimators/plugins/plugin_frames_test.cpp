@@ -14,9 +14,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/plugins/plugin_test_util.h"
-#include "exr_io.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 namespace {

@@ -16,16 +16,16 @@
 #include <sstream>
 #include <thread>
 
+#include "base/errors.h"
 #include "base/hash.h"
-#include "errors.h"
 #include "estimators/plugins/plugin_process.h"
 #include "estimators/vulkan/vk_commands.h"
 #include "estimators/vulkan/vk_context.h"
 #include "estimators/vulkan/vk_pipelines.h"
 #include "estimators/vulkan/vk_resources.h"
-#include "exr_io.h"
-#include "random.h"
-#include "scene.h"
+#include "scenes/exr_io.h"
+#include "scenes/random.h"
+#include "scenes/scene.h"
 
 namespace aoeval {
 

@@ -10,11 +10,11 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "corpus.h"
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/plugins/plugin_test_util.h"
 #include "estimators/registry.h"
 #include "estimators/vulkan/vk_context.h"
+#include "scenes/corpus.h"
 
 namespace aoeval {
 namespace {
@@ -80,7 +80,12 @@ TEST(GlslPlugin, SpirvIsCachedByContent) {
   EXPECT_EQ(second.local_size[0], 4u);
   EXPECT_EQ(second.local_size[1], 2u);
   // Other parameters change the preamble, so the entry.
-  const ParamSpec p{"r", ParamType::real, 0.5, 0, 1, false, "", "m", {}};
+  const ParamSpec p{.name = "r",
+                    .type = ParamType::real,
+                    .default_value = 0.5,
+                    .min = 0,
+                    .max = 1,
+                    .meaning = "m"};
   EXPECT_FALSE(compile_glsl_compute("a.comp", source, {p}).from_cache);
   EXPECT_FALSE(compile_glsl_compute("a.comp", source + "\n", {}).from_cache);
 }
@@ -90,9 +95,18 @@ TEST(GlslPlugin, TheAbiTextDeclaresEveryBindingAndTheParametersInOrder) {
   for (int b = 0; b <= 10; ++b)
     EXPECT_NE(text.find("binding = " + std::to_string(b)), std::string::npos) << b;
   const std::vector<ParamSpec> params = {
-      {"zeta", ParamType::real, 0.5, 0, 1, false, "", "m", {}},
-      {"alpha", ParamType::boolean, true, 0, 0, false, "", "m", {}},
-      {"mode", ParamType::choice, "b", 0, 0, false, "", "m", {"a", "b"}}};
+      {.name = "zeta",
+       .type = ParamType::real,
+       .default_value = 0.5,
+       .min = 0,
+       .max = 1,
+       .meaning = "m"},
+      {.name = "alpha", .type = ParamType::boolean, .default_value = true, .meaning = "m"},
+      {.name = "mode",
+       .type = ParamType::choice,
+       .default_value = "b",
+       .meaning = "m",
+       .choices = {"a", "b"}}};
   for (const char* name : {"aoeval_motion", "aoeval_disoccluded", "aoeval_history", "int frame;"})
     EXPECT_NE(text.find(name), std::string::npos) << name;
   const std::string preamble = glsl_abi_preamble(params);

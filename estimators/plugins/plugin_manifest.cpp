@@ -10,8 +10,8 @@
 #include <set>
 #include <sstream>
 
-#include "errors.h"
-#include "input_limits.h"
+#include "base/errors.h"
+#include "base/input_limits.h"
 
 namespace aoeval {
 

@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "ao_definition.h"
 #include "estimators/estimator.h"
+#include "scenes/ao_definition.h"
 
 namespace aoeval {
 

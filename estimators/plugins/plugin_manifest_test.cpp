@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/plugins/plugin_test_util.h"
 #include "estimators/registry.h"
 

@@ -22,9 +22,9 @@
 #include <set>
 #include <sstream>
 
-#include "exr_io.h"
-#include "gbuffer.h"
-#include "version.h"
+#include "base/version.h"
+#include "scenes/exr_io.h"
+#include "scenes/gbuffer.h"
 
 namespace aoeval {
 

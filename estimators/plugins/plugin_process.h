@@ -37,9 +37,9 @@
 #include <string>
 #include <vector>
 
-#include "ao_exr.h"
 #include "estimators/estimator.h"
 #include "estimators/plugins/plugin_manifest.h"
+#include "scenes/ao_exr.h"
 
 namespace aoeval {
 

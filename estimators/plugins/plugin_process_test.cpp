@@ -12,7 +12,7 @@
 #include <functional>
 #include <sstream>
 
-#include "errors.h"
+#include "base/errors.h"
 
 #include "estimators/plugins/plugin_test_util.h"
 

@@ -4,7 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/plugins/plugin_frames.h"
 #include "estimators/plugins/plugin_glsl.h"
 #include "estimators/plugins/plugin_process.h"

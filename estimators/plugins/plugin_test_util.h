@@ -5,9 +5,9 @@
 #include <fstream>
 #include <string>
 
+#include "base/testing/test_temp_dir.h"
 #include "estimators/plugins/plugin_registry.h"
 #include "estimators/testing/ssao_test_scenes.h"
-#include "test_temp_dir.h"
 
 namespace aoeval::plugin_test {
 

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/registry.h"
 #include "estimators/testing/ssao_test_scenes.h"
 

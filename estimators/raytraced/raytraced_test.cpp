@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "analytic_scenes.h"
+#include "scenes/analytic_scenes.h"
 
 namespace aoeval {
 namespace {

@@ -96,35 +96,28 @@ EstimatorInfo reeves_blau_estimator() {
   info.backend = Backend::cpu;
   info.inputs = {EstimatorInput::gbuffer, EstimatorInput::tree_proxies};
   info.params = {
-      {"attenuation",
-       ParamType::real,
-       0.0,
-       0.0,
-       1e6,
-       false,
-       "1/scene units",
-       "k of V = exp(-k depth); 0 = lambda, the leaves a ray meets per unit length (Hegeman et al. "
-       "§3)",
-       {}},
-      {"envelope",
-       ParamType::choice,
-       "sphere",
-       0,
-       0,
-       false,
-       "",
-       "the tree envelope the depth is measured in: the bounding sphere or the moment ellipsoid",
-       {"sphere", "ellipsoid"}},
-      {"proxy_source",
-       ParamType::choice,
-       "auto",
-       0,
-       0,
-       false,
-       "",
-       "auto: the scene file's proxy when it has one of this kind, else derived; derived: always "
-       "derive from the leaves",
-       {"auto", "derived"}},
+      {.name = "attenuation",
+       .type = ParamType::real,
+       .default_value = 0.0,
+       .min = 0.0,
+       .max = 1e6,
+       .unit = "1/scene units",
+       .meaning = "k of V = exp(-k depth); 0 = lambda, the leaves a ray meets per unit length "
+                  "(Hegeman et al. "
+                  "§3)"},
+      {.name = "envelope",
+       .type = ParamType::choice,
+       .default_value = "sphere",
+       .meaning = "the tree envelope the depth is measured in: the bounding sphere or the moment "
+                  "ellipsoid",
+       .choices = {"sphere", "ellipsoid"}},
+      {.name = "proxy_source",
+       .type = ParamType::choice,
+       .default_value = "auto",
+       .meaning = "auto: the scene file's proxy when it has one of this kind, else derived; "
+                  "derived: always "
+                  "derive from the leaves",
+       .choices = {"auto", "derived"}},
   };
   info.definition_doc =
       "uniform-weighted, unbounded: compared against Hegeman et al.'s eq. 3 ambient visibility";

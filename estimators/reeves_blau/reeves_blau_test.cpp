@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/registry.h"
 #include "estimators/tree_proxies/tree_proxy.h"
 

@@ -14,7 +14,7 @@
 #include <optional>
 #include <stdexcept>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/vertex_baked/vertex_bake.h"
 #include "estimators/vulkan/raster_gbuffer.h"
 #include "estimators/vulkan/vk_commands.h"
@@ -455,116 +455,93 @@ EstimatorInfo shadowmap_ao_estimator() {
   info.backend = Backend::vulkan;
   info.inputs = {EstimatorInput::gbuffer, EstimatorInput::scene_geometry};
   info.params = {
-      {"lights",
-       ParamType::integer,
-       256,
-       1,
-       4096,
-       true,
-       "lights",
-       "shadow-casting directional lights (§17.3: \"128 to 1024 is required for good results\")",
-       {}},
-      {"resolution",
-       ParamType::integer,
-       512,
-       16,
-       4096,
-       true,
-       "texels",
-       "texels per side of each light's orthographic shadow map (its extent: fit)",
-       {}},
-      {"fit",
-       ParamType::choice,
-       "receivers",
-       0,
-       0,
-       false,
-       "",
-       "each light's map laterally: receivers = the extent of the receivers as that light sees "
-       "them (mode pixel: the covered G-buffer points; vertex: the baked triangle centres), as "
-       "cascaded shadow maps fit the view; scene = the scene's bounding sphere (GPU Gems' "
-       "whole-object map, which spends the texels on what no receiver needs). Depth covers the "
-       "sphere either way, so every occluder is drawn",
-       {"receivers", "scene"}},
-      {"distribution",
-       ParamType::choice,
-       "uniform",
-       0,
-       0,
-       false,
-       "",
-       "light placement: uniform (spherical Fibonacci lattice under a seeded rotation, §17.3's "
-       "\"uniform distribution on the sphere\") or latlong (evenly spaced latitudes and "
-       "longitudes, which \"concentrate too many samples at the poles\")",
-       {"uniform", "latlong"}},
-      {"layout",
-       ParamType::choice,
-       "sphere",
-       0,
-       0,
-       false,
-       "",
-       "sphere, or dome: lights over the +Y hemisphere only, the ground assumed to block the rest "
-       "(§17.3: \"a dome or a hemisphere can be used instead\")",
-       {"sphere", "dome"}},
-      {"bias",
-       ParamType::real,
-       1.0,
-       0.0,
-       64.0,
-       false,
-       "texels",
-       "constant depth bias of the shadow test at the receiver",
-       {}},
-      {"slope_bias",
-       ParamType::real,
-       1.0,
-       0.0,
-       64.0,
-       false,
-       "texels",
-       "slope-scaled depth bias: slope_bias * tan(angle between light and surface normal), tan "
-       "capped at 1000 (§17.3's \"streaking ... at the transition from lit to shadowed\")",
-       {}},
-      {"lights_per_pass",
-       ParamType::integer,
-       8,
-       1,
-       16,
-       false,
-       "lights",
-       "shadow maps tested in one accumulation pass (§17.3: \"accumulate eight shadows in the "
-       "shader at once\")",
-       {}},
-      {"weighting",
-       ParamType::choice,
-       "uniform",
-       0,
-       0,
-       false,
-       "",
-       "uniform: every light above the surface counts 1 (the chapter's accessibility); cosine: "
-       "each counts n.l, estimating the cosine-weighted AO",
-       {"uniform", "cosine"}},
-      {"mode",
-       ParamType::choice,
-       "pixel",
-       0,
-       0,
-       false,
-       "",
-       "pixel: every camera G-buffer pixel is a receiver; vertex: triangle centres baked, "
-       "area-averaged to vertices and interpolated per pixel (§17.2, §17.4), as vertex-baked",
-       {"pixel", "vertex"}},
-      {"seed",
-       ParamType::integer,
-       7,
-       0,
-       1e15,
-       false,
-       "",
-       "random seed of the lights' rotation",
-       {}},
+      {.name = "lights",
+       .type = ParamType::integer,
+       .default_value = 256,
+       .min = 1,
+       .max = 4096,
+       .log_scale = true,
+       .unit = "lights",
+       .meaning = "shadow-casting directional lights (§17.3: \"128 to 1024 is required for good "
+                  "results\")"},
+      {.name = "resolution",
+       .type = ParamType::integer,
+       .default_value = 512,
+       .min = 16,
+       .max = 4096,
+       .log_scale = true,
+       .unit = "texels",
+       .meaning = "texels per side of each light's orthographic shadow map (its extent: fit)"},
+      {.name = "fit",
+       .type = ParamType::choice,
+       .default_value = "receivers",
+       .meaning =
+           "each light's map laterally: receivers = the extent of the receivers as that light sees "
+           "them (mode pixel: the covered G-buffer points; vertex: the baked triangle centres), as "
+           "cascaded shadow maps fit the view; scene = the scene's bounding sphere (GPU Gems' "
+           "whole-object map, which spends the texels on what no receiver needs). Depth covers the "
+           "sphere either way, so every occluder is drawn",
+       .choices = {"receivers", "scene"}},
+      {.name = "distribution",
+       .type = ParamType::choice,
+       .default_value = "uniform",
+       .meaning =
+           "light placement: uniform (spherical Fibonacci lattice under a seeded rotation, §17.3's "
+           "\"uniform distribution on the sphere\") or latlong (evenly spaced latitudes and "
+           "longitudes, which \"concentrate too many samples at the poles\")",
+       .choices = {"uniform", "latlong"}},
+      {.name = "layout",
+       .type = ParamType::choice,
+       .default_value = "sphere",
+       .meaning = "sphere, or dome: lights over the +Y hemisphere only, the ground assumed to "
+                  "block the rest "
+                  "(§17.3: \"a dome or a hemisphere can be used instead\")",
+       .choices = {"sphere", "dome"}},
+      {.name = "bias",
+       .type = ParamType::real,
+       .default_value = 1.0,
+       .min = 0.0,
+       .max = 64.0,
+       .unit = "texels",
+       .meaning = "constant depth bias of the shadow test at the receiver"},
+      {.name = "slope_bias",
+       .type = ParamType::real,
+       .default_value = 1.0,
+       .min = 0.0,
+       .max = 64.0,
+       .unit = "texels",
+       .meaning =
+           "slope-scaled depth bias: slope_bias * tan(angle between light and surface normal), tan "
+           "capped at 1000 (§17.3's \"streaking ... at the transition from lit to shadowed\")"},
+      {.name = "lights_per_pass",
+       .type = ParamType::integer,
+       .default_value = 8,
+       .min = 1,
+       .max = 16,
+       .unit = "lights",
+       .meaning =
+           "shadow maps tested in one accumulation pass (§17.3: \"accumulate eight shadows in the "
+           "shader at once\")"},
+      {.name = "weighting",
+       .type = ParamType::choice,
+       .default_value = "uniform",
+       .meaning =
+           "uniform: every light above the surface counts 1 (the chapter's accessibility); cosine: "
+           "each counts n.l, estimating the cosine-weighted AO",
+       .choices = {"uniform", "cosine"}},
+      {.name = "mode",
+       .type = ParamType::choice,
+       .default_value = "pixel",
+       .meaning =
+           "pixel: every camera G-buffer pixel is a receiver; vertex: triangle centres baked, "
+           "area-averaged to vertices and interpolated per pixel (§17.2, §17.4), as vertex-baked",
+       .choices = {"pixel", "vertex"}},
+      {.name = "seed",
+       .type = ParamType::integer,
+       .default_value = 7,
+       .min = 0,
+       .max = 1e15,
+       .meaning = "random seed of the lights' rotation"},
   };
   info.definition_doc = "the weighting parameter's (uniform or cosine), unbounded, no falloff";
   info.definition = [](const ParamSet& p) {

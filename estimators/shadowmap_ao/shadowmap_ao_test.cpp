@@ -8,12 +8,12 @@
 #include <cmath>
 #include <cstring>
 
-#include "analytic_scenes.h"
-#include "embree_scene.h"
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/registry.h"
 #include "estimators/shadowmap_ao/shadowmap_ao.h"
 #include "estimators/vulkan/vk_context.h"
+#include "scenes/analytic_scenes.h"
+#include "scenes/embree_scene.h"
 
 namespace aoeval {
 namespace {

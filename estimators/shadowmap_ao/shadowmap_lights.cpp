@@ -6,9 +6,9 @@
 #include <glm/gtc/quaternion.hpp>
 #include <numbers>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/shadowmap_ao/shadowmap_ao.h"
-#include "random.h"
+#include "scenes/random.h"
 
 namespace aoeval {
 

@@ -39,7 +39,7 @@
 #include <vector>
 
 #include "estimators/estimator.h"
-#include "gbuffer.h"
+#include "scenes/gbuffer.h"
 
 namespace aoeval {
 

@@ -12,7 +12,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "random.h"
+#include "scenes/random.h"
 
 namespace aoeval {
 namespace {

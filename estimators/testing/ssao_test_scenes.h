@@ -7,9 +7,9 @@
 #include <cmath>
 #include <numbers>
 
-#include "analytic_scenes.h"
-#include "embree_scene.h"
-#include "gbuffer.h"
+#include "scenes/analytic_scenes.h"
+#include "scenes/embree_scene.h"
+#include "scenes/gbuffer.h"
 
 namespace aoeval {
 

@@ -6,14 +6,14 @@
 
 #include <cmath>
 
-#include "corpus.h"
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/registry.h"
 #include "estimators/tree_proxies/hegeman_model.h"
 #include "estimators/tree_proxies/tree_proxy.h"
 #include "generators/generators.h"
-#include "random.h"
 #include "references/reference.h"
+#include "scenes/corpus.h"
+#include "scenes/random.h"
 
 namespace aoeval {
 namespace {

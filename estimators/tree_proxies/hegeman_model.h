@@ -12,7 +12,7 @@
 #include <glm/matrix.hpp>
 #include <glm/vec3.hpp>
 
-#include "scene.h"
+#include "scenes/scene.h"
 
 namespace aoeval::hegeman {
 

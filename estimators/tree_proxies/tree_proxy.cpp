@@ -7,8 +7,8 @@
 #include <glm/matrix.hpp>
 #include <limits>
 
-#include "errors.h"
-#include "random.h"
+#include "base/errors.h"
+#include "scenes/random.h"
 
 namespace aoeval {
 

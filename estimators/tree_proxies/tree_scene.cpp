@@ -4,45 +4,32 @@ namespace aoeval {
 
 std::vector<ParamSpec> tree_scene_params() {
   return {
-      {"proxy_source",
-       ParamType::choice,
-       "auto",
-       0,
-       0,
-       false,
-       "",
-       "auto: the scene file's proxy when it has one of this kind, else derived; derived: always "
-       "derive from the leaves (§3 bounding sphere, ellipsoid, §5 k-means shells)",
-       {"auto", "derived"}},
-      {"ground_horizon",
-       ParamType::boolean,
-       true,
-       0,
-       0,
-       false,
-       "",
-       "eq. 7-8: count only the part of a tree's silhouette above the shaded point's tangent plane "
-       "(false: eq. 8 verbatim)",
-       {}},
-      {"grass_ground",
-       ParamType::boolean,
-       true,
-       0,
-       0,
-       false,
-       "",
-       "ground pixels inside a grass field's footprint and below its tips use eq. 9 at their "
-       "height",
-       {}},
-      {"blade_height",
-       ParamType::real,
-       0.0,
-       0.0,
-       1e6,
-       false,
-       "scene units",
-       "h of eq. 9; 0 = each grass object's height (its world-space vertical extent)",
-       {}},
+      {.name = "proxy_source",
+       .type = ParamType::choice,
+       .default_value = "auto",
+       .meaning = "auto: the scene file's proxy when it has one of this kind, else derived; "
+                  "derived: always "
+                  "derive from the leaves (§3 bounding sphere, ellipsoid, §5 k-means shells)",
+       .choices = {"auto", "derived"}},
+      {.name = "ground_horizon",
+       .type = ParamType::boolean,
+       .default_value = true,
+       .meaning = "eq. 7-8: count only the part of a tree's silhouette above the shaded point's "
+                  "tangent plane "
+                  "(false: eq. 8 verbatim)"},
+      {.name = "grass_ground",
+       .type = ParamType::boolean,
+       .default_value = true,
+       .meaning =
+           "ground pixels inside a grass field's footprint and below its tips use eq. 9 at their "
+           "height"},
+      {.name = "blade_height",
+       .type = ParamType::real,
+       .default_value = 0.0,
+       .min = 0.0,
+       .max = 1e6,
+       .unit = "scene units",
+       .meaning = "h of eq. 9; 0 = each grass object's height (its world-space vertical extent)"},
   };
 }
 

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/registry.h"
 #include "estimators/tree_proxies/tree_proxy.h"
 #include "estimators/tree_volume/volume_model.h"

@@ -11,9 +11,9 @@
 #include <string>
 #include <unordered_map>
 
-#include "errors.h"
-#include "random.h"
+#include "base/errors.h"
 #include "sampling/ray_offset.h"
+#include "scenes/random.h"
 
 namespace aoeval {
 

@@ -18,9 +18,9 @@
 #include <glm/vec3.hpp>
 #include <vector>
 
-#include "embree_scene.h"
 #include "sampling/samplers.h"
-#include "scene.h"
+#include "scenes/embree_scene.h"
+#include "scenes/scene.h"
 
 namespace aoeval {
 

@@ -7,7 +7,7 @@
 #include <optional>
 #include <stdexcept>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/vertex_baked/vertex_bake.h"
 
 namespace aoeval {
@@ -105,36 +105,37 @@ EstimatorInfo vertex_baked_estimator() {
   info.backend = Backend::embree;
   info.inputs = {EstimatorInput::gbuffer, EstimatorInput::scene_geometry};
   info.params = {
-      {"rays",
-       ParamType::integer,
-       128,
-       1,
-       65536,
-       true,
-       "rays",
-       "rays per triangle and side at its centre (§17.2, Listing 17-1; the chapter used 512)",
-       {}},
-      {"subdivide",
-       ParamType::integer,
-       0,
-       0,
-       6,
-       false,
-       "levels",
-       "1:4 midpoint splits of every triangle before baking; 0 = as modelled (§17.2 assumes a "
-       "finely tessellated model)",
-       {}},
-      {"sampler",
-       ParamType::choice,
-       "random",
-       0,
-       0,
-       false,
-       "",
-       "hemisphere points: random (Listing 17-2's distribution), stratified or sobol (§17.2 "
-       "\"more complex Monte Carlo sampling\")",
-       {"random", "stratified", "sobol"}},
-      {"seed", ParamType::integer, 7, 0, 1e15, false, "", "random seed of the bake", {}},
+      {.name = "rays",
+       .type = ParamType::integer,
+       .default_value = 128,
+       .min = 1,
+       .max = 65536,
+       .log_scale = true,
+       .unit = "rays",
+       .meaning =
+           "rays per triangle and side at its centre (§17.2, Listing 17-1; the chapter used 512)"},
+      {.name = "subdivide",
+       .type = ParamType::integer,
+       .default_value = 0,
+       .min = 0,
+       .max = 6,
+       .unit = "levels",
+       .meaning =
+           "1:4 midpoint splits of every triangle before baking; 0 = as modelled (§17.2 assumes a "
+           "finely tessellated model)"},
+      {.name = "sampler",
+       .type = ParamType::choice,
+       .default_value = "random",
+       .meaning =
+           "hemisphere points: random (Listing 17-2's distribution), stratified or sobol (§17.2 "
+           "\"more complex Monte Carlo sampling\")",
+       .choices = {"random", "stratified", "sobol"}},
+      {.name = "seed",
+       .type = ParamType::integer,
+       .default_value = 7,
+       .min = 0,
+       .max = 1e15,
+       .meaning = "random seed of the bake"},
   };
   info.definition_doc = "uniform weighting, unbounded (GPU Gems ch. 17 accessibility), always";
   info.definition = [](const ParamSet&) {

@@ -7,13 +7,13 @@
 #include <cstdio>
 #include <cstring>
 
-#include "analytic_scenes.h"
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/registry.h"
 #include "estimators/vertex_baked/vertex_bake.h"
 #include "estimators/vertex_baked/vertex_baked.h"
 #include "generators/generators.h"
 #include "references/reference.h"
+#include "scenes/analytic_scenes.h"
 
 namespace aoeval {
 namespace {

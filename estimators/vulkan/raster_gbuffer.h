@@ -16,13 +16,13 @@
 
 #include <memory>
 
-#include "camera.h"
 #include "estimators/vulkan/vk_commands.h"
 #include "estimators/vulkan/vk_context.h"
 #include "estimators/vulkan/vk_pipelines.h"
 #include "estimators/vulkan/vk_resources.h"
-#include "gbuffer.h"
-#include "scene.h"
+#include "scenes/camera.h"
+#include "scenes/gbuffer.h"
+#include "scenes/scene.h"
 
 namespace aoeval::vk {
 

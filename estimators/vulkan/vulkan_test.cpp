@@ -14,16 +14,16 @@
 #include <cstdlib>
 #include <functional>
 
-#include "corpus.h"
-#include "embree_scene.h"
 #include "estimators/estimator.h"
 #include "estimators/vulkan/raster_gbuffer.h"
 #include "estimators/vulkan/vk_commands.h"
 #include "estimators/vulkan/vk_context.h"
 #include "estimators/vulkan/vk_pipelines.h"
 #include "estimators/vulkan/vk_resources.h"
-#include "gbuffer.h"
-#include "sequence_frame.h"
+#include "scenes/corpus.h"
+#include "scenes/embree_scene.h"
+#include "scenes/gbuffer.h"
+#include "scenes/sequence_frame.h"
 #include "vk_test_roundtrip_comp_spv.h"
 
 namespace aoeval::vk {

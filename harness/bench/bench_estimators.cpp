@@ -6,16 +6,16 @@
 #include <filesystem>
 #include <sstream>
 
-#include "corpus.h"
-#include "errors.h"
+#include "base/errors.h"
+#include "base/resolution.h"
+#include "base/summary.h"
 #include "estimators/registry.h"
 #include "harness/bench/bench_rows.h"
-#include "harness/cli/commands.h"
 #include "harness/evaluation/evaluation.h"
 #include "harness/evaluation/progress.h"
 #include "harness/results/output_lock.h"
 #include "harness/results/results_store.h"
-#include "harness/results/summary.h"
+#include "scenes/corpus.h"
 
 namespace aoeval {
 

@@ -6,11 +6,11 @@
 #include <cstdio>
 #include <sstream>
 
+#include "base/summary.h"
 #include "estimators/gtao/gtao.h"
 #include "estimators/gtao/gtao_vulkan.h"
 #include "estimators/hbao_split/frame_device.h"
 #include "harness/bench/twin_bench.h"
-#include "harness/results/summary.h"
 
 namespace aoeval {
 

@@ -7,11 +7,11 @@
 #include <cstdio>
 #include <sstream>
 
+#include "base/summary.h"
 #include "estimators/hbao_split/frame_device.h"
 #include "estimators/hbao_split/hbao_split.h"
 #include "estimators/hbao_split/hbao_vulkan.h"
 #include "harness/bench/twin_bench.h"
-#include "harness/results/summary.h"
 
 namespace aoeval {
 

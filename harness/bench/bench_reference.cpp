@@ -11,10 +11,10 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "corpus.h"
-#include "harness/cli/commands.h"
-#include "harness/results/summary.h"
+#include "base/resolution.h"
+#include "base/summary.h"
 #include "references/reference.h"
+#include "scenes/corpus.h"
 
 namespace aoeval {
 

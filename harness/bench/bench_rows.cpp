@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "base/summary.h"
+#include "base/version.h"
 #include "harness/evaluation/evaluation.h"
-#include "harness/results/summary.h"
-#include "version.h"
 
 namespace aoeval {
 

@@ -5,11 +5,11 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "corpus.h"
+#include "base/resolution.h"
 #include "estimators/hbao_split/frame_device.h"
-#include "exr_io.h"
-#include "harness/cli/commands.h"
 #include "harness/results/results_store.h"
+#include "scenes/corpus.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 

@@ -11,13 +11,13 @@
 #include <nlohmann/json.hpp>
 
 #include "base/default_paths.h"
-#include "camera.h"
-#include "embree_scene.h"
 #include "estimators/registry.h"
 #include "estimators/vulkan/vk_context.h"
-#include "gbuffer.h"
 #include "harness/bench/bench_rows.h"
-#include "scene.h"
+#include "scenes/camera.h"
+#include "scenes/embree_scene.h"
+#include "scenes/gbuffer.h"
+#include "scenes/scene.h"
 
 namespace aoeval {
 

@@ -10,12 +10,12 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "errors.h"
+#include "base/errors.h"
+#include "base/testing/cli_test_util.h"
+#include "base/testing/test_temp_dir.h"
 #include "estimators/registry.h"
-#include "harness/cli/cli_test_util.h"
 #include "harness/sweep/shard_plan.h"
 #include "scenes/scene.h"
-#include "scenes/test_temp_dir.h"
 
 namespace {
 

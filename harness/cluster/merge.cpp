@@ -6,12 +6,12 @@
 #include <map>
 #include <set>
 
-#include "errors.h"
-#include "exr_io.h"
+#include "base/errors.h"
+#include "base/json_reader.h"
 #include "harness/results/output_lock.h"
 #include "harness/results/suite_record_io.h"
 #include "harness/sweep/shard_plan.h"
-#include "json_reader.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 

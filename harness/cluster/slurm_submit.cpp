@@ -5,11 +5,11 @@
 #include <fstream>
 #include <sstream>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "estimators/plugins/plugin_process.h"
-#include "exr_io.h"
 #include "harness/results/results_store.h"
 #include "harness/sweep/shard_plan.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 

@@ -18,13 +18,13 @@
 #include <cstring>
 #include <optional>
 
-#include "analytic_scenes.h"
-#include "corpus.h"
-#include "embree_scene.h"
 #include "estimators/registry.h"
 #include "estimators/testing/registry_test_names.h"
-#include "gbuffer.h"
 #include "harness/evaluation/evaluation.h"
+#include "scenes/analytic_scenes.h"
+#include "scenes/corpus.h"
+#include "scenes/embree_scene.h"
+#include "scenes/gbuffer.h"
 
 namespace aoeval {
 namespace {

@@ -8,13 +8,13 @@
 
 #include <fstream>
 
-#include "analytic_scenes.h"
-#include "embree_scene.h"
+#include "base/testing/cli_test_util.h"
+#include "base/testing/test_temp_dir.h"
 #include "estimators/registry.h"
 #include "estimators/testing/registry_test_names.h"
-#include "gbuffer.h"
-#include "harness/cli/cli_test_util.h"
-#include "scenes/test_temp_dir.h"
+#include "scenes/analytic_scenes.h"
+#include "scenes/embree_scene.h"
+#include "scenes/gbuffer.h"
 
 namespace aoeval {
 namespace {

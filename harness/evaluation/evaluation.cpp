@@ -7,16 +7,16 @@
 #include <filesystem>
 #include <optional>
 
-#include "corpus.h"
-#include "errors.h"
+#include "base/errors.h"
+#include "base/summary.h"
+#include "base/version.h"
 #include "estimators/registry.h"
-#include "harness/results/summary.h"
 #include "harness/scoring/bent_metrics.h"
 #include "harness/scoring/metrics.h"
 #include "references/cache_lock.h"
 #include "references/reference_cache.h"
-#include "sequence_frame.h"
-#include "version.h"
+#include "scenes/corpus.h"
+#include "scenes/sequence_frame.h"
 
 namespace aoeval {
 

@@ -11,14 +11,14 @@
 #include <chrono>
 #include <optional>
 
-#include "errors.h"
+#include "base/errors.h"
+#include "base/summary.h"
 #include "estimators/registry.h"
 #include "harness/evaluation/evaluation.h"
-#include "harness/results/summary.h"
 #include "harness/scoring/metrics.h"
 #include "harness/scoring/temporal.h"
 #include "references/reference_cache.h"
-#include "sequence_frame.h"
+#include "scenes/sequence_frame.h"
 
 namespace aoeval {
 

@@ -7,9 +7,9 @@
 #include <cstdio>
 #include <fstream>
 
+#include "base/testing/test_temp_dir.h"
 #include "estimators/registry.h"
 #include "harness/evaluation/evaluation.h"
-#include "scenes/test_temp_dir.h"
 
 namespace aoeval {
 namespace {

@@ -2,9 +2,9 @@
 
 #include <chrono>
 
+#include "base/rank_test.h"
+#include "base/summary.h"
 #include "estimators/registry.h"
-#include "harness/results/summary.h"
-#include "reports/regression.h"
 
 namespace aoeval::figures {
 

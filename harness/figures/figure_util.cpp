@@ -6,9 +6,9 @@
 #include <chrono>
 #include <cmath>
 
+#include "base/summary.h"
 #include "drawing/error_maps.h"
 #include "estimators/registry.h"
-#include "harness/results/summary.h"
 
 namespace aoeval::figures {
 

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "base/summary.h"  // median
 #include "drawing/plot.h"
 #include "harness/figures/figure.h"
-#include "harness/results/summary.h"  // median
 #include "harness/scoring/metrics.h"
 
 namespace aoeval::figures {

@@ -10,8 +10,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "harness/cli/cli_test_util.h"
-#include "scenes/test_temp_dir.h"
+#include "base/testing/cli_test_util.h"
+#include "base/testing/test_temp_dir.h"
 
 namespace {
 

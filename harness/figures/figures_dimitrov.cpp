@@ -6,12 +6,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include "corpus.h"
 #include "drawing/error_maps.h"
 #include "estimators/registry.h"
 #include "harness/figures/figure_checks.h"
 #include "harness/figures/figure_timing.h"
 #include "harness/figures/figure_util.h"
+#include "scenes/corpus.h"
 #include "scenes/exr_io.h"
 
 namespace aoeval::figures {

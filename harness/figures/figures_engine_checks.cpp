@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "base/summary.h"
 #include "harness/figures/figure_timing.h"
 #include "harness/figures/figures_engine.h"
-#include "harness/results/summary.h"
 
 namespace aoeval::figures {
 

@@ -7,10 +7,10 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "harness/cli/cli_test_util.h"
+#include "base/testing/cli_test_util.h"
+#include "base/testing/test_temp_dir.h"
 #include "harness/figures/figures_gpugems.h"
 #include "scenes/corpus.h"
-#include "scenes/test_temp_dir.h"
 
 namespace aoeval::figures {
 namespace {

@@ -6,8 +6,8 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "harness/cli/cli_test_util.h"
-#include "test_temp_dir.h"
+#include "base/testing/cli_test_util.h"
+#include "base/testing/test_temp_dir.h"
 
 namespace aoeval {
 namespace {

@@ -9,10 +9,10 @@
 #include <fstream>
 #include <sstream>
 
+#include "base/testing/test_temp_dir.h"
 #include "estimators/registry.h"
 #include "estimators/vulkan/vk_context.h"
 #include "harness/evaluation/evaluation.h"
-#include "scenes/test_temp_dir.h"
 
 namespace aoeval {
 namespace {

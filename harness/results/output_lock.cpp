@@ -10,7 +10,7 @@
 #include <fstream>
 #include <regex>
 
-#include "errors.h"
+#include "base/errors.h"
 
 namespace aoeval {
 

@@ -25,9 +25,9 @@
 #include <stdexcept>
 #include <type_traits>
 
-#include "errors.h"
+#include "base/errors.h"
+#include "base/summary.h"
 #include "harness/results/metric_table.h"
-#include "harness/results/summary.h"
 
 namespace aoeval {
 

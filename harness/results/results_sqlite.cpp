@@ -11,9 +11,9 @@
 #include <set>
 #include <stdexcept>
 
-#include "errors.h"
+#include "base/errors.h"
+#include "base/summary.h"
 #include "harness/results/results_store.h"
-#include "harness/results/summary.h"
 
 namespace aoeval {
 

@@ -9,9 +9,9 @@
 #include <set>
 #include <stdexcept>
 
-#include "errors.h"
-#include "json_reader.h"
-#include "text_files.h"
+#include "base/errors.h"
+#include "base/json_reader.h"
+#include "base/text_files.h"
 
 namespace aoeval {
 

@@ -1,9 +1,9 @@
 // Tests of the results row (result_row.h) and the results store (results_store.h): flat round
 // trip, CSV/JSON/Markdown/console writers, the output folder with --resume, and SQLite.
 #include "harness/results/results_store.h"
-#include "errors.h"
+#include "base/errors.h"
+#include "base/testing/test_temp_dir.h"
 #include "harness/results/stage_times.h"
-#include "scenes/test_temp_dir.h"
 
 #include <gtest/gtest.h>
 #include <sqlite3.h>

@@ -8,14 +8,14 @@
 #include <string>
 #include <thread>
 
+#include "base/summary.h"
 #include "harness/results/results_store.h"
-#include "harness/results/summary.h"
 
 #if __has_include(<embree3/rtcore_config.h>)
 #include <embree3/rtcore_config.h>
 #endif
 #if __has_include("version.h")
-#include "version.h"
+#include "base/version.h"
 #endif
 
 namespace aoeval {

@@ -3,9 +3,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "errors.h"
+#include "base/errors.h"
+#include "base/text_files.h"
 #include "harness/results/results_store.h"
-#include "text_files.h"
 
 namespace aoeval {
 

@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "harness/results/metric_table.h"
 
 namespace aoeval {

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "harness/scoring/bent_metrics.h"
 
 namespace aoeval {

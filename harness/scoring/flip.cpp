@@ -300,15 +300,15 @@ ReferenceSide prepare_reference(int width, int height, const float* ref, const u
       }
       const auto& lobe_m = r.mask_lobes[dir][type];
       std::vector<double>& sq = r.squared[type];
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, n),
-                        [&](const tbb::blocked_range<size_t>& rg) {
-                          for (size_t p = rg.begin(); p < rg.end(); ++p) {
-                            if (!mask[p]) continue;
-                            const double v =
-                                lobe_response(lobe_r[0][p], lobe_m[0][p], lobe_r[1][p], lobe_m[1][p]);
-                            sq[p] += v * v;
-                          }
-                        });
+      tbb::parallel_for(
+          tbb::blocked_range<size_t>(0, n), [&](const tbb::blocked_range<size_t>& rg) {
+            for (size_t p = rg.begin(); p < rg.end(); ++p) {
+              if (!mask[p]) continue;
+              const double v =
+                  lobe_response(lobe_r[0][p], lobe_m[0][p], lobe_r[1][p], lobe_m[1][p]);
+              sq[p] += v * v;
+            }
+          });
     }
   }
   return r;
@@ -322,8 +322,8 @@ std::vector<float> error_map(const ReferenceSide& r, const float* est) {
   for (size_t p = 0; p < n; ++p)
     if (mask[p]) te[p] = std::clamp(static_cast<double>(est[p]), 0.0, 1.0);
   const std::vector<double> csf = csf_kernel(r.ppd);
-  const std::vector<double> fe = filter_cols(
-      filter_rows(te, width, height, csf, Border::kClamp), width, height, csf, Border::kClamp);
+  const std::vector<double> fe = filter_cols(filter_rows(te, width, height, csf, Border::kClamp),
+                                             width, height, csf, Border::kClamp);
 
   const double cmax = std::pow(hyab(hunt_lab(0, 1, 0), hunt_lab(0, 0, 1)), kQc);
   const double pccmax = kPc * cmax;
@@ -342,15 +342,14 @@ std::vector<float> error_map(const ReferenceSide& r, const float* est) {
       for (int l = 0; l < 2; ++l)
         second(pre, width, height, fk.lobes[2 * type + l], Border::kClamp, lobe[l]);
       const auto& lobe_m = r.mask_lobes[dir][type];
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, n),
-                        [&](const tbb::blocked_range<size_t>& rg) {
-                          for (size_t p = rg.begin(); p < rg.end(); ++p) {
-                            if (!mask[p]) continue;
-                            const double v =
-                                lobe_response(lobe[0][p], lobe_m[0][p], lobe[1][p], lobe_m[1][p]);
-                            sq[type][p] += v * v;
-                          }
-                        });
+      tbb::parallel_for(
+          tbb::blocked_range<size_t>(0, n), [&](const tbb::blocked_range<size_t>& rg) {
+            for (size_t p = rg.begin(); p < rg.end(); ++p) {
+              if (!mask[p]) continue;
+              const double v = lobe_response(lobe[0][p], lobe_m[0][p], lobe[1][p], lobe_m[1][p]);
+              sq[type][p] += v * v;
+            }
+          });
     }
   }
 

@@ -42,9 +42,9 @@ struct ReferenceSide {
   int width = 0, height = 0;
   double ppd = 0.0;
   std::vector<uint8_t> mask;
-  std::vector<double> wsum, filtered;            // CSF-filtered mask and reference
-  std::vector<double> mask_lobes[2][2][2];       // [x, y][edges, points][positive, negative]
-  std::vector<double> squared[2];                // the reference's squared responses [edges, points]
+  std::vector<double> wsum, filtered;       // CSF-filtered mask and reference
+  std::vector<double> mask_lobes[2][2][2];  // [x, y][edges, points][positive, negative]
+  std::vector<double> squared[2];           // the reference's squared responses [edges, points]
 };
 ReferenceSide prepare_reference(int width, int height, const float* ref, const uint8_t* mask,
                                 double ppd = pixels_per_degree());

@@ -12,7 +12,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "harness/results/metric_table.h"
 #include "harness/scoring/flip.h"
 

@@ -56,7 +56,7 @@ struct ImageView {
 
 // Scores `est` against `ref` over the pixels where `mask` is nonzero (`mask` empty: every pixel).
 // `ref_stderr` is the reference's per-pixel standard error, or empty (treated as 0).
-// Throws InputError (scenes/errors.h) when the sizes differ (naming both), when the mask or the
+// Throws InputError (base/errors.h) when the sizes differ (naming both), when the mask or the
 // stderr has the wrong size, when no pixel is compared ("no pixel is covered in both images"),
 // and when a compared pixel of either image (or of ref_stderr) is NaN or infinite (naming the
 // image and the pixel (i, j)).

@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "harness/scoring/flip.h"
 
 namespace aoeval {

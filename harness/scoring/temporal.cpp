@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "bilinear_taps.h"
-#include "errors.h"
+#include "base/errors.h"
 #include "harness/results/metric_table.h"
+#include "scenes/bilinear_taps.h"
 
 namespace aoeval {
 

@@ -3,9 +3,9 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "base/text_files.h"
 #include "harness/results/result_row.h"
 #include "references/reference_cache.h"
-#include "scenes/text_files.h"
 
 namespace aoeval {
 

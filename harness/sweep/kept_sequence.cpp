@@ -4,10 +4,10 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "exr_io.h"
+#include "base/text_files.h"
 #include "harness/evaluation/background_lane.h"
 #include "harness/results/results_store.h"
-#include "text_files.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 

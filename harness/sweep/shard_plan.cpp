@@ -4,10 +4,10 @@
 #include <fstream>
 #include <set>
 
-#include "errors.h"
+#include "base/errors.h"
+#include "base/summary.h"
 #include "estimators/registry.h"
-#include "exr_io.h"
-#include "harness/results/summary.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 

@@ -5,9 +5,9 @@
 #include <map>
 #include <set>
 
-#include "errors.h"
+#include "base/errors.h"
+#include "base/json_reader.h"
 #include "estimators/registry.h"
-#include "json_reader.h"
 
 namespace aoeval {
 

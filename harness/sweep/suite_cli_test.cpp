@@ -12,8 +12,8 @@
 
 #include "harness/results/results_store.h"
 
-#include "harness/cli/cli_test_util.h"
-#include "scenes/test_temp_dir.h"
+#include "base/testing/cli_test_util.h"
+#include "base/testing/test_temp_dir.h"
 
 namespace {
 

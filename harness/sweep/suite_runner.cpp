@@ -8,12 +8,11 @@
 #include <set>
 #include <thread>
 
-#include "corpus.h"
+#include "base/errors.h"
+#include "base/text_files.h"
 #include "drawing/error_maps.h"
 #include "drawing/gbuffer_previews.h"
 #include "drawing/plot_workers.h"
-#include "errors.h"
-#include "exr_io.h"
 #include "harness/evaluation/background_lane.h"
 #include "harness/evaluation/evaluation.h"
 #include "harness/evaluation/progress.h"
@@ -25,7 +24,8 @@
 #include "harness/sweep/shard_plan.h"
 #include "harness/sweep/suite.h"
 #include "harness/sweep/sweep_runner.h"
-#include "text_files.h"
+#include "scenes/corpus.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 

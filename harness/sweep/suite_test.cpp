@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "errors.h"
+#include "base/errors.h"
 
 namespace aoeval {
 namespace {

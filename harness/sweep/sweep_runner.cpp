@@ -8,7 +8,8 @@
 #include <map>
 #include <set>
 
-#include "errors.h"
+#include "base/errors.h"
+#include "base/text_files.h"
 #include "harness/evaluation/background_lane.h"
 #include "harness/evaluation/progress.h"
 #include "harness/results/output_lock.h"
@@ -19,7 +20,6 @@
 #include "harness/sweep/kept_sequence.h"
 #include "harness/sweep/shard_plan.h"
 #include "harness/sweep/sweep_spec.h"
-#include "text_files.h"
 
 namespace aoeval {
 

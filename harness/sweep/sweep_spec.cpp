@@ -9,11 +9,11 @@
 #include <map>
 #include <set>
 
-#include "corpus.h"
-#include "errors.h"
+#include "base/errors.h"
+#include "base/json_reader.h"
 #include "estimators/plugins/plugin_registry.h"
 #include "estimators/registry.h"
-#include "json_reader.h"
+#include "scenes/corpus.h"
 
 namespace aoeval {
 

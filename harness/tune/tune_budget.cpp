@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "harness/results/summary.h"
+#include "base/summary.h"
 
 namespace aoeval {
 

@@ -8,15 +8,15 @@
 #include <map>
 #include <memory>
 
-#include "errors.h"
-#include "exr_io.h"
+#include "base/errors.h"
+#include "base/json_reader.h"
 #include "harness/evaluation/progress.h"
 #include "harness/results/output_lock.h"
 #include "harness/results/results_store.h"
 #include "harness/tune/tune_budget.h"
 #include "harness/tune/tune_plot.h"
 #include "harness/tune/tune_search.h"
-#include "json_reader.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 

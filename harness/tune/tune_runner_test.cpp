@@ -12,11 +12,11 @@
 #include <filesystem>
 #include <fstream>
 
+#include "base/json_reader.h"
+#include "base/testing/test_temp_dir.h"
 #include "estimators/testing/synthetic_tune_estimator.h"
 #include "harness/results/results_store.h"
 #include "harness/tune/tune_runner.h"
-#include "json_reader.h"
-#include "scenes/test_temp_dir.h"
 
 namespace aoeval {
 namespace {

@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include "corpus.h"
-#include "errors.h"
+#include "base/errors.h"
+#include "base/json_reader.h"
 #include "estimators/plugins/plugin_registry.h"
 #include "estimators/registry.h"
 #include "harness/results/metric_table.h"
-#include "json_reader.h"
+#include "scenes/corpus.h"
 
 namespace aoeval {
 

@@ -8,7 +8,7 @@
 #include <map>
 #include <set>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "harness/tune/tune_budget.h"
 #include "harness/tune/tune_search.h"
 #include "harness/tune/tune_spec.h"

@@ -3,10 +3,10 @@
 // behaviour (a coordinate beyond float is UB to cast; -fsanitize=float-cast-overflow catches it).
 #include <cstdint>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "fuzz/fuzz_input_file.h"
-#include "mesh.h"
-#include "mesh_io.h"
+#include "scenes/mesh.h"
+#include "scenes/mesh_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = aoeval::fuzz::write_input(data, size, ".off");

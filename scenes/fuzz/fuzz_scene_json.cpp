@@ -6,9 +6,9 @@
 #include <cstdlib>
 #include <exception>
 
-#include "errors.h"
+#include "base/errors.h"
 #include "fuzz/fuzz_input_file.h"
-#include "scene.h"
+#include "scenes/scene.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = aoeval::fuzz::write_input(data, size, ".json");

@@ -1,4 +1,4 @@
-#include "generators.h"
+#include "scenes/generators/generators.h"
 
 namespace aoeval {
 

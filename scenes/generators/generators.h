@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "../json_reader.h"
-#include "../mesh.h"
+#include "base/json_reader.h"
+#include "scenes/mesh.h"
 
 namespace aoeval {
 

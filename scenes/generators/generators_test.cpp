@@ -13,8 +13,8 @@
 #include <limits>
 #include <tuple>
 
-#include "../errors.h"
-#include "generators.h"
+#include "base/errors.h"
+#include "scenes/generators/generators.h"
 
 namespace aoeval {
 namespace {

@@ -20,15 +20,15 @@
 // rejection-sampled, so no transcendental function touches a random number.
 
 // First: no FMA contraction in this file (same bits on every platform).
-#include "fp_contract_off.h"  // IWYU pragma: keep
+#include "scenes/generators/fp_contract_off.h"  // IWYU pragma: keep
 
 #include <array>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
-#include "../random.h"
-#include "generators.h"
+#include "scenes/generators/generators.h"
+#include "scenes/random.h"
 
 namespace aoeval {
 namespace {

@@ -19,7 +19,7 @@
 // straddles a rounding boundary.
 
 // First: no FMA contraction in this file (same bits on every platform).
-#include "fp_contract_off.h"  // IWYU pragma: keep
+#include "scenes/generators/fp_contract_off.h"  // IWYU pragma: keep
 
 #include <array>
 #include <cmath>
@@ -27,7 +27,7 @@
 #include <glm/vec2.hpp>
 #include <unordered_map>
 
-#include "generators.h"
+#include "scenes/generators/generators.h"
 
 namespace aoeval {
 namespace {

@@ -15,13 +15,13 @@
 // density.
 
 // First: no FMA contraction in this file (same bits on every platform).
-#include "fp_contract_off.h"  // IWYU pragma: keep
+#include "scenes/generators/fp_contract_off.h"  // IWYU pragma: keep
 
 #include <cmath>
 #include <glm/geometric.hpp>
 
-#include "../random.h"
-#include "generators.h"
+#include "scenes/generators/generators.h"
+#include "scenes/random.h"
 
 namespace aoeval {
 namespace {

@@ -12,9 +12,9 @@
 //          posts and `slats` horizontal slats on the -Z side, up to `back_height` above the seat
 
 // First: no FMA contraction in this file (same bits on every platform).
-#include "fp_contract_off.h"  // IWYU pragma: keep
+#include "scenes/generators/fp_contract_off.h"  // IWYU pragma: keep
 
-#include "generators.h"
+#include "scenes/generators/generators.h"
 
 namespace aoeval {
 namespace {

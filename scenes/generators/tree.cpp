@@ -35,7 +35,7 @@
 // evaluated in double and rounded to float.
 
 // First: no FMA contraction in this file (same bits on every platform).
-#include "fp_contract_off.h"  // IWYU pragma: keep
+#include "scenes/generators/fp_contract_off.h"  // IWYU pragma: keep
 
 #include <algorithm>
 #include <cmath>
@@ -43,8 +43,8 @@
 #include <glm/vec2.hpp>
 #include <limits>
 
-#include "../random.h"
-#include "generators.h"
+#include "scenes/generators/generators.h"
+#include "scenes/random.h"
 
 namespace aoeval {
 namespace {

@@ -1,0 +1,13 @@
+// Resolution text of the command line and the specs (CONTRACT §2, §5): "640x480".
+#pragma once
+
+#include <string>
+#include <utility>
+
+namespace aoeval {
+
+// "640x480" -> {640, 480}; {0, 0} for "". InputError naming `option` otherwise (each side in
+// [1, 16384]).
+std::pair<int, int> parse_resolution(const std::string& text, const std::string& option = "--res");
+
+}  // namespace aoeval
