@@ -27,10 +27,11 @@ namespace aoeval {
 enum class ParamType { real, integer, boolean, choice };
 const char* param_type_name(ParamType t);
 
-// One parameter, declared once (XeGTAO's settings, pbrt's parameter dictionaries).
-// One declared parameter. Rows are written with designated initialisers, so that a row reads as
-// names (`{.name = "R", .type = ParamType::real, .default_value = 0.3, .min = 0.01, ...}`); a field
-// left out keeps the default below (no range, linear scale, no unit, no choices).
+// One parameter, declared once (XeGTAO's settings, pbrt's parameter dictionaries). Rows are written
+// with designated initialisers, so that a row reads as names rather than as a count of commas:
+// `{.name = "R", .type = ParamType::real, .default_value = 0.3, .min = 0.01, .max = 10, ...}`.
+// Every field is written (a choice's range as 0, 0; no unit as ""; no choices as {}): GCC 12's
+// -Wmissing-field-initializers warns of a designated list that leaves one out.
 struct ParamSpec {
   std::string name;  // the --set key and the results column
   ParamType type = ParamType::real;

@@ -16,6 +16,8 @@ inline ParamSpec power_exponent_param(std::string name, std::string meaning) {
           .default_value = 2.0,
           .min = 1e-3,
           .max = 1e3,
+          .log_scale = false,
+          .unit = "",
           .meaning = std::move(meaning),
           .choices = {}};
 }

@@ -6,9 +6,9 @@
 
 #include <cmath>
 
-#include "generators/generators.h"
 #include "references/reference.h"
 #include "scenes/analytic_scenes.h"
+#include "scenes/generators/generators.h"
 
 namespace aoeval {
 namespace {

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "generators/generators.h"
 #include "scenes/gbuffer.h"
+#include "scenes/generators/generators.h"
 #include "scenes/scene.h"
 
 namespace aoeval {

@@ -12,7 +12,7 @@
 
 #include "base/hash.h"
 #include "base/json_reader.h"
-#include "generators/generators.h"
+#include "scenes/generators/generators.h"
 #include "scenes/mesh_io.h"
 
 namespace aoeval {

@@ -33,7 +33,10 @@ EstimatorInfo constant_estimator() {
                   .default_value = 1.0,
                   .min = 0.0,
                   .max = 1.0,
-                  .meaning = "the AO every pixel gets (1 = ambient only, no occlusion)"}};
+                  .log_scale = false,
+                  .unit = "",
+                  .meaning = "the AO every pixel gets (1 = ambient only, no occlusion)",
+                  .choices = {}}};
   info.definition_doc = "cosine-weighted, unbounded (it stands in for true AO)";
   info.definition = [](const ParamSet&) { return AoDefinition{}; };
   info.create = [](const ParamSet& p) {

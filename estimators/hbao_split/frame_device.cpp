@@ -130,6 +130,10 @@ ParamSpec frame_source_param(const std::string& geometry_pass) {
   return {.name = "gbuffer",
           .type = ParamType::choice,
           .default_value = "raster",
+          .min = 0,
+          .max = 0,
+          .log_scale = false,
+          .unit = "",
           .meaning = "raster: the scene rasterised on the device every frame (" + timed_as +
                      "); embree: the shared Embree G-buffer, uploaded once in prepare() (no "
                      "geometry_ms)",

@@ -73,6 +73,10 @@ ParamSpec resolution_param() {
       .name = "resolution",
       .type = ParamType::choice,
       .default_value = "full",
+      .min = 0,
+      .max = 0,
+      .log_scale = false,
+      .unit = "",
       .meaning =
           "full: AO at every pixel; half: AO on the half-resolution frame (pixel (2i, 2j) of each "
           "2 x 2 block), then a joint bilateral upsample on depth and normal (half_res.glsl)",

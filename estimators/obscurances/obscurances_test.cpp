@@ -10,9 +10,9 @@
 #include "base/errors.h"
 #include "estimators/obscurances/obscurances.h"
 #include "estimators/registry.h"
-#include "generators/generators.h"
 #include "references/reference.h"
 #include "scenes/analytic_scenes.h"
+#include "scenes/generators/generators.h"
 
 namespace aoeval {
 namespace {

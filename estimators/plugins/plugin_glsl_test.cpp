@@ -85,7 +85,10 @@ TEST(GlslPlugin, SpirvIsCachedByContent) {
                     .default_value = 0.5,
                     .min = 0,
                     .max = 1,
-                    .meaning = "m"};
+                    .log_scale = false,
+                    .unit = "",
+                    .meaning = "m",
+                    .choices = {}};
   EXPECT_FALSE(compile_glsl_compute("a.comp", source, {p}).from_cache);
   EXPECT_FALSE(compile_glsl_compute("a.comp", source + "\n", {}).from_cache);
 }
@@ -94,19 +97,33 @@ TEST(GlslPlugin, TheAbiTextDeclaresEveryBindingAndTheParametersInOrder) {
   const std::string text = glsl_abi_text();
   for (int b = 0; b <= 10; ++b)
     EXPECT_NE(text.find("binding = " + std::to_string(b)), std::string::npos) << b;
-  const std::vector<ParamSpec> params = {
-      {.name = "zeta",
-       .type = ParamType::real,
-       .default_value = 0.5,
-       .min = 0,
-       .max = 1,
-       .meaning = "m"},
-      {.name = "alpha", .type = ParamType::boolean, .default_value = true, .meaning = "m"},
-      {.name = "mode",
-       .type = ParamType::choice,
-       .default_value = "b",
-       .meaning = "m",
-       .choices = {"a", "b"}}};
+  const std::vector<ParamSpec> params = {{.name = "zeta",
+                                          .type = ParamType::real,
+                                          .default_value = 0.5,
+                                          .min = 0,
+                                          .max = 1,
+                                          .log_scale = false,
+                                          .unit = "",
+                                          .meaning = "m",
+                                          .choices = {}},
+                                         {.name = "alpha",
+                                          .type = ParamType::boolean,
+                                          .default_value = true,
+                                          .min = 0,
+                                          .max = 0,
+                                          .log_scale = false,
+                                          .unit = "",
+                                          .meaning = "m",
+                                          .choices = {}},
+                                         {.name = "mode",
+                                          .type = ParamType::choice,
+                                          .default_value = "b",
+                                          .min = 0,
+                                          .max = 0,
+                                          .log_scale = false,
+                                          .unit = "",
+                                          .meaning = "m",
+                                          .choices = {"a", "b"}}};
   for (const char* name : {"aoeval_motion", "aoeval_disoccluded", "aoeval_history", "int frame;"})
     EXPECT_NE(text.find(name), std::string::npos) << name;
   const std::string preamble = glsl_abi_preamble(params);

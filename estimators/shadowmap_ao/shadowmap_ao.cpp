@@ -463,7 +463,8 @@ EstimatorInfo shadowmap_ao_estimator() {
        .log_scale = true,
        .unit = "lights",
        .meaning = "shadow-casting directional lights (§17.3: \"128 to 1024 is required for good "
-                  "results\")"},
+                  "results\")",
+       .choices = {}},
       {.name = "resolution",
        .type = ParamType::integer,
        .default_value = 512,
@@ -471,10 +472,15 @@ EstimatorInfo shadowmap_ao_estimator() {
        .max = 4096,
        .log_scale = true,
        .unit = "texels",
-       .meaning = "texels per side of each light's orthographic shadow map (its extent: fit)"},
+       .meaning = "texels per side of each light's orthographic shadow map (its extent: fit)",
+       .choices = {}},
       {.name = "fit",
        .type = ParamType::choice,
        .default_value = "receivers",
+       .min = 0,
+       .max = 0,
+       .log_scale = false,
+       .unit = "",
        .meaning =
            "each light's map laterally: receivers = the extent of the receivers as that light sees "
            "them (mode pixel: the covered G-buffer points; vertex: the baked triangle centres), as "
@@ -485,6 +491,10 @@ EstimatorInfo shadowmap_ao_estimator() {
       {.name = "distribution",
        .type = ParamType::choice,
        .default_value = "uniform",
+       .min = 0,
+       .max = 0,
+       .log_scale = false,
+       .unit = "",
        .meaning =
            "light placement: uniform (spherical Fibonacci lattice under a seeded rotation, §17.3's "
            "\"uniform distribution on the sphere\") or latlong (evenly spaced latitudes and "
@@ -493,6 +503,10 @@ EstimatorInfo shadowmap_ao_estimator() {
       {.name = "layout",
        .type = ParamType::choice,
        .default_value = "sphere",
+       .min = 0,
+       .max = 0,
+       .log_scale = false,
+       .unit = "",
        .meaning = "sphere, or dome: lights over the +Y hemisphere only, the ground assumed to "
                   "block the rest "
                   "(§17.3: \"a dome or a hemisphere can be used instead\")",
@@ -502,29 +516,39 @@ EstimatorInfo shadowmap_ao_estimator() {
        .default_value = 1.0,
        .min = 0.0,
        .max = 64.0,
+       .log_scale = false,
        .unit = "texels",
-       .meaning = "constant depth bias of the shadow test at the receiver"},
+       .meaning = "constant depth bias of the shadow test at the receiver",
+       .choices = {}},
       {.name = "slope_bias",
        .type = ParamType::real,
        .default_value = 1.0,
        .min = 0.0,
        .max = 64.0,
+       .log_scale = false,
        .unit = "texels",
        .meaning =
            "slope-scaled depth bias: slope_bias * tan(angle between light and surface normal), tan "
-           "capped at 1000 (§17.3's \"streaking ... at the transition from lit to shadowed\")"},
+           "capped at 1000 (§17.3's \"streaking ... at the transition from lit to shadowed\")",
+       .choices = {}},
       {.name = "lights_per_pass",
        .type = ParamType::integer,
        .default_value = 8,
        .min = 1,
        .max = 16,
+       .log_scale = false,
        .unit = "lights",
        .meaning =
            "shadow maps tested in one accumulation pass (§17.3: \"accumulate eight shadows in the "
-           "shader at once\")"},
+           "shader at once\")",
+       .choices = {}},
       {.name = "weighting",
        .type = ParamType::choice,
        .default_value = "uniform",
+       .min = 0,
+       .max = 0,
+       .log_scale = false,
+       .unit = "",
        .meaning =
            "uniform: every light above the surface counts 1 (the chapter's accessibility); cosine: "
            "each counts n.l, estimating the cosine-weighted AO",
@@ -532,6 +556,10 @@ EstimatorInfo shadowmap_ao_estimator() {
       {.name = "mode",
        .type = ParamType::choice,
        .default_value = "pixel",
+       .min = 0,
+       .max = 0,
+       .log_scale = false,
+       .unit = "",
        .meaning =
            "pixel: every camera G-buffer pixel is a receiver; vertex: triangle centres baked, "
            "area-averaged to vertices and interpolated per pixel (§17.2, §17.4), as vertex-baked",
@@ -541,7 +569,10 @@ EstimatorInfo shadowmap_ao_estimator() {
        .default_value = 7,
        .min = 0,
        .max = 1e15,
-       .meaning = "random seed of the lights' rotation"},
+       .log_scale = false,
+       .unit = "",
+       .meaning = "random seed of the lights' rotation",
+       .choices = {}},
   };
   info.definition_doc = "the weighting parameter's (uniform or cosine), unbounded, no falloff";
   info.definition = [](const ParamSet& p) {

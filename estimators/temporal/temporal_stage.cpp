@@ -27,12 +27,18 @@ std::vector<ParamSpec> temporal_params(const TemporalDefaults& d) {
        .default_value = d.alpha_min,
        .min = 0.0,
        .max = 1.0,
+       .log_scale = false,
+       .unit = "",
        .meaning = "temporal stage: the smallest weight of the current frame, alpha = "
                   "max(alpha_min, 1/(L+1)) (Schied et al. 2017 §4.1; 1 = no history)",
        .choices = {}},
       {.name = "clamp",
        .type = ParamType::boolean,
        .default_value = d.clamp,
+       .min = 0,
+       .max = 0,
+       .log_scale = false,
+       .unit = "",
        .meaning = "temporal stage: clamp the reprojected history to the current frame's "
                   "neighbourhood, mean +- max(gamma sigma, clamp_sigma_min) (Salvi 2016)",
        .choices = {}},
@@ -41,6 +47,7 @@ std::vector<ParamSpec> temporal_params(const TemporalDefaults& d) {
        .default_value = d.gamma,
        .min = 0.0,
        .max = 100.0,
+       .log_scale = false,
        .unit = "standard deviations",
        .meaning = "temporal stage: half-width of the clamp range around the neighbourhood's mean "
                   "(Salvi 2016; the D3D12 denoised AO sample's std.dev gamma)",
@@ -50,6 +57,7 @@ std::vector<ParamSpec> temporal_params(const TemporalDefaults& d) {
        .default_value = d.clamp_sigma_min,
        .min = 0.0,
        .max = 1.0,
+       .log_scale = false,
        .unit = "AO",
        .meaning =
            "temporal stage: the smallest half-width of the clamp range, so that a flat "
@@ -60,6 +68,7 @@ std::vector<ParamSpec> temporal_params(const TemporalDefaults& d) {
        .default_value = d.clamp_radius,
        .min = 0,
        .max = 16,
+       .log_scale = false,
        .unit = "pixels",
        .meaning = "temporal stage: the clamp's neighbourhood is (2 clamp_radius + 1)^2 pixels of "
                   "the current frame (1 = the 3x3 of TAA)",

@@ -147,23 +147,32 @@ std::vector<ParamSpec> common_params() {
        .default_value = 0.0,
        .min = 0.0,
        .max = 1e12,
+       .log_scale = false,
        .unit = "1/scene units^3",
        .meaning =
            "alpha rho of eq. 6 for every tree; 0 = derive 3 lambda / (2 pi R^2) from §3's Poisson "
-           "argument (lambda = leaves met per unit length)"},
+           "argument (lambda = leaves met per unit length)",
+       .choices = {}},
       {.name = "alpha_scale",
        .type = ParamType::real,
        .default_value = 1.0,
        .min = 0.01,
        .max = 100.0,
        .log_scale = true,
+       .unit = "",
        .meaning =
-           "multiplies alpha rho: the user-tuned alpha of eq. 6 (§4: chosen by hand per object)"},
+           "multiplies alpha rho: the user-tuned alpha of eq. 6 (§4: chosen by hand per object)",
+       .choices = {}},
       {.name = "ambient_only",
        .type = ParamType::boolean,
        .default_value = false,
+       .min = 0,
+       .max = 0,
+       .log_scale = false,
+       .unit = "",
        .meaning = "§4's ambient-only shader (Fig. 12 bottom row): the same per-pixel pass with the "
-                  "visibility left out, every covered pixel 1; a throughput baseline"},
+                  "visibility left out, every covered pixel 1; a throughput baseline",
+       .choices = {}},
   };
 }
 
@@ -202,8 +211,10 @@ EstimatorInfo hegeman_info(ProxyKind kind) {
                              .default_value = 4,
                              .min = 1,
                              .max = 64,
+                             .log_scale = false,
                              .unit = "shells",
-                             .meaning = "number of k-means shells per derived tree envelope (§5)"});
+                             .meaning = "number of k-means shells per derived tree envelope (§5)",
+                             .choices = {}});
       break;
   }
   info.definition_doc =

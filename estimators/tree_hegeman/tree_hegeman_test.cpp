@@ -10,9 +10,9 @@
 #include "estimators/registry.h"
 #include "estimators/tree_proxies/hegeman_model.h"
 #include "estimators/tree_proxies/tree_proxy.h"
-#include "generators/generators.h"
 #include "references/reference.h"
 #include "scenes/corpus.h"
+#include "scenes/generators/generators.h"
 #include "scenes/random.h"
 
 namespace aoeval {

@@ -135,6 +135,10 @@ EstimatorInfo tree_volume_estimator() {
       {.name = "proxy",
        .type = ParamType::choice,
        .default_value = "sphere",
+       .min = 0,
+       .max = 0,
+       .log_scale = false,
+       .unit = "",
        .meaning =
            "the envelope the chords cross: §3 bounding sphere, §3 ellipsoid (Fig. 8), §5 k-means "
            "shells (closest centre along the ray)",
@@ -144,11 +148,17 @@ EstimatorInfo tree_volume_estimator() {
        .default_value = 4,
        .min = 1,
        .max = 64,
+       .log_scale = false,
        .unit = "shells",
-       .meaning = "number of k-means shells per derived envelope (§5; proxy = shells only)"},
+       .meaning = "number of k-means shells per derived envelope (§5; proxy = shells only)",
+       .choices = {}},
       {.name = "weighting",
        .type = ParamType::choice,
        .default_value = "uniform",
+       .min = 0,
+       .max = 0,
+       .log_scale = false,
+       .unit = "",
        .meaning = "hemisphere weight of exp(-lambda chord): uniform (eq. 3's ambient visibility) "
                   "or cosine",
        .choices = {"uniform", "cosine"}},
@@ -157,26 +167,32 @@ EstimatorInfo tree_volume_estimator() {
        .default_value = 4,
        .min = 1,
        .max = 32,
+       .log_scale = false,
        .unit = "directions",
        .meaning =
            "Gauss-Legendre nodes in cos(theta) of the fixed direction set (exact to degree 2 rings "
-           "- 1 in cos(theta))"},
+           "- 1 in cos(theta))",
+       .choices = {}},
       {.name = "azimuths",
        .type = ParamType::integer,
        .default_value = 8,
        .min = 1,
        .max = 64,
+       .log_scale = false,
        .unit = "directions",
        .meaning = "azimuths per ring of the fixed direction set (trapezoid rule; rings x azimuths "
-                  "directions in all)"},
+                  "directions in all)",
+       .choices = {}},
       {.name = "lambda_scale",
        .type = ParamType::real,
        .default_value = 1.0,
        .min = 0.01,
        .max = 100.0,
        .log_scale = true,
+       .unit = "",
        .meaning =
-           "multiplies the derived lambda (§3: G A_leaf / V leaves met per unit length, G = 1/2)"},
+           "multiplies the derived lambda (§3: G A_leaf / V leaves met per unit length, G = 1/2)",
+       .choices = {}},
   };
   for (ParamSpec& p : tree_scene_params()) info.params.push_back(std::move(p));
   info.definition_doc =

@@ -10,7 +10,7 @@
 #include "estimators/registry.h"
 #include "estimators/tree_proxies/tree_proxy.h"
 #include "estimators/tree_volume/volume_model.h"
-#include "generators/generators.h"
+#include "scenes/generators/generators.h"
 
 namespace aoeval {
 namespace {

@@ -113,19 +113,26 @@ EstimatorInfo vertex_baked_estimator() {
        .log_scale = true,
        .unit = "rays",
        .meaning =
-           "rays per triangle and side at its centre (§17.2, Listing 17-1; the chapter used 512)"},
+           "rays per triangle and side at its centre (§17.2, Listing 17-1; the chapter used 512)",
+       .choices = {}},
       {.name = "subdivide",
        .type = ParamType::integer,
        .default_value = 0,
        .min = 0,
        .max = 6,
+       .log_scale = false,
        .unit = "levels",
        .meaning =
            "1:4 midpoint splits of every triangle before baking; 0 = as modelled (§17.2 assumes a "
-           "finely tessellated model)"},
+           "finely tessellated model)",
+       .choices = {}},
       {.name = "sampler",
        .type = ParamType::choice,
        .default_value = "random",
+       .min = 0,
+       .max = 0,
+       .log_scale = false,
+       .unit = "",
        .meaning =
            "hemisphere points: random (Listing 17-2's distribution), stratified or sobol (§17.2 "
            "\"more complex Monte Carlo sampling\")",
@@ -135,7 +142,10 @@ EstimatorInfo vertex_baked_estimator() {
        .default_value = 7,
        .min = 0,
        .max = 1e15,
-       .meaning = "random seed of the bake"},
+       .log_scale = false,
+       .unit = "",
+       .meaning = "random seed of the bake",
+       .choices = {}},
   };
   info.definition_doc = "uniform weighting, unbounded (GPU Gems ch. 17 accessibility), always";
   info.definition = [](const ParamSet&) {

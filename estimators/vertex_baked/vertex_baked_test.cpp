@@ -11,9 +11,9 @@
 #include "estimators/registry.h"
 #include "estimators/vertex_baked/vertex_bake.h"
 #include "estimators/vertex_baked/vertex_baked.h"
-#include "generators/generators.h"
 #include "references/reference.h"
 #include "scenes/analytic_scenes.h"
+#include "scenes/generators/generators.h"
 
 namespace aoeval {
 namespace {

@@ -84,7 +84,9 @@ TEST(MetricTable, EveryRowIsAColumnTwiceAndDefined) {
     EXPECT_EQ(find_metric(m.key), &m);
     EXPECT_EQ(find_metric("true_" + m.key), &m);
     // A report column or a dashboard check is of an error measure or the signed bias.
-    if (m.dashboard && m.better == Better::none) EXPECT_EQ(m.key, "bias");
+    if (m.dashboard && m.better == Better::none) {
+      EXPECT_EQ(m.key, "bias");
+    }
   }
   EXPECT_EQ(find_metric("median"), nullptr);
   // Families come in column order: image, then bent, then sequence.

@@ -46,7 +46,10 @@ TEST(Sweep, RangesLinearLogAndIntegerDedup) {
                        .default_value = 0.5,
                        .min = 0.0,
                        .max = 10.0,
-                       .meaning = "r"};
+                       .log_scale = false,
+                       .unit = "",
+                       .meaning = "r",
+                       .choices = {}};
   auto v = expand_grid_values(real, {{"range", {0.0, 1.0, 5}}}, "f.json", "w");
   ASSERT_EQ(v.size(), 5u);
   EXPECT_DOUBLE_EQ(v[2].get<double>(), 0.5);
@@ -59,7 +62,9 @@ TEST(Sweep, RangesLinearLogAndIntegerDedup) {
                           .min = 1,
                           .max = 100,
                           .log_scale = true,
-                          .meaning = "n"};
+                          .unit = "",
+                          .meaning = "n",
+                          .choices = {}};
   v = expand_grid_values(integer, {{"range", {1, 4, 10}}, {"scale", "lin"}}, "f.json", "w");
   EXPECT_EQ(v.size(), 4u);  // 1, 1.33, 1.67, 2, ... rounded and deduplicated
   EXPECT_THROW(
@@ -79,7 +84,8 @@ TEST(Sweep, RangeWithoutScaleFollowsTheDeclaredScale) {
                        .max = 65536,
                        .log_scale = true,
                        .unit = "rays",
-                       .meaning = "n"};
+                       .meaning = "n",
+                       .choices = {}};
   auto v = expand_grid_values(logp, {{"range", {1, 1000, 4}}}, "f.json", "w");
   ASSERT_EQ(v.size(), 4u);
   EXPECT_EQ(v[1].get<int64_t>(), 10);
@@ -89,8 +95,10 @@ TEST(Sweep, RangeWithoutScaleFollowsTheDeclaredScale) {
                        .default_value = 16,
                        .min = 1,
                        .max = 65536,
+                       .log_scale = false,
                        .unit = "rays",
-                       .meaning = "n"};
+                       .meaning = "n",
+                       .choices = {}};
   v = expand_grid_values(linp, {{"range", {1, 1000, 4}}}, "f.json", "w");
   ASSERT_EQ(v.size(), 4u);
   EXPECT_EQ(v[1].get<int64_t>(), 334);

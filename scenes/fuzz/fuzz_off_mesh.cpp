@@ -4,7 +4,7 @@
 #include <cstdint>
 
 #include "base/errors.h"
-#include "fuzz/fuzz_input_file.h"
+#include "scenes/fuzz/fuzz_input_file.h"
 #include "scenes/mesh.h"
 #include "scenes/mesh_io.h"
 

@@ -7,7 +7,7 @@
 #include <exception>
 
 #include "base/errors.h"
-#include "fuzz/fuzz_input_file.h"
+#include "scenes/fuzz/fuzz_input_file.h"
 #include "scenes/scene.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
