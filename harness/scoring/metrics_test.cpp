@@ -416,7 +416,7 @@ TEST(Metrics, JsonKeysAndPrefix) {
   const Image ref = ramp(8, 8);
   const nlohmann::json j = to_json(score(ref, offset(ref, 0.125f)), "true_");
   const auto keys = metric_keys();
-  ASSERT_EQ(keys.size(), 11u);
+  ASSERT_EQ(keys.size(), 12u);
   EXPECT_EQ(keys.front(), "pixels");
   EXPECT_EQ(keys.back(), "rmse_excess");
   EXPECT_EQ(j.size(), keys.size());
