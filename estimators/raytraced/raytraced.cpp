@@ -12,9 +12,7 @@ AoDefinition definition_of(const ParamSet& p) {
   d.weighting = parse_weighting(p.choice("weighting"), "weighting");
   const double dmax = p.real("dmax");
   d.dmax = dmax > 0.0 ? dmax : std::numeric_limits<double>::infinity();
-  const std::string falloff = p.choice("falloff");
-  const double k = p.real("falloff_k");  // read always: every declared parameter is read
-  d.falloff = falloff == "power" ? Falloff::power(k) : parse_falloff(falloff, "falloff");
+  d.falloff = falloff_of(p);
   validate_definition(d);
   return d;
 }
@@ -69,19 +67,6 @@ EstimatorInfo raytraced_estimator() {
        "scene units",
        "occluder range; 0 = unbounded (CONTRACT §3)",
        {}},
-      {"falloff",
-       ParamType::choice,
-       "none",
-       0,
-       0,
-       false,
-       "",
-       "occluder weight 1 - rho(d/dmax): none, linear, sqrt, exp or power (rho(x) = x^falloff_k) "
-       "(CONTRACT §3)",
-       {"none", "linear", "sqrt", "exp", "power"}},
-      power_exponent_param("falloff_k",
-                           "the exponent K of falloff power, rho(x) = x^K (1 = linear, 0.5 = "
-                           "sqrt); unused otherwise"),
       {"sampler",
        ParamType::choice,
        "random",
@@ -101,6 +86,9 @@ EstimatorInfo raytraced_estimator() {
        "random seed (the references use 1, so the two never share samples)",
        {}},
   };
+  // falloff and falloff_k after dmax: the declaration rtao shares (power_falloff_param.h).
+  const std::vector<ParamSpec> falloff = falloff_params("dmax");
+  info.params.insert(info.params.begin() + 3, falloff.begin(), falloff.end());
   info.definition_doc = "weighting, dmax and falloff as its parameters say";
   info.definition = definition_of;
   info.create = [](const ParamSet& p) { return std::make_unique<RaytracedEstimator>(p); };
