@@ -8,6 +8,7 @@
 #include "errors.h"
 #include "estimators/gtao/gtao.h"
 #include "estimators/hbao_split/half_res.h"
+#include "estimators/temporal/temporal_estimator.h"
 #include "random.h"
 
 namespace aoeval {
@@ -25,8 +26,25 @@ const char* const kGtaoDefinitionDoc =
     "tangent plane between (1 - falloff) R and R); only what the depth buffer shows can occlude, "
     "and each slice's visible set is the arc above its two horizons";
 
+// The shared temporal stage's defaults for gtao (`temporal`): a history as long as the
+// schedule's period for rotations = 6 (6 rotations x 4 sample offsets = 24 frames), a running mean
+// until then (alpha_min 0, so alpha = 1/(L + 1) >= 1/25), and no neighbourhood clamp: on a static
+// crease the clamp (3x3, gamma 1, half-width >= 0.1) held the accumulated 1-slice error at 0.018
+// against 0.009 without it (gtao_temporal_test, AccumulatedOneSlice...): the window's spread of
+// one 1-slice frame is narrower than that frame's own slice error, so the clamp pulls the history
+// back to it. A moving occluder then relies on the disocclusion reset alone (clamp = true turns
+// the clamp on, its gamma and half-width as declared).
+TemporalDefaults gtao_temporal_defaults() {
+  return {.history_limit = 24,
+          .alpha_min = 0.0,
+          .clamp = false,
+          .gamma = 1.0,
+          .clamp_sigma_min = 0.1,
+          .clamp_radius = 1};
+}
+
 std::vector<ParamSpec> gtao_param_specs() {
-  return {
+  std::vector<ParamSpec> params = {
       {"R",
        ParamType::real,
        0.3,
@@ -159,7 +177,21 @@ std::vector<ParamSpec> gtao_param_specs() {
        "(seed + k); N > 1 = one texture rotated by j/N of the slice spacing at frame k (the "
        "paper's order for N = 6), its sample offset moved by 1/4 step every N frames",
        {}},
+      {"temporal",
+       ParamType::boolean,
+       false,
+       0,
+       0,
+       false,
+       "",
+       "accumulate the frames of a sequence with the shared temporal stage (§5.2's temporal "
+       "reprojection; estimators/temporal/): reprojection, disocclusion reset, exponential "
+       "history, clamp; false = each frame its own estimate. A still view is frame 0 either way",
+       {}},
   };
+  // The stage's own parameters, read only when temporal is on (temporal_stage.h).
+  for (ParamSpec& p : temporal_params(gtao_temporal_defaults())) params.push_back(std::move(p));
+  return params;
 }
 
 GtaoSettings gtao_settings_of(const ParamSet& p) {
@@ -179,6 +211,8 @@ GtaoSettings gtao_settings_of(const ParamSet& p) {
   s.seed = static_cast<uint64_t>(p.integer("seed"));
   s.half_res = half_resolution(p);
   s.rotations = static_cast<int>(p.integer("rotations"));
+  s.temporal = p.boolean("temporal");
+  s.temporal_stage = temporal_settings(p);
   return s;
 }
 
@@ -205,6 +239,12 @@ int gtao_rotation_index(uint64_t frame, int rotations) {
 
 const char* const kGtaoStillFrameNote =
     "still frame: frame 0 of the rotation schedule (rotation 0, offset 0), no history";
+
+std::unique_ptr<Estimator> gtao_over_time(std::unique_ptr<Estimator> twin,
+                                          const GtaoSettings& settings) {
+  if (!settings.temporal) return twin;
+  return with_temporal_stage(std::move(twin), settings.temporal_stage);
+}
 
 nlohmann::json frame_derived(const GtaoSettings& s, bool still) {
   nlohmann::json d = nlohmann::json::object();
