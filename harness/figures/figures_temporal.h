@@ -1,0 +1,32 @@
+// The temporal estimators' claims (issue 31), answered as figures with checks: `rtao-convergence`
+// (rmse_excess by frame of rtao at 1 ray per pixel, with and without its a-trous passes, against
+// raytraced at 1, 4, 16 and 64 rays per frame without accumulation, on a static camera; and how
+// many frames rtao takes to settle after a disocclusion, on the dragon crossing the floor). The
+// checks are functions of the numbers, so that a test can feed them numbers on both sides of each
+// rule (figures_temporal_test.cpp).
+#pragma once
+
+#include <map>
+#include <vector>
+
+#include "harness/figures/figure.h"
+
+namespace aoeval::figures {
+
+struct ConvergenceNumbers {
+  std::vector<double> rtao, rtao_no_atrous;          // rmse_excess by frame, static camera
+  std::map<int, std::vector<double>> raytraced;      // rays per frame -> rmse_excess by frame
+  double rtao_steady = 0.0, no_atrous_steady = 0.0;  // steady_rmse_excess
+  double settle_frames = 0.0;  // rtao on the disocclusion sequence; NaN when blank (never settled)
+  int settle_sequence_frames = 0;  // that sequence's length
+};
+// The first frame from which `curve` stays at or below `level`; -1 when it never does.
+int first_frame_staying_below(const std::vector<double>& curve, double level);
+// The rms of a by-frame curve over its last half (steady_rmse_excess's frames).
+double steady_of(const std::vector<double>& curve);
+std::vector<Check> rtao_convergence_checks(const ConvergenceNumbers& n);
+// The settle bound of the third check: rtao's history limit and a-trous passes should make a
+// disoccluded pixel as good as the steady state within this many frames.
+inline constexpr int kSettleFramesBound = 8;
+
+}  // namespace aoeval::figures

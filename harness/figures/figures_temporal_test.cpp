@@ -1,0 +1,48 @@
+// The checks of `rtao-convergence` (figures_temporal.h) on numbers on both sides of each rule.
+#include "harness/figures/figures_temporal.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace aoeval::figures {
+namespace {
+
+TEST(RtaoConvergenceChecks, FirstFrameStayingBelow) {
+  EXPECT_EQ(first_frame_staying_below({0.5, 0.2, 0.1, 0.1}, 0.2), 1);
+  EXPECT_EQ(first_frame_staying_below({0.5, 0.1, 0.3, 0.1}, 0.2), 3);  // left again at frame 2
+  EXPECT_EQ(first_frame_staying_below({0.5, 0.1, 0.3}, 0.2), -1);
+  EXPECT_NEAR(steady_of({9.0, 9.0, 3.0, 4.0}), std::sqrt(12.5), 1e-12);  // frames 2, 3
+}
+
+ConvergenceNumbers passing() {
+  ConvergenceNumbers n;
+  n.rtao = {0.2, 0.1, 0.05, 0.04};
+  n.rtao_no_atrous = {0.4, 0.2, 0.1, 0.08};
+  n.raytraced[16] = {0.09, 0.09, 0.09, 0.09};
+  n.rtao_steady = 0.045;
+  n.no_atrous_steady = 0.09;
+  n.settle_frames = 3;
+  n.settle_sequence_frames = 48;
+  return n;
+}
+
+TEST(RtaoConvergenceChecks, EachRuleOnBothSides) {
+  for (const Check& c : rtao_convergence_checks(passing())) EXPECT_TRUE(c.passed) << c.rule;
+  ConvergenceNumbers n = passing();
+  n.rtao = {0.2, 0.1, 0.1, 0.1};  // never below 16 rays' 0.09
+  EXPECT_FALSE(rtao_convergence_checks(n)[0].passed);
+  n = passing();
+  n.rtao_steady = 0.1;  // the a-trous passes made it worse
+  EXPECT_FALSE(rtao_convergence_checks(n)[1].passed);
+  n = passing();
+  n.settle_frames = std::nan("");  // never settled
+  EXPECT_FALSE(rtao_convergence_checks(n)[2].passed);
+  n.settle_frames = kSettleFramesBound + 1;
+  EXPECT_FALSE(rtao_convergence_checks(n)[2].passed);
+  n.raytraced.clear();  // 16 rays not measured: the check cannot pass
+  EXPECT_FALSE(rtao_convergence_checks(n)[0].passed);
+}
+
+}  // namespace
+}  // namespace aoeval::figures
