@@ -1,4 +1,6 @@
-// The temporal estimators' claims (issue 31), answered as figures with checks: `rtao-convergence`
+// The temporal estimators' claims (issue 31), answered as figures with checks: `gtao-temporal`
+// (Jimenez et al. 2016 §5.2: 1 slice with 6 rotations, accumulated, against 6 slices per frame, by
+// frame, and the per-frame cost of each), `rtao-convergence`
 // (rmse_excess by frame of rtao at 1 ray per pixel, with and without its a-trous passes, against
 // raytraced at 1, 4, 16 and 64 rays per frame without accumulation, on a static camera; and how
 // many frames rtao takes to settle after a disocclusion, on the dragon crossing the floor). The
@@ -25,6 +27,16 @@ int first_frame_staying_below(const std::vector<double>& curve, double level);
 // The rms of a by-frame curve over its last half (steady_rmse_excess's frames).
 double steady_of(const std::vector<double>& curve);
 std::vector<Check> rtao_convergence_checks(const ConvergenceNumbers& n);
+// gtao-temporal: rmse_excess by frame on a static camera of gtao-cpu with 1 slice, the paper's 6
+// rotations and the shared temporal stage, and of 6 slices per frame; their per-frame times.
+struct GtaoTemporalNumbers {
+  std::vector<double> accumulated, six_slices;       // rmse_excess by frame
+  double accumulated_ms = 0.0, six_slices_ms = 0.0;  // median per-frame time
+};
+// How close "approaches" must come: the accumulated steady error within this factor of 6 slices'.
+inline constexpr double kApproachFactor = 1.25;
+std::vector<Check> gtao_temporal_checks(const GtaoTemporalNumbers& n);
+
 // The settle bound of the third check: rtao's history limit and a-trous passes should make a
 // disoccluded pixel as good as the steady state within this many frames.
 inline constexpr int kSettleFramesBound = 8;

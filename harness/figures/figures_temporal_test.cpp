@@ -44,5 +44,21 @@ TEST(RtaoConvergenceChecks, EachRuleOnBothSides) {
   EXPECT_FALSE(rtao_convergence_checks(n)[0].passed);
 }
 
+TEST(GtaoTemporalChecks, EachRuleOnBothSides) {
+  GtaoTemporalNumbers n;
+  n.accumulated = {0.1, 0.05, 0.03, 0.021, 0.02, 0.02, 0.02, 0.02};
+  n.six_slices = {0.02, 0.02, 0.02, 0.02, 0.02, 0.02, 0.02, 0.02};
+  n.accumulated_ms = 2.0;
+  n.six_slices_ms = 8.0;
+  for (const Check& c : gtao_temporal_checks(n)) EXPECT_TRUE(c.passed) << c.rule;
+  GtaoTemporalNumbers m = n;
+  m.accumulated = {0.1, 0.09, 0.08, 0.07, 0.06, 0.05, 0.04, 0.03};  // not close, not by frame 5
+  EXPECT_FALSE(gtao_temporal_checks(m)[0].passed);
+  EXPECT_FALSE(gtao_temporal_checks(m)[1].passed);
+  m = n;
+  m.accumulated_ms = 9.0;
+  EXPECT_FALSE(gtao_temporal_checks(m)[2].passed);
+}
+
 }  // namespace
 }  // namespace aoeval::figures
