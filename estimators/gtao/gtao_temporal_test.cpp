@@ -224,5 +224,39 @@ TEST(GtaoTemporal, AccumulatedOneSliceApproachesSixSlicesPerFrame) {
   }
 }
 
+// `temporal` on the Vulkan twin: the same stage over the same frames, so the accumulated frames
+// agree with gtao-cpu's as the twins do (1e-4; every bit on llvmpipe), and the GPU-timed row's
+// total_ms includes the stage's CPU time (temporal_ms).
+TEST(GtaoTemporal, TwinsAccumulateAlike) {
+  std::string skip_reason;
+  if (!vk::shared_context(&skip_reason)) GTEST_SKIP() << "no Vulkan device: " << skip_reason;
+  const TestView view = crease(64, 48);
+  const nlohmann::json o = {
+      {"slices", 1}, {"rotations", 6}, {"temporal", true}, {"gbuffer", "embree"}};
+  nlohmann::json o_cpu = o;
+  o_cpu.erase("gbuffer");
+  const EstimatorInfo& gpu_info = find_estimator("gtao");
+  const EstimatorInfo& cpu_info = find_estimator("gtao-cpu");
+  const auto gpu = gpu_info.create(resolve_params(gpu_info.name, gpu_info.params, o, "test"));
+  const auto cpu = cpu_info.create(resolve_params(cpu_info.name, cpu_info.params, o_cpu, "test"));
+  const bool llvmpipe =
+      vk::shared_context(&skip_reason)->device_description().find("llvmpipe") != std::string::npos;
+  for (int k = 0; k < 8; ++k) {
+    const FrameInfo info{.index = k, .count = 8, .fps = 30.0, .seed_offset = uint64_t(k)};
+    const EstimateContext c{view.scene, *view.embree, view.gbuffer, &info};
+    gpu->prepare(c);
+    cpu->prepare(c);
+    const EstimateResult a = gpu->run(c), b = cpu->run(c);
+    double diff = 0.0;
+    for (size_t p = 0; p < a.ao.size(); ++p)
+      if (view.gbuffer.covered(p)) diff = std::max(diff, std::abs(double(a.ao[p]) - b.ao[p]));
+    EXPECT_LE(diff, llvmpipe ? 0.0 : 1e-4) << "frame " << k;
+    ASSERT_EQ(a.pass_ms.count("temporal_ms"), 1u);
+    ASSERT_EQ(a.pass_ms.count("total_ms"), 1u);
+    EXPECT_GE(a.pass_ms.at("total_ms"), a.pass_ms.at("temporal_ms"));
+    EXPECT_EQ(a.extra_channels.at("history_length")[0], static_cast<float>(std::min(k + 1, 24)));
+  }
+}
+
 }  // namespace
 }  // namespace aoeval
