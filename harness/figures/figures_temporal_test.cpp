@@ -60,5 +60,19 @@ TEST(GtaoTemporalChecks, EachRuleOnBothSides) {
   EXPECT_FALSE(gtao_temporal_checks(m)[2].passed);
 }
 
+TEST(TemporalEqualTimeChecks, EachRuleOnBothSides) {
+  TemporalEqualTimeNumbers n;
+  n.budget_ms = 10.0;
+  n.contenders = {{"a", 0.02, 0.05, 6.0, 10.0}, {"b", 0.03, 0.01, std::nan(""), 12.0}};
+  EXPECT_EQ(winner_by(n.contenders, &EqualTimeContender::settle), "a");  // NaN ranks last
+  for (const Check& c : temporal_equal_time_checks(n)) EXPECT_TRUE(c.passed) << c.rule;
+  TemporalEqualTimeNumbers m = n;
+  m.contenders[1].ms = 16.0;  // over 1.5 x the budget
+  EXPECT_FALSE(temporal_equal_time_checks(m)[0].passed);
+  m = n;
+  m.contenders[1].flicker = 0.09;  // a wins every question
+  EXPECT_FALSE(temporal_equal_time_checks(m)[1].passed);
+}
+
 }  // namespace
 }  // namespace aoeval::figures
