@@ -51,6 +51,7 @@ class RtaoEstimator : public Estimator {
     svgf_.sigma_n = p.real("sigma_n");
     svgf_.sigma_l = p.real("sigma_l");
     svgf_.variance_frames = static_cast<int>(p.integer("variance_frames"));
+    svgf_.variance_radius = static_cast<int>(p.integer("variance_radius"));
   }
 
   void prepare(const EstimateContext& context) override { still_ = context.frame == nullptr; }
@@ -187,7 +188,17 @@ std::vector<ParamSpec> rtao_params() {
        .log_scale = true,
        .unit = "frames",
        .meaning = "history length from which the variance is temporal; shorter histories "
-                  "estimate it over a 7x7 bilateral neighbourhood (Schied et al. 2017 §4.2)",
+                  "estimate it over a bilateral neighbourhood (Schied et al. 2017 §4.2)",
+       .choices = {}},
+      {.name = "variance_radius",
+       .type = ParamType::integer,
+       .default_value = 3,
+       .min = 0,
+       .max = 8,
+       .log_scale = false,
+       .unit = "pixels",
+       .meaning = "half-width of that spatial variance estimate: (2 r + 1)^2 pixels, the paper's "
+                  "7x7 at 3 (Schied et al. 2017 §4.2); 0 = the pixel's own moments",
        .choices = {}},
       {.name = "atrous_iterations",
        .type = ParamType::integer,

@@ -14,7 +14,8 @@
 //  2. temporal: the shared stage (estimators/temporal/temporal_stage.h): reprojection through the
 //     motion vectors, disocclusion reset, exponential history, neighbourhood clamp, and the first
 //     two moments (SVGF §4.1).
-//  3. variance: from the moments, spatially (7x7 bilateral) where the history is short (§4.2).
+//  3. variance: from the moments, spatially (7x7 bilateral, variance_radius 3) where the history
+//     is short (§4.2).
 //  4. a-trous: `atrous_iterations` edge-avoiding wavelet passes with the depth, normal and
 //     variance edge-stopping weights sigma_z, sigma_n, sigma_l (§4.3-4.4, eqs. 1-5, svgf.h); the
 //     first pass's output is the next frame's history (§4.1).

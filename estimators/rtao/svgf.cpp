@@ -64,10 +64,11 @@ std::vector<float> svgf_variance(const GBuffer& g, const std::vector<float>& mom
     if (!g.covered(p)) return;
     double m1 = moment1[p], m2 = moment2[p];
     if (history_length[p] < static_cast<float>(s.variance_frames)) {
-      // §4.2: the 7x7 bilateral estimate, depth and normal weights only.
+      // §4.2: the bilateral estimate (7x7 at the paper's radius 3), depth and normal weights only.
+      const int rad = s.variance_radius;
       double sw = 0.0, s1 = 0.0, s2 = 0.0;
-      for (int dy = -3; dy <= 3; ++dy)
-        for (int dx = -3; dx <= 3; ++dx) {
+      for (int dy = -rad; dy <= rad; ++dy)
+        for (int dx = -rad; dx <= rad; ++dx) {
           const int a = i + dx, b = j + dy;
           if (a < 0 || b < 0 || a >= g.width || b >= g.height) continue;
           const size_t q = g.index(a, b);

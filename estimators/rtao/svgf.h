@@ -5,7 +5,8 @@
 //
 //  - Variance estimation (§4.2): where a pixel's history is at least `variance_frames` long
 //    (the paper's 4), sigma^2 = max(0, m2 - m1^2) from its temporally accumulated moments; where it
-//    is shorter, the moments are averaged first over a 7x7 bilateral neighbourhood with the depth
+//    is shorter, the moments are averaged first over a (2 variance_radius + 1)^2 bilateral
+//    neighbourhood (the paper's 7x7: radius 3) with the depth
 //    and normal weights w_z w_n below ("we estimate the variance spatially using a 7x7 bilateral
 //    filter with weights driven by depth and world-space normals").
 //  - Edge-avoiding a-trous wavelet transform (§4.3, after Dammertz et al. 2010): iteration i
@@ -35,6 +36,7 @@ namespace aoeval {
 struct SvgfSettings {
   double sigma_z = 0.0, sigma_n = 0.0, sigma_l = 0.0;  // eqs. 3-5
   int variance_frames = 0;                             // §4.2: temporal variance from this many
+  int variance_radius = 0;                             // §4.2: the spatial estimate's half-width
 };
 
 // §4.2: the variance of each covered pixel from its moments and history length.
