@@ -6,6 +6,7 @@
 #include "harness/bench/bench_gtao.h"
 #include "harness/bench/bench_hbao.h"
 #include "harness/bench/bench_reference.h"
+#include "harness/bench/bench_rtao.h"
 #include "harness/bench/bench_shadowmap.h"
 
 namespace aoeval {
@@ -95,6 +96,49 @@ void add_bench_command(CLI::App& app) {
   shadowmap->add_option("--out", sm.out_dir, "output folder (bench_shadowmap.md/csv, results.*)");
   shadowmap->add_option("--db", sm.database, "SQLite results store");
   shadowmap->callback([] { bench_shadowmap(sm); });
+
+  static RtaoBenchOptions rt;
+  auto* rtao = cmd->add_subcommand(
+      "rtao",
+      "rtao: ms per frame and per pass (rays, temporal, variance, each a-trous pass) on a "
+      "static-camera sequence");
+  rtao->add_option("--scene", rt.scene, "corpus name or scene file (default bunny)");
+  rtao->add_option("--view", rt.view, "view name (default: the scene's first view)");
+  rtao->add_option("--res", rt.res, "resolution WIDTHxHEIGHT (default 640x480)");
+  rtao->add_option("--frames", rt.frames, "frames of the sequence (default 16)")
+      ->check(CLI::Range(2, 4096));
+  rtao->add_option("--set", rt.sets, "KEY=VALUE for rtao (repeatable)");
+  rtao->add_option("--warmup", rt.warmup, "untimed sequences first")->check(CLI::Range(0, 100));
+  rtao->add_option("--repetitions", rt.repetitions, "timed sequences (default 3)")
+      ->check(CLI::Range(1, 100));
+  rtao->add_option("--out", rt.out_dir, "output folder (bench_rtao.md/csv, results.*)");
+  rtao->add_option("--db", rt.database, "SQLite results store");
+  rtao->callback([] { bench_rtao(rt); });
+
+  // The same sequence bench for any estimator that keeps state (gtao with temporal=true).
+  static RtaoBenchOptions tp = [] {
+    RtaoBenchOptions o;
+    o.estimator = "gtao";
+    o.out_dir = "out/bench-temporal";
+    return o;
+  }();
+  auto* temporal = cmd->add_subcommand(
+      "temporal",
+      "an estimator that keeps state over a sequence (default gtao; set temporal=true for its "
+      "temporal stage): ms per frame and per pass on a static-camera sequence");
+  temporal->add_option("--estimator", tp.estimator, "estimator name (default gtao)");
+  temporal->add_option("--scene", tp.scene, "corpus name or scene file (default bunny)");
+  temporal->add_option("--view", tp.view, "view name (default: the scene's first view)");
+  temporal->add_option("--res", tp.res, "resolution WIDTHxHEIGHT (default 640x480)");
+  temporal->add_option("--frames", tp.frames, "frames of the sequence (default 16)")
+      ->check(CLI::Range(2, 4096));
+  temporal->add_option("--set", tp.sets, "KEY=VALUE for the estimator (repeatable)");
+  temporal->add_option("--warmup", tp.warmup, "untimed sequences first")->check(CLI::Range(0, 100));
+  temporal->add_option("--repetitions", tp.repetitions, "timed sequences (default 3)")
+      ->check(CLI::Range(1, 100));
+  temporal->add_option("--out", tp.out_dir, "output folder (bench_<estimator>.md/csv, results.*)");
+  temporal->add_option("--db", tp.database, "SQLite results store");
+  temporal->callback([] { bench_rtao(tp); });
   add_plugins_bench(cmd);
 }
 

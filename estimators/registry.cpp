@@ -13,6 +13,7 @@
 #include "estimators/raymarch_ssao/raymarch_ssao.h"
 #include "estimators/raytraced/raytraced.h"
 #include "estimators/reeves_blau/reeves_blau.h"
+#include "estimators/rtao/rtao.h"
 #include "estimators/shadowmap_ao/shadowmap_ao.h"
 #include "estimators/tree_hegeman/tree_hegeman.h"
 #include "estimators/tree_volume/tree_volume.h"
@@ -43,6 +44,7 @@ Registry& registry_storage() {
   static Registry registry{{
       constant_estimator(),
       raytraced_estimator(),
+      rtao_estimator(),
       obscurances_estimator(),
       vertex_baked_estimator(),
       tree_sphere_estimator(), tree_ellipsoid_estimator(), tree_shells_estimator(),

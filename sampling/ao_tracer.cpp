@@ -24,6 +24,10 @@ int replicate_count(SamplerKind sampler, int spp) {
   return 1;
 }
 
+int replicates_of(const AoTraceSettings& s) {
+  return s.replicates > 0 ? s.replicates : replicate_count(s.sampler, s.spp);
+}
+
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -53,7 +57,7 @@ void make_directions(const AoTraceSettings& s, uint64_t pixel, uint32_t replicat
   for (auto* v : {&d.local_x, &d.local_y, &d.local_z, &d.x, &d.y, &d.z}) v->resize(m);
   d.square.resize(m);
   d.above.resize(m);
-  sample_square(s.sampler, s.seed, pixel, replicate, m, d.square.data());
+  sample_square(s.sampler, s.seed, pixel, replicate, m, d.square.data(), s.first_sample);
   if (s.definition.weighting == Weighting::cosine)
     square_to_cosine_hemisphere(d.square.data(), m, d.local_x.data(), d.local_y.data(),
                                 d.local_z.data());
@@ -338,6 +342,9 @@ TracedAo trace_ao(const EmbreeScene& es, const GBuffer& g, const AoTraceSettings
   if (s.spp < 1) throw InputError("--spp: must be at least 1");
   if (s.target_stderr > 0.0 && s.max_spp < s.spp)
     throw InputError("--max-spp: must be at least --spp (" + std::to_string(s.spp) + ")");
+  if (s.spp % replicates_of(s) != 0)
+    throw InputError("replicates: " + std::to_string(replicates_of(s)) + " does not divide " +
+                     std::to_string(s.spp) + " rays per pixel");
   validate_definition(s.definition);
   const auto start = std::chrono::steady_clock::now();
   TracedAo r;
@@ -351,7 +358,7 @@ TracedAo trace_ao(const EmbreeScene& es, const GBuffer& g, const AoTraceSettings
   r.coverage = g.coverage;
   r.spp.assign(n, 0.0f);
   const float extent = scene_extent_of(es);
-  const int replicates = replicate_count(s.sampler, s.spp);
+  const int replicates = replicates_of(s);
   const auto m = static_cast<uint32_t>(s.spp / replicates);
   const bool replicated = s.sampler != SamplerKind::random;
   std::atomic<uint64_t> total_traced{0}, total_samples{0};
@@ -404,7 +411,7 @@ std::vector<BareRay> generate_traced_rays(const GBuffer& g, const AoTraceSetting
                                           float scene_extent) {
   std::vector<BareRay> rays;
   ReplicateDirections d;
-  const int replicates = replicate_count(s.sampler, s.spp);
+  const int replicates = replicates_of(s);
   const auto m = static_cast<uint32_t>(s.spp / replicates);
   const float tfar = s.definition.bounded() ? static_cast<float>(s.definition.dmax) : kInf;
   uint32_t packet = 0;

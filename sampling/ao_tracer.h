@@ -36,11 +36,19 @@ struct AoTraceSettings {
   NormalMode normal = NormalMode::shading;  // which normal orients the hemisphere
   double target_stderr = 0.0;               // > 0: keep sampling until stderr <= this ...
   int max_spp = 16384;                      // ... or this many rays
+  // A frame of a sequence that advances (rtao): each replicate's points start at sample index
+  // `first_sample` of its scrambled sequence (samplers.h), and `replicates` > 0 fixes their
+  // number (spp must be a multiple of it; 0: replicate_count(sampler, spp)). The reference's
+  // defaults, 0 and 0, give the points it has always drawn.
+  uint32_t first_sample = 0;
+  int replicates = 0;
 };
 
 // Independent replicates used for the standard error of the stratified and sobol samplers (their
 // sample variance overestimates the error, so it is measured across independent randomisations).
 int replicate_count(SamplerKind sampler, int spp);
+// The replicates a trace uses: settings.replicates when set, else replicate_count().
+int replicates_of(const AoTraceSettings& settings);
 
 struct TracedAo {
   int width = 0, height = 0;

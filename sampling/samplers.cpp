@@ -117,16 +117,27 @@ float fraction24(uint32_t x) {
   return static_cast<float>(x >> 8) * 0x1p-24f;
 }
 
-void sample_sobol(uint64_t key, uint32_t m, glm::vec2* out) {
+// The reversed dimension-1 value of index i: the xor of the generator columns of its set bits.
+uint32_t dim1_reversed(uint32_t i) {
+  uint32_t y = 0;
+  for (uint32_t j = 0; i != 0; i >>= 1, ++j)
+    if (i & 1u) y ^= kDim1[j];
+  return y;
+}
+
+// Points first .. first + m - 1 of the scrambled sequence (the scramble depends on the key only).
+void sample_sobol(uint64_t key, uint32_t first, uint32_t m, glm::vec2* out) {
   SplitMix64 rng(key);
   const uint64_t seeds = rng.next();  // one independent scramble per dimension
   const auto seed0 = static_cast<uint32_t>(seeds), seed1 = static_cast<uint32_t>(seeds >> 32);
-  uint32_t dim1 = 0;  // reversed dimension-1 value of index i; dimension 0 reversed is i itself
-  for (uint32_t i = 0; i < m; ++i) {
+  // Reversed dimension-1 value of index i; dimension 0 reversed is i itself.
+  uint32_t dim1 = first == 0 ? 0u : dim1_reversed(first);
+  for (uint32_t n = 0; n < m; ++n) {
+    const uint32_t i = first + n;
     const uint32_t x = reverse_bits(owen_permute_reversed(i, seed0));
     const uint32_t y = reverse_bits(owen_permute_reversed(dim1, seed1));
-    out[i] = glm::vec2(fraction24(x), fraction24(y));  // 24 bits: exact floats in [0, 1)
-    dim1 ^= kDim1Step[std::countr_zero(i + 1)];        // i + 1 <= 2^32 - 1: never 0
+    out[n] = glm::vec2(fraction24(x), fraction24(y));  // 24 bits: exact floats in [0, 1)
+    if (i + 1 != 0) dim1 ^= kDim1Step[std::countr_zero(i + 1)];
   }
 }
 
@@ -163,9 +174,11 @@ const char* sampler_name(SamplerKind kind) {
 }
 
 void sample_square(SamplerKind kind, uint64_t seed, uint64_t pixel, uint32_t replicate, uint32_t m,
-                   glm::vec2* out) {
+                   glm::vec2* out, uint32_t first) {
   if (m == 0) return;
-  const uint64_t key = stream_key(kind, seed, pixel, replicate);
+  // Sobol continues one scrambled sequence from `first`; the others draw afresh for each first.
+  uint64_t key = stream_key(kind, seed, pixel, replicate);
+  if (first != 0 && kind != SamplerKind::sobol) key = mix_seed(key, first);
   switch (kind) {
     case SamplerKind::random:
       sample_random(key, m, out);
@@ -174,7 +187,7 @@ void sample_square(SamplerKind kind, uint64_t seed, uint64_t pixel, uint32_t rep
       sample_stratified(key, m, out);
       return;
     case SamplerKind::sobol:
-      sample_sobol(key, m, out);
+      sample_sobol(key, first, m, out);
       return;
   }
 }
@@ -254,10 +267,7 @@ Frame make_frame(const glm::vec3& n) {
 namespace sobol_detail {
 
 glm::uvec2 sobol_bits(uint32_t index) {
-  uint32_t y = 0;
-  for (uint32_t bits = index, j = 0; bits != 0; bits >>= 1, ++j)
-    if (bits & 1u) y ^= kDim1[j];
-  return glm::uvec2(reverse_bits(index), reverse_bits(y));
+  return glm::uvec2(reverse_bits(index), reverse_bits(dim1_reversed(index)));
 }
 
 uint32_t owen_scramble(uint32_t x, uint32_t seed) {

@@ -38,8 +38,11 @@ const char* sampler_name(SamplerKind kind);
 // prefix of the same replicate with more points (and for m = 2^k a (0, k, 2)-net). Stratified: the
 // grid is n1 x n2 = m exactly (a prime m gives a 1 x m grid), the points in row-major order (i,
 // then j).
+// `first` > 0 continues the replicate: sobol gives points first .. first + m - 1 of the same
+// scrambled sequence (so calls with first = 0, m, 2m, ... together are its first points: a
+// sequence that advances frame by frame, rtao's), random and stratified an independent draw.
 void sample_square(SamplerKind kind, uint64_t seed, uint64_t pixel, uint32_t replicate, uint32_t m,
-                   glm::vec2* out);
+                   glm::vec2* out, uint32_t first = 0);
 
 // Unit direction in the local frame where +Z is the normal, z >= 0.
 // Cosine-weighted: pdf cos(theta) / pi (Malley's method on the Shirley-Chiu concentric disk).

@@ -331,6 +331,23 @@ TEST(SamplerSobol, PointsArePrefixesOfOneSequence) {
   expect_net(big.data() + 1024, 1024, "second block of 1024");  // aligned blocks are nets too
 }
 
+// A sequence that advances frame by frame (rtao): calls with first = 0, 4, 8, ... are the blocks
+// of one call from 0, bit for bit, so 64 frames of 4 rays are that pixel's 256-point net.
+TEST(SamplerSobol, StartingAtFirstContinuesTheSameSequence) {
+  const auto whole = points(SamplerKind::sobol, 5, 6, 7, 256);
+  std::vector<glm::vec2> frames(256);
+  for (uint32_t f = 0; f < 64; ++f)
+    sample_square(SamplerKind::sobol, 5, 6, 7, 4, frames.data() + 4 * f, 4 * f);
+  EXPECT_TRUE(std::memcmp(whole.data(), frames.data(), 256 * sizeof(glm::vec2)) == 0);
+  expect_net(frames.data(), 256, "64 frames of 4");
+  // The other samplers draw afresh for another first.
+  for (SamplerKind kind : {SamplerKind::random, SamplerKind::stratified}) {
+    std::vector<glm::vec2> a(4), b(4);
+    sample_square(kind, 5, 6, 7, 4, a.data(), 0);
+    sample_square(kind, 5, 6, 7, 4, b.data(), 4);
+    EXPECT_NE(std::memcmp(a.data(), b.data(), 4 * sizeof(glm::vec2)), 0);
+  }
+}
 TEST(SamplerSobol, EachPointIsUniformAcrossReplicates) {
   // Under Owen scrambling every single point is U[0,1)^2 with independent coordinates. Over R
   // replicates, for several fixed indices: mean 1/2 (sd 1/sqrt(12 R)), E[x y] = 1/4

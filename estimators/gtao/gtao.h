@@ -13,7 +13,10 @@
 // spatial noise). Both twins keep state over a sequence (they read the frame index themselves); a
 // still view is frame 0, which is the still estimate bit for bit, and its row says so
 // (frame_derived). The paper's accumulation of the rotated frames (the shared temporal stage of
-// issue 31) is not wired in here yet: over a sequence each frame is its own estimate.
+// issue 31): with `temporal` on, both twins feed each frame's final AO through the shared temporal
+// stage (estimators/temporal/temporal_estimator.h: reprojection, disocclusion reset, exponential
+// history, neighbourhood clamp), so 1 slice with 6 rotations accumulates towards many slices;
+// off (the default), each frame is its own estimate.
 //
 // The per-pixel algorithm is one source, gtao_kernel.glsl, compiled as C++ for the CPU twin
 // (gtao-cpu, TBB over rows) and as GLSL for the Vulkan twin (gtao); both read the same eye-space
@@ -41,6 +44,7 @@
 
 #include "estimators/estimator.h"
 #include "estimators/hbao_split/hbao_split.h"
+#include "estimators/temporal/temporal_stage.h"
 #include "scenes/camera.h"
 
 namespace aoeval {
@@ -66,6 +70,8 @@ struct GtaoSettings {
   uint64_t seed;
   bool half_res;  // resolution = half (half_res.h)
   int rotations;  // the temporal noise schedule (gtao_noise_of)
+  bool temporal;  // accumulate a sequence's frames with the shared temporal stage
+  TemporalSettings temporal_stage;
   // Not a parameter: the sequence frame whose noise the tables hold, the seed rule's k
   // (FrameInfo::seed_offset; 0 for a still view and when the run keeps one seed).
   uint64_t frame = 0;
@@ -99,6 +105,9 @@ int gtao_rotation_index(uint64_t frame, int rotations);
 // says a still view is frame 0 of the schedule, and a sequence which frames repeat; nothing with
 // rotations = 1 (frame k is then the still estimate of seed + k, as for any stochastic built-in).
 nlohmann::json frame_derived(const GtaoSettings& settings, bool still);
+// A twin as created, accumulated by the shared temporal stage when settings.temporal (else as is).
+std::unique_ptr<Estimator> gtao_over_time(std::unique_ptr<Estimator> twin,
+                                          const GtaoSettings& settings);
 extern const char* const kGtaoStillFrameNote;
 
 // The host-made inputs of the kernel. rotation: tile x tile texels (cos a, sin a), a uniform in

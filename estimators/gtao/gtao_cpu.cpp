@@ -112,7 +112,9 @@ EstimatorInfo gtao_cpu_estimator() {
   info.params = gtao_param_specs();
   info.definition_doc = kGtaoDefinitionDoc;
   info.definition = [](const ParamSet& p) { return gtao_definition(gtao_settings_of(p)); };
-  info.create = [](const ParamSet& p) { return std::make_unique<GtaoCpuEstimator>(p); };
+  info.create = [](const ParamSet& p) {
+    return gtao_over_time(std::make_unique<GtaoCpuEstimator>(p), gtao_settings_of(p));
+  };
   info.keeps_state = true;  // draws frame k's noise itself (gtao_noise_of)
   return info;
 }

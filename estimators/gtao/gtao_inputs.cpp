@@ -8,6 +8,7 @@
 #include "base/errors.h"
 #include "estimators/gtao/gtao.h"
 #include "estimators/hbao_split/half_res.h"
+#include "estimators/temporal/temporal_estimator.h"
 #include "scenes/random.h"
 
 namespace aoeval {
@@ -25,8 +26,25 @@ const char* const kGtaoDefinitionDoc =
     "tangent plane between (1 - falloff) R and R); only what the depth buffer shows can occlude, "
     "and each slice's visible set is the arc above its two horizons";
 
+// The shared temporal stage's defaults for gtao (`temporal`): a history as long as the
+// schedule's period for rotations = 6 (6 rotations x 4 sample offsets = 24 frames), a running mean
+// until then (alpha_min 0, so alpha = 1/(L + 1) >= 1/25), and no neighbourhood clamp: on a static
+// crease the clamp (3x3, gamma 1, half-width >= 0.1) held the accumulated 1-slice error at 0.018
+// against 0.009 without it (gtao_temporal_test, AccumulatedOneSlice...): the window's spread of
+// one 1-slice frame is narrower than that frame's own slice error, so the clamp pulls the history
+// back to it. A moving occluder then relies on the disocclusion reset alone (clamp = true turns
+// the clamp on, its gamma and half-width as declared).
+TemporalDefaults gtao_temporal_defaults() {
+  return {.history_limit = 24,
+          .alpha_min = 0.0,
+          .clamp = false,
+          .gamma = 1.0,
+          .clamp_sigma_min = 0.1,
+          .clamp_radius = 1};
+}
+
 std::vector<ParamSpec> gtao_param_specs() {
-  return {
+  std::vector<ParamSpec> params = {
       {.name = "R",
        .type = ParamType::real,
        .default_value = 0.3,
@@ -35,8 +53,7 @@ std::vector<ParamSpec> gtao_param_specs() {
        .log_scale = true,
        .unit = "scene units",
        .meaning =
-           "radius: samples farther than R from P do not occlude (dmax of the definition, eq. 7)",
-       .choices = {}},
+           "radius: samples farther than R from P do not occlude (dmax of the definition, eq. 7)"},
       {.name = "slices",
        .type = ParamType::integer,
        .default_value = 4,
@@ -45,8 +62,7 @@ std::vector<ParamSpec> gtao_param_specs() {
        .log_scale = false,
        .unit = "directions",
        .meaning = "slices per pixel, evenly spaced in [0, pi) around v and rotated per pixel (eq. "
-                  "3, §5.2)",
-       .choices = {}},
+                  "3, §5.2)"},
       {.name = "steps",
        .type = ParamType::integer,
        .default_value = 8,
@@ -54,8 +70,7 @@ std::vector<ParamSpec> gtao_param_specs() {
        .max = 128,
        .log_scale = false,
        .unit = "samples",
-       .meaning = "horizon samples per side of each slice (eq. 7)",
-       .choices = {}},
+       .meaning = "horizon samples per side of each slice (eq. 7)"},
       {.name = "falloff",
        .type = ParamType::real,
        .default_value = 0.0,
@@ -65,8 +80,7 @@ std::vector<ParamSpec> gtao_param_specs() {
        .unit = "fraction of R",
        .meaning =
            "falloff range: a sample's horizon fades linearly to the tangent plane between (1 - "
-           "falloff) R and R; 0 = hard cut at R (the definition's falloff none)",
-       .choices = {}},
+           "falloff) R and R; 0 = hard cut at R (the definition's falloff none)"},
       {.name = "power",
        .type = ParamType::real,
        .default_value = 2.0,
@@ -76,8 +90,7 @@ std::vector<ParamSpec> gtao_param_specs() {
        .unit = "",
        .meaning =
            "sample distribution: sample k of a side lies at ((k + u) / steps)^power of the screen "
-           "radius (plus one pixel); > 1 puts more samples near P",
-       .choices = {}},
+           "radius (plus one pixel); > 1 puts more samples near P"},
       // Default 0.05 from `aoeval figures gtao-thickness` (README, "Thin occluders"): the least
       // worst ratio to each scene's own best rmse_excess over picket-fence, chair, wires, bunny,
       // dragon and cornell-box (1.49, on picket-fence; thin scenes are best at 0.1-0.2, thick
@@ -93,8 +106,7 @@ std::vector<ParamSpec> gtao_param_specs() {
                   "the horizon "
                   "pulls it down by this fraction; 0 = off (the exact horizon of a heightfield); "
                   "0.05 = the "
-                  "least worst error over thin and thick scenes (figure gtao-thickness)",
-       .choices = {}},
+                  "least worst error over thin and thick scenes (figure gtao-thickness)"},
       {.name = "final_power",
        .type = ParamType::real,
        .default_value = 1.0,
@@ -103,8 +115,7 @@ std::vector<ParamSpec> gtao_param_specs() {
        .log_scale = false,
        .unit = "",
        .meaning =
-           "AO^final_power, an artistic contrast control; 1 estimates the declared definition",
-       .choices = {}},
+           "AO^final_power, an artistic contrast control; 1 estimates the declared definition"},
       {.name = "normalise",
        .type = ParamType::boolean,
        .default_value = true,
@@ -115,8 +126,7 @@ std::vector<ParamSpec> gtao_param_specs() {
        .meaning =
            "divide by the same slice sum over the unoccluded hemisphere, so that an open surface "
            "is "
-           "exactly 1 with any slice count (ours); false: the paper's (1/slices) sum |n_p| a^",
-       .choices = {}},
+           "exactly 1 with any slice count (ours); false: the paper's (1/slices) sum |n_p| a^"},
       {.name = "bent",
        .type = ParamType::boolean,
        .default_value = true,
@@ -126,8 +136,7 @@ std::vector<ParamSpec> gtao_param_specs() {
        .unit = "",
        .meaning =
            "also output the bent normal (bent.X/Y/Z, world space, unit): the cosine-weighted mean "
-           "unoccluded direction in closed form (Algorithm 2)",
-       .choices = {}},
+           "unoccluded direction in closed form (Algorithm 2)"},
       {.name = "denoise",
        .type = ParamType::boolean,
        .default_value = true,
@@ -136,8 +145,7 @@ std::vector<ParamSpec> gtao_param_specs() {
        .log_scale = false,
        .unit = "",
        .meaning =
-           "spatial denoise: depth-aware tile x tile average over one period of the noise (§5.2)",
-       .choices = {}},
+           "spatial denoise: depth-aware tile x tile average over one period of the noise (§5.2)"},
       {.name = "jitter",
        .type = ParamType::boolean,
        .default_value = true,
@@ -147,8 +155,7 @@ std::vector<ParamSpec> gtao_param_specs() {
        .unit = "",
        .meaning =
            "per-pixel slice rotation and sample offset from the tiled noise (§5.2); off: the same "
-           "slices and samples everywhere",
-       .choices = {}},
+           "slices and samples everywhere"},
       {.name = "tile",
        .type = ParamType::integer,
        .default_value = 4,
@@ -156,8 +163,7 @@ std::vector<ParamSpec> gtao_param_specs() {
        .max = 16,
        .log_scale = false,
        .unit = "pixels",
-       .meaning = "side of the tiled noise texture and of the denoise window (§5.2: 4)",
-       .choices = {}},
+       .meaning = "side of the tiled noise texture and of the denoise window (§5.2: 4)"},
       {.name = "seed",
        .type = ParamType::integer,
        .default_value = 7,
@@ -165,8 +171,7 @@ std::vector<ParamSpec> gtao_param_specs() {
        .max = 1e15,
        .log_scale = false,
        .unit = "",
-       .meaning = "seed of the noise texture",
-       .choices = {}},
+       .meaning = "seed of the noise texture"},
       resolution_param(),
       {.name = "rotations",
        .type = ParamType::integer,
@@ -179,9 +184,23 @@ std::vector<ParamSpec> gtao_param_specs() {
            "temporal noise over a sequence (§5.2: 6 rotations): 1 = a new noise texture every "
            "frame "
            "(seed + k); N > 1 = one texture rotated by j/N of the slice spacing at frame k (the "
-           "paper's order for N = 6), its sample offset moved by 1/4 step every N frames",
-       .choices = {}},
+           "paper's order for N = 6), its sample offset moved by 1/4 step every N frames"},
+      {.name = "temporal",
+       .type = ParamType::boolean,
+       .default_value = false,
+       .min = 0,
+       .max = 0,
+       .log_scale = false,
+       .unit = "",
+       .meaning =
+           "accumulate the frames of a sequence with the shared temporal stage (§5.2's temporal "
+           "reprojection; estimators/temporal/): reprojection, disocclusion reset, exponential "
+           "history, clamp; false = each frame its own estimate. A still view is frame 0 either "
+           "way"},
   };
+  // The stage's own parameters, read only when temporal is on (temporal_stage.h).
+  for (ParamSpec& p : temporal_params(gtao_temporal_defaults())) params.push_back(std::move(p));
+  return params;
 }
 
 GtaoSettings gtao_settings_of(const ParamSet& p) {
@@ -201,6 +220,8 @@ GtaoSettings gtao_settings_of(const ParamSet& p) {
   s.seed = static_cast<uint64_t>(p.integer("seed"));
   s.half_res = half_resolution(p);
   s.rotations = static_cast<int>(p.integer("rotations"));
+  s.temporal = p.boolean("temporal");
+  s.temporal_stage = temporal_settings(p);
   return s;
 }
 
@@ -227,6 +248,12 @@ int gtao_rotation_index(uint64_t frame, int rotations) {
 
 const char* const kGtaoStillFrameNote =
     "still frame: frame 0 of the rotation schedule (rotation 0, offset 0), no history";
+
+std::unique_ptr<Estimator> gtao_over_time(std::unique_ptr<Estimator> twin,
+                                          const GtaoSettings& settings) {
+  if (!settings.temporal) return twin;
+  return with_temporal_stage(std::move(twin), settings.temporal_stage);
+}
 
 nlohmann::json frame_derived(const GtaoSettings& s, bool still) {
   nlohmann::json d = nlohmann::json::object();

@@ -160,8 +160,10 @@ EstimatorInfo gtao_estimator() {
   info.definition_doc = kGtaoDefinitionDoc;
   info.definition = [](const ParamSet& p) { return gtao_definition(gtao_settings_of(p)); };
   info.create = [](const ParamSet& p) {
-    return std::make_unique<FrameDeviceEstimator<GtaoDevice, GtaoSettings>>(
-        gtao_settings_of(p), rasterises_frame(p), gtao_frame_result);
+    const GtaoSettings s = gtao_settings_of(p);
+    return gtao_over_time(std::make_unique<FrameDeviceEstimator<GtaoDevice, GtaoSettings>>(
+                              s, rasterises_frame(p), gtao_frame_result),
+                          s);
   };
   info.keeps_state = true;  // draws frame k's noise itself (Settings::frame)
   return info;

@@ -4,6 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
 #include "base/errors.h"
 #include "estimators/plugins/plugin_test_util.h"
 #include "estimators/registry.h"
@@ -13,6 +17,7 @@ namespace {
 
 using plugin_test::make_plugin;
 using testutil::test_temp_dir;
+namespace fs = std::filesystem;
 
 const char* kValid = R"({
   "name": "my-ssao", "summary": "one line", "paper": "someone, 2024",
@@ -147,6 +152,41 @@ TEST(PluginManifest, ShippedExamplesAreValidAndRegistered) {
   EXPECT_EQ(find_estimator("crytek-ssao").kind, "process");
   EXPECT_EQ(find_estimator("crytek-ssao").backend, Backend::process);
   EXPECT_EQ(find_estimator("constant").kind, "built-in");
+}
+
+// Issue 32: a shipped example whose folder holds a tune.json ships that tune's best point as its
+// defaults (every effective parameter, the held ones included, the seed aside), and says so in
+// the meanings ("paper preset" beside each tuned default). constant-copy has no tune (no quality
+// knob); crytek-ssao-frames declares crytek-ssao's table (FramesProtocol checks it).
+TEST(PluginManifest, ShippedExamplesDefaultToTheirTunesBest) {
+  std::vector<std::string> tuned;
+  for (const auto& folder : plugin_folders_in(shipped_plugins_dir())) {
+    const fs::path tune = fs::path(folder) / "tune.json";
+    if (!fs::exists(tune)) continue;
+    const PluginManifest m = read_plugin_manifest(folder);
+    tuned.push_back(m.name);
+    EXPECT_TRUE(fs::exists(fs::path(folder) / "tune-spec.json")) << m.name;
+    std::ifstream in(tune);
+    const nlohmann::json j = nlohmann::json::parse(in);
+    ASSERT_EQ(j.at("status"), "complete") << m.name;
+    ASSERT_TRUE(j.at("feasible").get<bool>()) << m.name;
+    EXPECT_EQ(j.at("estimator"), m.name);
+    const nlohmann::json& best = j.at("best").at("effective_params");
+    for (const ParamSpec& p : m.params) {
+      if (p.name == "seed") continue;
+      ASSERT_TRUE(best.contains(p.name)) << m.name << "." << p.name;
+      if (p.type == ParamType::real) {
+        EXPECT_DOUBLE_EQ(p.default_value.get<double>(), best.at(p.name).get<double>())
+            << m.name << "." << p.name;
+      } else {
+        EXPECT_EQ(p.default_value, best.at(p.name)) << m.name << "." << p.name;
+      }
+      if (j.at("best").at("params").contains(p.name)) {
+        EXPECT_NE(p.meaning.find("paper preset"), std::string::npos) << m.name << "." << p.name;
+      }
+    }
+  }
+  EXPECT_EQ(tuned, (std::vector<std::string>{"alchemy", "crytek-ssao", "history-ssao", "sao"}));
 }
 
 // A clash is a warning when the plug-ins are read and an error for whoever asks for the name

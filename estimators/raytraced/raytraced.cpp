@@ -12,9 +12,7 @@ AoDefinition definition_of(const ParamSet& p) {
   d.weighting = parse_weighting(p.choice("weighting"), "weighting");
   const double dmax = p.real("dmax");
   d.dmax = dmax > 0.0 ? dmax : std::numeric_limits<double>::infinity();
-  const std::string falloff = p.choice("falloff");
-  const double k = p.real("falloff_k");  // read always: every declared parameter is read
-  d.falloff = falloff == "power" ? Falloff::power(k) : parse_falloff(falloff, "falloff");
+  d.falloff = falloff_of(p);
   validate_definition(d);
   return d;
 }
@@ -57,8 +55,7 @@ EstimatorInfo raytraced_estimator() {
        .max = 65536,
        .log_scale = true,
        .unit = "rays",
-       .meaning = "rays per pixel",
-       .choices = {}},
+       .meaning = "rays per pixel"},
       {.name = "weighting",
        .type = ParamType::choice,
        .default_value = "cosine",
@@ -76,22 +73,7 @@ EstimatorInfo raytraced_estimator() {
        .max = 1e6,
        .log_scale = false,
        .unit = "scene units",
-       .meaning = "occluder range; 0 = unbounded (CONTRACT §3)",
-       .choices = {}},
-      {.name = "falloff",
-       .type = ParamType::choice,
-       .default_value = "none",
-       .min = 0,
-       .max = 0,
-       .log_scale = false,
-       .unit = "",
-       .meaning = "occluder weight 1 - rho(d/dmax): none, linear, sqrt, exp or power (rho(x) = "
-                  "x^falloff_k) "
-                  "(CONTRACT §3)",
-       .choices = {"none", "linear", "sqrt", "exp", "power"}},
-      power_exponent_param("falloff_k",
-                           "the exponent K of falloff power, rho(x) = x^K (1 = linear, 0.5 = "
-                           "sqrt); unused otherwise"),
+       .meaning = "occluder range; 0 = unbounded (CONTRACT §3)"},
       {.name = "sampler",
        .type = ParamType::choice,
        .default_value = "random",
@@ -108,9 +90,11 @@ EstimatorInfo raytraced_estimator() {
        .max = 1e15,
        .log_scale = false,
        .unit = "",
-       .meaning = "random seed (the references use 1, so the two never share samples)",
-       .choices = {}},
+       .meaning = "random seed (the references use 1, so the two never share samples)"},
   };
+  // falloff and falloff_k after dmax: the declaration rtao shares (power_falloff_param.h).
+  const std::vector<ParamSpec> falloff = falloff_params("dmax");
+  info.params.insert(info.params.begin() + 3, falloff.begin(), falloff.end());
   info.definition_doc = "weighting, dmax and falloff as its parameters say";
   info.definition = definition_of;
   info.create = [](const ParamSet& p) { return std::make_unique<RaytracedEstimator>(p); };

@@ -1,7 +1,7 @@
-// The shared temporal accumulation stage: the reference design of temporal reuse in aoeval, meant
-// for the built-in temporal estimators of issue 31 (rtao, gtao over time; none uses it yet) and the
-// design a user's temporal plug-in (CONTRACT §10, aoeval_history) is compared with. One frame in,
-// per pixel:
+// The shared temporal accumulation stage: the reference design of temporal reuse in aoeval, used
+// by the built-in temporal estimators of issue 31 (rtao; gtao and gtao-cpu with `temporal`, through
+// temporal_estimator.h) and the design a user's temporal plug-in (CONTRACT §10, aoeval_history) is
+// compared with. One frame in, per pixel:
 //
 //  1. Reprojection (reverse, as in TAA and Schied et al. 2017 §4.1): the point at pixel p was at
 //     q = p - motion(p) in frame k - 1 (the G-buffer's motion: the offset in pixels from where the

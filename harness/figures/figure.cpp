@@ -73,7 +73,7 @@ const std::vector<Figure>& figure_registry() {
   static const std::vector<Figure> registry = [] {
     std::vector<Figure> all;
     for (auto list : {hegeman_figures(), mendez_figures(), gpugems_figures(), dimitrov_figures(),
-                      equal_time_figures(), engine_figures()})
+                      equal_time_figures(), engine_figures(), temporal_figures()})
       for (auto& f : list) all.push_back(std::move(f));
     return all;
   }();

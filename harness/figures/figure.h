@@ -75,6 +75,7 @@ std::vector<Figure> gpugems_figures();
 std::vector<Figure> dimitrov_figures();
 std::vector<Figure> equal_time_figures();  // ours: figures_equal_time.cpp
 std::vector<Figure> engine_figures();      // ours, issue 32: figures_engine.cpp
+std::vector<Figure> temporal_figures();    // ours, issue 31: figures_temporal.cpp
 
 // The caption text: source, claim, what we measured, each check, the verdict and its rule, notes.
 std::string caption_text(const Figure& f, const FigureResult& r);

@@ -58,7 +58,9 @@ TEST(PluginsCli, ListShowsTheShippedExamplesWithTheirKind) {
   const auto j = nlohmann::json::parse(show.out);
   EXPECT_EQ(j["kind"], "glsl");
   EXPECT_EQ(j["params"][0]["name"], "radius");
-  EXPECT_EQ(j["definition_at_defaults"]["dmax"], 0.3);
+  // dmax is the parameter radius, at its declared (tuned, issue 32) default
+  EXPECT_EQ(j["definition_at_defaults"]["dmax"], j["params"][0]["default"]);
+  EXPECT_EQ(j["definition_at_defaults"]["dmax"], 1.51);
 }
 
 TEST(PluginsCli, SetOnAPluginChecksKeysAndRanges) {

@@ -1,0 +1,270 @@
+#include "estimators/rtao/rtao.h"
+
+#include <chrono>
+#include <limits>
+
+#include "estimators/pixel_loops.h"
+#include "estimators/power_falloff_param.h"
+#include "estimators/rtao/svgf.h"
+#include "estimators/temporal/temporal_stage.h"
+#include "sampling/ao_tracer.h"
+
+namespace aoeval {
+
+namespace {
+
+AoDefinition definition_of(const ParamSet& p) {
+  AoDefinition d;
+  d.weighting = Weighting::cosine;
+  const double t_max = p.real("t_max");
+  d.dmax = t_max > 0.0 ? t_max : std::numeric_limits<double>::infinity();
+  d.falloff = falloff_of(p);
+  validate_definition(d);
+  return d;
+}
+
+// The defaults rtao gives the shared stage: the D3D12 denoised AO sample's, which clamps 1-ray
+// input against a 9x9 neighbourhood (a 3x3 one of 0/1 samples is flat often enough to clamp an
+// unchanged history at random) with std.dev gamma 0.6, a minimum half-width 0.05 and a minimum
+// smoothing factor 0.03.
+TemporalDefaults rtao_temporal_defaults() {
+  return {.history_limit = 32,
+          .alpha_min = 0.03,
+          .clamp = true,
+          .gamma = 0.6,
+          .clamp_sigma_min = 0.05,
+          .clamp_radius = 4};
+}
+
+class RtaoEstimator : public Estimator {
+ public:
+  explicit RtaoEstimator(const ParamSet& p)
+      : temporal_(p.boolean("temporal")),
+        atrous_iterations_(static_cast<int>(p.integer("atrous_iterations"))),
+        stage_(temporal_settings(p)) {
+    trace_.spp = static_cast<int>(p.integer("rays"));
+    trace_.definition = definition_of(p);
+    trace_.sampler = SamplerKind::sobol;
+    trace_.replicates = 1;  // one scrambled sequence per pixel, advancing frame by frame
+    trace_.seed = static_cast<uint64_t>(p.integer("seed"));
+    svgf_.sigma_z = p.real("sigma_z");
+    svgf_.sigma_n = p.real("sigma_n");
+    svgf_.sigma_l = p.real("sigma_l");
+    svgf_.variance_frames = static_cast<int>(p.integer("variance_frames"));
+    svgf_.variance_radius = static_cast<int>(p.integer("variance_radius"));
+  }
+
+  void prepare(const EstimateContext& context) override { still_ = context.frame == nullptr; }
+
+  nlohmann::json derived() const override {
+    nlohmann::json d = nlohmann::json::object();
+    if (still_)
+      d["still_frame"] =
+          "frame 0 of rtao's temporal design: no history, the a-trous passes over one frame's "
+          "rays (a sequence view accumulates)";
+    return d;
+  }
+
+  EstimateResult run(const EstimateContext& context) override {
+    const GBuffer& g = context.gbuffer;
+    const FrameInfo* frame = context.frame;
+    const auto t0 = std::chrono::steady_clock::now();
+    EstimateResult r;
+    // A still view and frame 0 start without history (and a still view's repeated runs repeat).
+    if (!frame || frame->index == 0) stage_.reset();
+    AoTraceSettings trace = trace_;
+    const uint64_t offset = frame ? frame->seed_offset : 0;
+    trace.first_sample = static_cast<uint32_t>(offset * static_cast<uint64_t>(trace.spp));
+    TracedAo traced = trace_ao(context.embree, g, trace);
+    r.pass_ms["rays_ms"] = ms_since(t0);
+
+    const auto t1 = std::chrono::steady_clock::now();
+    std::vector<float> value, moment1, moment2, length;
+    if (temporal_) {
+      stage_.accumulate(g, traced.ao);
+      value = stage_.value();
+      moment1 = stage_.moment1();
+      moment2 = stage_.moment2();
+      length = stage_.history_length();
+    } else {  // no history: this frame's rays alone, every pixel of history length 1
+      value = moment1 = traced.ao;
+      moment2.resize(value.size());
+      for (size_t p = 0; p < value.size(); ++p) moment2[p] = value[p] * value[p];
+      length.assign(value.size(), 1.0f);
+    }
+    r.pass_ms["temporal_ms"] = ms_since(t1);
+
+    const auto t2 = std::chrono::steady_clock::now();
+    std::vector<float> variance = svgf_variance(g, moment1, moment2, length, svgf_);
+    r.pass_ms["variance_ms"] = ms_since(t2);
+
+    double atrous_total = 0.0;
+    if (atrous_iterations_ > 0) {
+      const auto t3 = std::chrono::steady_clock::now();
+      const std::vector<float> gradient = depth_gradient(g);
+      double gradient_ms = ms_since(t3);
+      for (int i = 0; i < atrous_iterations_; ++i) {
+        const auto ti = std::chrono::steady_clock::now();
+        atrous_iteration(g, gradient, 1 << i, svgf_, value, variance);
+        // SVGF §4.1: the first wavelet iteration's output is the colour history.
+        if (i == 0 && temporal_) stage_.replace_history(value);
+        const double ms = ms_since(ti) + (i == 0 ? gradient_ms : 0.0);
+        r.pass_ms["atrous_" + std::to_string(i) + "_ms"] = ms;
+        atrous_total += ms;
+      }
+    }
+    r.pass_ms["atrous_ms"] = atrous_total;
+
+    r.ao = std::move(value);
+    r.extra_channels["AO_raw"] = std::move(traced.ao);
+    r.extra_channels["AO_variance"] = std::move(variance);
+    r.extra_channels["history_length"] = std::move(length);
+    return r;
+  }
+
+ private:
+  bool temporal_;
+  int atrous_iterations_;
+  AoTraceSettings trace_;
+  SvgfSettings svgf_;
+  TemporalAccumulator stage_;
+  bool still_ = true;
+};
+
+std::vector<ParamSpec> rtao_params() {
+  std::vector<ParamSpec> params = {
+      {.name = "rays",
+       .type = ParamType::integer,
+       .default_value = 1,
+       .min = 1,
+       .max = 1024,
+       .log_scale = true,
+       .unit = "rays",
+       .meaning = "cosine rays per pixel per frame",
+       .choices = {}},
+      {.name = "t_max",
+       .type = ParamType::real,
+       .default_value = 0.0,
+       .min = 0.0,
+       .max = 1e6,
+       .log_scale = false,
+       .unit = "scene units",
+       .meaning = "ray length, the definition's dmax; 0 = unbounded (CONTRACT §3)",
+       .choices = {}},
+  };
+  // falloff and falloff_k: the declaration raytraced uses (power_falloff_param.h), so rtao
+  // accepts every falloff raytraced does, power:K included (CONTRACT §3).
+  for (ParamSpec& p : falloff_params("t_max")) params.push_back(std::move(p));
+  const std::vector<ParamSpec> rest = {
+      {.name = "seed",
+       .type = ParamType::integer,
+       .default_value = 7,
+       .min = 0,
+       .max = 1e15,
+       .log_scale = false,
+       .unit = "",
+       .meaning = "random seed of the per-pixel Owen scrambles; frame k takes the sequence's "
+                  "points from k rays on (the seed rule)",
+       .choices = {}},
+      {.name = "temporal",
+       .type = ParamType::boolean,
+       .default_value = true,
+       .min = 0,
+       .max = 0,
+       .log_scale = false,
+       .unit = "",
+       .meaning = "accumulate over frames with the shared temporal stage (Schied et al. 2017 "
+                  "§4.1); false = each frame's rays alone",
+       .choices = {}},
+  };
+  params.insert(params.end(), rest.begin(), rest.end());
+  for (ParamSpec& p : temporal_params(rtao_temporal_defaults())) params.push_back(std::move(p));
+  const std::vector<ParamSpec> svgf = {
+      {.name = "variance_frames",
+       .type = ParamType::integer,
+       .default_value = 4,
+       .min = 1,
+       .max = 4096,
+       .log_scale = true,
+       .unit = "frames",
+       .meaning = "history length from which the variance is temporal; shorter histories "
+                  "estimate it over a bilateral neighbourhood (Schied et al. 2017 §4.2)",
+       .choices = {}},
+      {.name = "variance_radius",
+       .type = ParamType::integer,
+       .default_value = 3,
+       .min = 0,
+       .max = 8,
+       .log_scale = false,
+       .unit = "pixels",
+       .meaning = "half-width of that spatial variance estimate: (2 r + 1)^2 pixels, the paper's "
+                  "7x7 at 3 (Schied et al. 2017 §4.2); 0 = the pixel's own moments",
+       .choices = {}},
+      {.name = "atrous_iterations",
+       .type = ParamType::integer,
+       .default_value = 5,
+       .min = 0,
+       .max = 10,
+       .log_scale = false,
+       .unit = "passes",
+       .meaning = "edge-avoiding a-trous wavelet passes, 5x5 B3 kernel, step 2^i (Schied et al. "
+                  "2017 §4.3, eq. 1); 0 = no spatial filter",
+       .choices = {}},
+      {.name = "sigma_z",
+       .type = ParamType::real,
+       .default_value = 1.0,
+       .min = 1e-3,
+       .max = 1e3,
+       .log_scale = true,
+       .unit = "",
+       .meaning = "depth edge-stopping: w_z = exp(-|z_p - z_q| / (sigma_z |grad z . (p - q)|)) "
+                  "(Schied et al. 2017 eq. 3)",
+       .choices = {}},
+      {.name = "sigma_n",
+       .type = ParamType::real,
+       .default_value = 128.0,
+       .min = 0.0,
+       .max = 1e4,
+       .log_scale = false,
+       .unit = "",
+       .meaning = "normal edge-stopping exponent: w_n = max(0, n_p . n_q)^sigma_n (Schied et al. "
+                  "2017 eq. 4)",
+       .choices = {}},
+      {.name = "sigma_l",
+       .type = ParamType::real,
+       .default_value = 4.0,
+       .min = 1e-3,
+       .max = 1e3,
+       .log_scale = true,
+       .unit = "standard deviations",
+       .meaning = "AO (luminance) edge-stopping: w_l = exp(-|l_p - l_q| / (sigma_l sqrt(g3x3 "
+                  "Var))) (Schied et al. 2017 eq. 5)",
+       .choices = {}},
+  };
+  params.insert(params.end(), svgf.begin(), svgf.end());
+  return params;
+}
+
+}  // namespace
+
+EstimatorInfo rtao_estimator() {
+  EstimatorInfo info;
+  info.name = "rtao";
+  info.summary =
+      "real-time ray-traced AO: 1 ray per pixel per frame with Embree, a per-frame Owen-scrambled "
+      "Sobol sequence, and an SVGF denoiser (temporal stage + a-trous)";
+  info.paper =
+      "Schied et al. 2017, Spatiotemporal Variance-Guided Filtering (§4.1 temporal accumulation, "
+      "§4.2 variance, §4.3-4.4 a-trous with eqs. 1-5); the temporal stage as the D3D12 Raytracing "
+      "Real-Time Denoised AO sample; Burley 2020 Owen-scrambled Sobol rays";
+  info.backend = Backend::embree;
+  info.inputs = {EstimatorInput::gbuffer, EstimatorInput::scene_geometry};
+  info.params = rtao_params();
+  info.definition_doc = "cosine weighting, dmax = t_max (0: unbounded), falloff as set";
+  info.definition = definition_of;
+  info.create = [](const ParamSet& p) { return std::make_unique<RtaoEstimator>(p); };
+  info.keeps_state = true;
+  return info;
+}
+
+}  // namespace aoeval

@@ -1,0 +1,131 @@
+// `aoeval bench rtao` (see bench_rtao.h).
+#include "harness/bench/bench_rtao.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "base/errors.h"
+#include "base/resolution.h"
+#include "base/summary.h"
+#include "base/text_files.h"
+#include "estimators/pixel_loops.h"
+#include "estimators/registry.h"
+#include "harness/bench/bench_rows.h"
+#include "harness/results/results_store.h"
+#include "scenes/corpus.h"
+
+namespace aoeval {
+
+namespace fs = std::filesystem;
+
+void bench_rtao(const RtaoBenchOptions& o) {
+  const auto [w, h] = parse_resolution(o.res);
+  const EstimatorInfo& e = find_estimator(o.estimator);
+  if (!e.keeps_state)
+    throw InputError("bench: " + e.name +
+                     " keeps no state over a sequence (each frame would be a still frame); time it "
+                     "with `aoeval bench estimators`");
+  const nlohmann::json overrides = parse_set_arguments(o.sets);
+  const ParamSet params = resolve_params(e.name, e.params, overrides, "bench --set");
+  Scene scene = load_scene(o.scene);
+  const View& view = scene.view(o.view);
+  EmbreeScene es(scene);
+  GBuffer g = render_gbuffer(es, make_camera(view, w, h));
+  g.motion.assign(g.pixel_count(), glm::vec2(0.0f));  // a static camera: the sequence channels
+  g.disoccluded.assign(g.pixel_count(), 0.0f);
+  size_t covered = 0;
+  for (size_t k = 0; k < g.pixel_count(); ++k) covered += g.covered(k) ? 1 : 0;
+
+  // One sequence: per frame, its wall time around run() and its passes.
+  auto sequence = [&](std::vector<double>& totals, std::vector<PassTimes>& passes) {
+    std::unique_ptr<Estimator> est = e.create(params);
+    for (int k = 0; k < o.frames; ++k) {
+      const FrameInfo info{
+          .index = k, .count = o.frames, .fps = 30.0, .seed_offset = static_cast<uint64_t>(k)};
+      const EstimateContext context{scene, es, g, &info};
+      est->prepare(context);
+      const auto t0 = std::chrono::steady_clock::now();
+      const EstimateResult r = est->run(context);
+      totals.push_back(ms_since(t0));
+      passes.push_back(r.pass_ms);
+    }
+  };
+  for (int i = 0; i < o.warmup; ++i) {
+    std::vector<double> t;
+    std::vector<PassTimes> p;
+    sequence(t, p);
+  }
+  // Frame 0 of each timed sequence, and the steady frames 1..F-1 of all of them.
+  std::vector<double> first_totals, steady_totals;
+  std::vector<PassTimes> first_runs, steady_runs;
+  for (int rep = 0; rep < o.repetitions; ++rep) {
+    std::vector<double> totals;
+    std::vector<PassTimes> runs;
+    sequence(totals, runs);
+    first_totals.push_back(totals.front());
+    first_runs.push_back(runs.front());
+    steady_totals.insert(steady_totals.end(), totals.begin() + 1, totals.end());
+    steady_runs.insert(steady_runs.end(), runs.begin() + 1, runs.end());
+  }
+  const PassTimes steady = pass_medians(steady_runs);
+  const PassTimes first = pass_medians(first_runs);
+
+  // rtao's passes in pipeline order, then whatever else the estimator reports (gtao's).
+  std::vector<std::string> order;
+  const bool rtao = e.name == "rtao";
+  if (rtao) {
+    order = {"rays_ms", "temporal_ms", "variance_ms"};
+    const int iterations = static_cast<int>(params.integer("atrous_iterations"));
+    for (int i = 0; i < iterations; ++i) order.push_back("atrous_" + std::to_string(i) + "_ms");
+    order.push_back("atrous_ms");
+  }
+  for (const auto& [pass, ms] : steady)
+    if (std::find(order.begin(), order.end(), pass) == order.end()) order.push_back(pass);
+  std::ostringstream md, csv;
+  md << e.name << " (" << overrides.dump() << ") on " << scene.name << "/" << view.name << " ("
+     << scene.triangle_count() << " triangles), " << w << "x" << h << " (" << covered
+     << " covered pixels), " << o.frames << " frames of a static camera, device "
+     << backend_device(e.backend) << "; medians over " << o.repetitions
+     << " sequences (frame 0) and their frames 1.." << o.frames - 1 << " (steady), after "
+     << o.warmup << " untimed\n\n"
+     << "| pass | frame 0 ms | steady ms |\n|---|---:|---:|\n";
+  csv << "pass,frame0_ms,steady_ms\n";
+  char buf[256];
+  for (const std::string& pass : order) {
+    std::snprintf(buf, sizeof(buf), "| %s | %.2f | %.2f |\n", pass.c_str(), pass_ms(first, pass),
+                  pass_ms(steady, pass));
+    md << buf;
+    csv << pass << ',' << pass_ms(first, pass) << ',' << pass_ms(steady, pass) << '\n';
+  }
+  const double steady_total = median(steady_totals), first_total = median(first_totals);
+  std::snprintf(buf, sizeof(buf), "| total (wall) | %.2f | %.2f |\n", first_total, steady_total);
+  md << buf;
+  csv << "total," << first_total << ',' << steady_total << '\n';
+  if (rtao)
+    md << "\n- rays: "
+       << format_number("%.1f",
+                        covered * params.integer("rays") / (pass_ms(steady, "rays_ms") * 1e3))
+       << " Mrays/s; denoiser (temporal + variance + a-trous): "
+       << format_number("%.2f", pass_ms(steady, "temporal_ms") + pass_ms(steady, "variance_ms") +
+                                    pass_ms(steady, "atrous_ms"))
+       << " ms a frame\n";
+  std::printf("%s", md.str().c_str());
+
+  const RunContext context = make_run_context("bench " + e.name);
+  ResultsFolder folder(o.out_dir, context);
+  SqliteStore store(o.database);
+  store.add_run(context);
+  const ResultRow row = timing_row(context, e, params, overrides, scene.name, view.name, w, h,
+                                   steady_totals, steady, backend_device(e.backend));
+  folder.add(row);
+  store.add(row);
+  const std::string stem = "bench_" + e.name;
+  write_text((fs::path(o.out_dir) / (stem + ".md")).string(), md.str());
+  write_text((fs::path(o.out_dir) / (stem + ".csv")).string(), csv.str());
+  std::printf("%s\n", (fs::path(o.out_dir) / (stem + ".md")).string().c_str());
+}
+
+}  // namespace aoeval
