@@ -53,7 +53,8 @@ std::vector<ParamSpec> gtao_param_specs() {
        .log_scale = true,
        .unit = "scene units",
        .meaning =
-           "radius: samples farther than R from P do not occlude (dmax of the definition, eq. 7)"},
+           "radius: samples farther than R from P do not occlude (dmax of the definition, eq. 7)",
+       .choices = {}},
       {.name = "slices",
        .type = ParamType::integer,
        .default_value = 4,
@@ -62,7 +63,8 @@ std::vector<ParamSpec> gtao_param_specs() {
        .log_scale = false,
        .unit = "directions",
        .meaning = "slices per pixel, evenly spaced in [0, pi) around v and rotated per pixel (eq. "
-                  "3, §5.2)"},
+                  "3, §5.2)",
+       .choices = {}},
       {.name = "steps",
        .type = ParamType::integer,
        .default_value = 8,
@@ -70,7 +72,8 @@ std::vector<ParamSpec> gtao_param_specs() {
        .max = 128,
        .log_scale = false,
        .unit = "samples",
-       .meaning = "horizon samples per side of each slice (eq. 7)"},
+       .meaning = "horizon samples per side of each slice (eq. 7)",
+       .choices = {}},
       {.name = "falloff",
        .type = ParamType::real,
        .default_value = 0.0,
@@ -80,7 +83,8 @@ std::vector<ParamSpec> gtao_param_specs() {
        .unit = "fraction of R",
        .meaning =
            "falloff range: a sample's horizon fades linearly to the tangent plane between (1 - "
-           "falloff) R and R; 0 = hard cut at R (the definition's falloff none)"},
+           "falloff) R and R; 0 = hard cut at R (the definition's falloff none)",
+       .choices = {}},
       {.name = "power",
        .type = ParamType::real,
        .default_value = 2.0,
@@ -90,7 +94,8 @@ std::vector<ParamSpec> gtao_param_specs() {
        .unit = "",
        .meaning =
            "sample distribution: sample k of a side lies at ((k + u) / steps)^power of the screen "
-           "radius (plus one pixel); > 1 puts more samples near P"},
+           "radius (plus one pixel); > 1 puts more samples near P",
+       .choices = {}},
       // Default 0.05 from `aoeval figures gtao-thickness` (README, "Thin occluders"): the least
       // worst ratio to each scene's own best rmse_excess over picket-fence, chair, wires, bunny,
       // dragon and cornell-box (1.49, on picket-fence; thin scenes are best at 0.1-0.2, thick
@@ -106,7 +111,8 @@ std::vector<ParamSpec> gtao_param_specs() {
                   "the horizon "
                   "pulls it down by this fraction; 0 = off (the exact horizon of a heightfield); "
                   "0.05 = the "
-                  "least worst error over thin and thick scenes (figure gtao-thickness)"},
+                  "least worst error over thin and thick scenes (figure gtao-thickness)",
+       .choices = {}},
       {.name = "final_power",
        .type = ParamType::real,
        .default_value = 1.0,
@@ -115,7 +121,8 @@ std::vector<ParamSpec> gtao_param_specs() {
        .log_scale = false,
        .unit = "",
        .meaning =
-           "AO^final_power, an artistic contrast control; 1 estimates the declared definition"},
+           "AO^final_power, an artistic contrast control; 1 estimates the declared definition",
+       .choices = {}},
       {.name = "normalise",
        .type = ParamType::boolean,
        .default_value = true,
@@ -126,7 +133,8 @@ std::vector<ParamSpec> gtao_param_specs() {
        .meaning =
            "divide by the same slice sum over the unoccluded hemisphere, so that an open surface "
            "is "
-           "exactly 1 with any slice count (ours); false: the paper's (1/slices) sum |n_p| a^"},
+           "exactly 1 with any slice count (ours); false: the paper's (1/slices) sum |n_p| a^",
+       .choices = {}},
       {.name = "bent",
        .type = ParamType::boolean,
        .default_value = true,
@@ -136,7 +144,8 @@ std::vector<ParamSpec> gtao_param_specs() {
        .unit = "",
        .meaning =
            "also output the bent normal (bent.X/Y/Z, world space, unit): the cosine-weighted mean "
-           "unoccluded direction in closed form (Algorithm 2)"},
+           "unoccluded direction in closed form (Algorithm 2)",
+       .choices = {}},
       {.name = "denoise",
        .type = ParamType::boolean,
        .default_value = true,
@@ -145,7 +154,8 @@ std::vector<ParamSpec> gtao_param_specs() {
        .log_scale = false,
        .unit = "",
        .meaning =
-           "spatial denoise: depth-aware tile x tile average over one period of the noise (§5.2)"},
+           "spatial denoise: depth-aware tile x tile average over one period of the noise (§5.2)",
+       .choices = {}},
       {.name = "jitter",
        .type = ParamType::boolean,
        .default_value = true,
@@ -155,7 +165,8 @@ std::vector<ParamSpec> gtao_param_specs() {
        .unit = "",
        .meaning =
            "per-pixel slice rotation and sample offset from the tiled noise (§5.2); off: the same "
-           "slices and samples everywhere"},
+           "slices and samples everywhere",
+       .choices = {}},
       {.name = "tile",
        .type = ParamType::integer,
        .default_value = 4,
@@ -163,7 +174,8 @@ std::vector<ParamSpec> gtao_param_specs() {
        .max = 16,
        .log_scale = false,
        .unit = "pixels",
-       .meaning = "side of the tiled noise texture and of the denoise window (§5.2: 4)"},
+       .meaning = "side of the tiled noise texture and of the denoise window (§5.2: 4)",
+       .choices = {}},
       {.name = "seed",
        .type = ParamType::integer,
        .default_value = 7,
@@ -171,7 +183,8 @@ std::vector<ParamSpec> gtao_param_specs() {
        .max = 1e15,
        .log_scale = false,
        .unit = "",
-       .meaning = "seed of the noise texture"},
+       .meaning = "seed of the noise texture",
+       .choices = {}},
       resolution_param(),
       {.name = "rotations",
        .type = ParamType::integer,
@@ -184,7 +197,8 @@ std::vector<ParamSpec> gtao_param_specs() {
            "temporal noise over a sequence (§5.2: 6 rotations): 1 = a new noise texture every "
            "frame "
            "(seed + k); N > 1 = one texture rotated by j/N of the slice spacing at frame k (the "
-           "paper's order for N = 6), its sample offset moved by 1/4 step every N frames"},
+           "paper's order for N = 6), its sample offset moved by 1/4 step every N frames",
+       .choices = {}},
       {.name = "temporal",
        .type = ParamType::boolean,
        .default_value = false,
@@ -196,7 +210,8 @@ std::vector<ParamSpec> gtao_param_specs() {
            "accumulate the frames of a sequence with the shared temporal stage (§5.2's temporal "
            "reprojection; estimators/temporal/): reprojection, disocclusion reset, exponential "
            "history, clamp; false = each frame its own estimate. A still view is frame 0 either "
-           "way"},
+           "way",
+       .choices = {}},
   };
   // The stage's own parameters, read only when temporal is on (temporal_stage.h).
   for (ParamSpec& p : temporal_params(gtao_temporal_defaults())) params.push_back(std::move(p));

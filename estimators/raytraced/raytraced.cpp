@@ -55,7 +55,8 @@ EstimatorInfo raytraced_estimator() {
        .max = 65536,
        .log_scale = true,
        .unit = "rays",
-       .meaning = "rays per pixel"},
+       .meaning = "rays per pixel",
+       .choices = {}},
       {.name = "weighting",
        .type = ParamType::choice,
        .default_value = "cosine",
@@ -73,7 +74,8 @@ EstimatorInfo raytraced_estimator() {
        .max = 1e6,
        .log_scale = false,
        .unit = "scene units",
-       .meaning = "occluder range; 0 = unbounded (CONTRACT §3)"},
+       .meaning = "occluder range; 0 = unbounded (CONTRACT §3)",
+       .choices = {}},
       {.name = "sampler",
        .type = ParamType::choice,
        .default_value = "random",
@@ -90,7 +92,8 @@ EstimatorInfo raytraced_estimator() {
        .max = 1e15,
        .log_scale = false,
        .unit = "",
-       .meaning = "random seed (the references use 1, so the two never share samples)"},
+       .meaning = "random seed (the references use 1, so the two never share samples)",
+       .choices = {}},
   };
   // falloff and falloff_k after dmax: the declaration rtao shares (power_falloff_param.h).
   const std::vector<ParamSpec> falloff = falloff_params("dmax");

@@ -43,8 +43,9 @@ TEST(Rtao, TheAdvancingSequenceIntegratesTheFootOfAWallExactly) {
     est->prepare({s, es, g, &info});
     const EstimateResult r = est->run({s, es, g, &info});
     for (float raw : r.extra_channels.at("AO_raw")) ASSERT_TRUE(raw == 0.0f || raw == 1.0f);
-    if (((k + 1) & k) == 0 && k > 0)  // k + 1 = 2, 4, 8, 16 frames
+    if (((k + 1) & k) == 0 && k > 0) {  // k + 1 = 2, 4, 8, 16 frames
       for (float a : r.ao) EXPECT_NEAR(a, 0.5f, 1e-6) << "after " << k + 1 << " frames";
+    }
     EXPECT_EQ(r.extra_channels.at("history_length")[0], static_cast<float>(k + 1));
     for (const char* pass : {"rays_ms", "temporal_ms", "variance_ms", "atrous_ms"})
       EXPECT_EQ(r.pass_ms.count(pass), 1u) << pass;
@@ -99,8 +100,9 @@ TEST(Rtao, OpenPlaneIsOneAndABoxInteriorIsZero) {
     const FrameInfo info{
         .index = k, .count = 3, .fps = 30, .seed_offset = static_cast<uint64_t>(k)};
     const EstimateResult r = est->run({scene, es, g, &info});
-    for (size_t p = 0; p < g.pixel_count(); ++p)
+    for (size_t p = 0; p < g.pixel_count(); ++p) {
       if (g.covered(p)) EXPECT_NEAR(r.ao[p], 1.0f, 1e-6f);
+    }
   }
   const Scene box = scene_of({generated("box", "box", {{"size", {2, 2, 2}}, {"inward", true}})});
   EmbreeScene box_es(box);
