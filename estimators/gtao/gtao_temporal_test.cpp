@@ -220,7 +220,9 @@ TEST(GtaoTemporal, AccumulatedOneSliceApproachesSixSlicesPerFrame) {
         "accumulated: frame 0 %.4f, frame 5 %.4f, frame 23 %.4f\n",
         denoise, e6, e0, e5, e23);
     EXPECT_LE(e5, (denoise ? 0.6 : 0.25) * e0) << "denoise " << denoise;
-    if (!denoise) EXPECT_LE(e5, 4.0 * e6);
+    if (!denoise) {
+      EXPECT_LE(e5, 4.0 * e6);
+    }
   }
 }
 

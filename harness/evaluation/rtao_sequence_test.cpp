@@ -83,8 +83,8 @@ TEST_P(RtaoStaticSequence, TheDenoiserNotTheRaysMakesTheGain) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Corpus, RtaoStaticSequence, ::testing::Values("bunny", "tree-ground"),
-                         [](const auto& info) {
-                           std::string n = info.param;
+                         [](const auto& param_info) {
+                           std::string n = param_info.param;
                            for (char& c : n)
                              if (c == '-') c = '_';
                            return n;
