@@ -101,7 +101,9 @@ TEST(Rtao, OpenPlaneIsOneAndABoxInteriorIsZero) {
         .index = k, .count = 3, .fps = 30, .seed_offset = static_cast<uint64_t>(k)};
     const EstimateResult r = est->run({scene, es, g, &info});
     for (size_t p = 0; p < g.pixel_count(); ++p) {
-      if (g.covered(p)) EXPECT_NEAR(r.ao[p], 1.0f, 1e-6f);
+      if (g.covered(p)) {
+        EXPECT_NEAR(r.ao[p], 1.0f, 1e-6f);
+      }
     }
   }
   const Scene box = scene_of({generated("box", "box", {{"size", {2, 2, 2}}, {"inward", true}})});
