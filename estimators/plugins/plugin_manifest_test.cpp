@@ -287,6 +287,13 @@ TEST(PluginManifest, AFolderOfPluginsOrNoneAtAll) {
   make_plugin(root / "many" / "x", edited("\"name\": \"my-ssao\"", "\"name\": \"x\""));
   make_plugin(root / "many" / "y", edited("\"name\": \"my-ssao\"", "\"name\": \"y\""));
   EXPECT_EQ(plugin_folders_in((root / "many").string()).size(), 2u);
+  // Sub-folders that hold no plug-in (a sweep's output beside them) and loose files are passed
+  // over, not a listing error.
+  std::filesystem::create_directories(root / "many" / "out" / "runs");
+  std::ofstream(root / "many" / "sweep.json") << "{}";
+  EXPECT_EQ(
+      plugin_folders_in((root / "many").string()),
+      (std::vector<std::string>{(root / "many" / "x").string(), (root / "many" / "y").string()}));
   std::filesystem::create_directories(root / "empty");
   EXPECT_THROW(plugin_folders_in((root / "empty").string()), InputError);
   EXPECT_THROW(plugin_folders_in((root / "missing").string()), InputError);

@@ -36,9 +36,13 @@ std::vector<std::string> plugin_folders_in(const std::string& dir) {
   if (fs::is_regular_file(fs::path(dir) / "estimator.json", ec)) return {dir};
   if (!fs::is_directory(dir, ec)) throw InputError("plug-in folder " + dir + ": not a folder");
   std::vector<std::string> found;
-  for (const auto& entry : fs::directory_iterator(dir, ec))
-    if (entry.is_directory() && fs::is_regular_file(entry.path() / "estimator.json", ec))
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    // Its own error code: a sub-folder without a manifest (a run's output folder beside the
+    // plug-ins, say) reports "no such file" through it, which is an answer, not a listing error.
+    std::error_code no_manifest;
+    if (entry.is_directory() && fs::is_regular_file(entry.path() / "estimator.json", no_manifest))
       found.push_back(entry.path().string());
+  }
   if (ec) throw InputError("plug-in folder " + dir + ": cannot list: " + ec.message());
   if (found.empty())
     throw InputError("plug-in folder " + dir + ": holds no estimator.json, nor do its sub-folders");
