@@ -463,6 +463,54 @@ TEST(GlslPlugin, ShippedAlchemyAndSaoDarkenACrease) {
   }
 }
 
+// Alchemy's second pass (alchemy_blur.comp) removes the noise tile's per-pixel pattern from the
+// raw estimate without moving its level: in the crease, the mean squared difference between
+// horizontally adjacent covered pixels falls to under half of the raw estimate's, the mean AO moves
+// by under 0.02, background pixels stay 0 and blur_radius 0 is the raw estimate itself.
+TEST(GlslPlugin, ShippedAlchemysBlurSmoothsTheNoiseAndKeepsTheLevel) {
+  REQUIRE_VULKAN();
+  const TestView v = crease(80, 60);
+  const GBuffer& g = v.gbuffer;
+  const EstimatorInfo& info = find_estimator("alchemy");
+  const auto run_with = [&](int blur_radius) {
+    auto e = info.create(resolve_params("alchemy", info.params,
+                                        {{"radius", 0.5}, {"blur_radius", blur_radius}}, "test"));
+    const EstimateContext context{v.scene, *v.embree, v.gbuffer};
+    e->prepare(context);
+    return e->run(context).ao;
+  };
+  const std::vector<float> raw = run_with(0), blurred = run_with(3);
+  const auto roughness = [&](const std::vector<float>& ao) {
+    double sum = 0.0;
+    int n = 0;
+    for (int y = 0; y < g.height; ++y) {
+      for (int x = 0; x + 1 < g.width; ++x) {
+        const size_t k = static_cast<size_t>(y) * g.width + x;
+        if (!g.covered(k) || !g.covered(k + 1)) continue;
+        sum += (ao[k + 1] - ao[k]) * (ao[k + 1] - ao[k]);
+        ++n;
+      }
+    }
+    return sum / n;
+  };
+  const auto mean = [&](const std::vector<float>& ao) {
+    double sum = 0.0;
+    int n = 0;
+    for (size_t k = 0; k < ao.size(); ++k) {
+      if (g.covered(k)) sum += ao[k], ++n;
+    }
+    return sum / n;
+  };
+  EXPECT_GT(roughness(raw), 0.0) << "the raw estimate must carry the noise tile's pattern";
+  EXPECT_LT(roughness(blurred), 0.5 * roughness(raw));
+  EXPECT_NEAR(mean(blurred), mean(raw), 0.02);
+  for (size_t k = 0; k < blurred.size(); ++k) {
+    if (!g.covered(k)) {
+      ASSERT_EQ(blurred[k], 0.0f) << k;
+    }
+  }
+}
+
 // lavapipe's loop cap (65,535 iterations per loop and invocation): what a shader's SPIR-V shows of
 // it is found, and the row warns on lavapipe; a bound that is computed is not seen.
 TEST(GlslPlugin, LoopsThatLavapipeCutsShortAreWarnedAbout) {
