@@ -9,7 +9,13 @@
 #   - cmd/ (the `aoeval` binary) is the top floor: no source outside cmd/ includes a header of it;
 #   - only the `aoeval` binary (cli/), aoeval_figures and the reports' own tests link aoeval_reports;
 #   - estimators/ (the registry, every estimator folder, the Vulkan layer) never reach references/:
-#     an estimator that traces rays shares sampling/'s tracer with the ground truth instead.
+#     an estimator that traces rays shares sampling/'s tracer with the ground truth instead;
+#   - an estimator room (a folder of estimators/ that makes aoeval_estimator_<folder>) neither
+#     links nor includes another estimator room: what two estimators share lives in a shared room
+#     (screen_space/, temporal/, tree_proxies/, vulkan/, testing/), which in turn links and includes
+#     no estimator room. The shares that are one estimator's own algorithm used by another are
+#     declared, one by one, in aoeval_estimator_shares below. Tests (*_test.cpp, executables) may
+#     look at any estimator.
 # The closure of every checked target is written to <build>/rooms_links.txt (the evidence, no ldd).
 
 # The aoeval targets `target` reaches through LINK_LIBRARIES and INTERFACE_LINK_LIBRARIES.
@@ -47,9 +53,46 @@ function(aoeval_targets_under dir out)
   set(${out} ${targets} PARENT_SCOPE)
 endfunction()
 
+# <room>:<room it may link and include>, for an estimator that runs another's own algorithm.
+set(aoeval_estimator_shares
+  raymarch_ssao:hbao_split   # hbao-split's march (its kernel as C++, constants, settings)
+  shadowmap_ao:vertex_baked  # per-vertex mode: vertex-baked's interpolation (vertex_bake.h)
+)
+
+# The folders of estimators/ that are estimator rooms (they make aoeval_estimator_<folder>) and
+# the shared rooms (the other folders).
+function(aoeval_estimator_rooms estimator_out shared_out)
+  file(GLOB entries LIST_DIRECTORIES true RELATIVE ${PROJECT_SOURCE_DIR}/estimators
+       ${PROJECT_SOURCE_DIR}/estimators/*)
+  set(estimator_rooms)
+  set(shared_rooms)
+  foreach(d IN LISTS entries)
+    if(NOT IS_DIRECTORY ${PROJECT_SOURCE_DIR}/estimators/${d})
+      continue()
+    endif()
+    if(TARGET aoeval_estimator_${d} AND NOT d MATCHES "^(api|testing)$")
+      list(APPEND estimator_rooms ${d})
+    else()
+      list(APPEND shared_rooms ${d})
+    endif()
+  endforeach()
+  set(${estimator_out} ${estimator_rooms} PARENT_SCOPE)
+  set(${shared_out} ${shared_rooms} PARENT_SCOPE)
+endfunction()
+
+# Whether room `from` (of estimators/) may reach estimator room `to`: its own, or a declared share.
+function(aoeval_room_may_reach from to out)
+  if(from STREQUAL to OR "${from}:${to}" IN_LIST aoeval_estimator_shares)
+    set(${out} TRUE PARENT_SCOPE)
+  else()
+    set(${out} FALSE PARENT_SCOPE)
+  endif()
+endfunction()
+
 function(aoeval_check_rooms)
   set(forbidden_pattern
-    "^(aoeval_estimators|aoeval_estimator_.*|aoeval_vulkan|aoeval_references|aoeval_evaluation|aoeval_sweep|aoeval_bench|aoeval_figures)$")
+    "^(aoeval_estimators|aoeval_estimator_.*|aoeval_screen_space|aoeval_vulkan|aoeval_references|aoeval_evaluation|aoeval_sweep|aoeval_bench|aoeval_figures)$")
+  aoeval_estimator_rooms(estimator_rooms shared_rooms)
   set(report "# target: the aoeval targets it links, directly or transitively (configure time)\n")
   set(errors)
   aoeval_targets_under(${PROJECT_SOURCE_DIR} all_targets)
@@ -75,12 +118,27 @@ function(aoeval_check_rooms)
         endif()
       endforeach()
     endif()
-    if(t MATCHES "^(aoeval_estimators|aoeval_estimator_.*|aoeval_vulkan)$"
+    if(t MATCHES "^(aoeval_estimators|aoeval_estimator_.*|aoeval_screen_space|aoeval_vulkan)$"
        AND "aoeval_references" IN_LIST closure)
       list(APPEND errors "${t} links aoeval_references: estimators/ may not depend on the ground truth (share sampling/ instead)")
     endif()
     get_target_property(direct ${t} LINK_LIBRARIES)
     get_target_property(dir ${t} SOURCE_DIR)
+    # A library of a room of estimators/ reaches no other estimator room (nor the registry).
+    if(dir MATCHES "^${PROJECT_SOURCE_DIR}/estimators/([^/]+)" AND NOT type STREQUAL "EXECUTABLE")
+      set(room ${CMAKE_MATCH_1})
+      foreach(lib IN LISTS closure)
+        if(lib STREQUAL "aoeval_estimators")
+          list(APPEND errors "${t} (estimators/${room}/) links aoeval_estimators: a room of estimators/ does not reach the registry")
+        elseif(lib MATCHES "^aoeval_estimator_(.+)$" AND CMAKE_MATCH_1 IN_LIST estimator_rooms)
+          set(other ${CMAKE_MATCH_1})
+          aoeval_room_may_reach(${room} ${other} ok)
+          if(NOT ok)
+            list(APPEND errors "${t} (estimators/${room}/) links ${lib}: an estimator room does not lean on another (share through a shared room such as estimators/screen_space/, or declare the share in aoeval_estimator_shares)")
+          endif()
+        endif()
+      endforeach()
+    endif()
     if(direct AND "aoeval_reports" IN_LIST direct AND NOT t MATCHES "^(aoeval|aoeval_figures)$"
        AND NOT dir MATCHES "^${PROJECT_SOURCE_DIR}/reports")
       list(APPEND errors "${t} links aoeval_reports: only cli/ (aoeval) and figures/ may")
@@ -114,6 +172,30 @@ function(aoeval_check_rooms)
     file(STRINGS ${PROJECT_SOURCE_DIR}/${rel} includes REGEX "^[ \t]*#[ \t]*include[ \t]*\"cmd/")
     foreach(line IN LISTS includes)
       list(APPEND errors "${rel}: ${line}: nothing outside cmd/ includes cmd/ (the binary's own code)")
+    endforeach()
+  endforeach()
+  # The same rule read from the sources: a room of estimators/ includes no header of another
+  # estimator room (a header-only share, such as a GLSL kernel compiled as C++, is caught too).
+  foreach(room IN LISTS estimator_rooms shared_rooms)
+    file(GLOB_RECURSE room_sources RELATIVE ${PROJECT_SOURCE_DIR}
+      ${PROJECT_SOURCE_DIR}/estimators/${room}/*.h ${PROJECT_SOURCE_DIR}/estimators/${room}/*.cpp)
+    foreach(rel IN LISTS room_sources)
+      if(rel MATCHES "_test\\.cpp$")
+        continue()
+      endif()
+      file(STRINGS ${PROJECT_SOURCE_DIR}/${rel} includes
+        REGEX "^[ \t]*#[ \t]*include[ \t]*\"estimators/[^/\"]+/")
+      foreach(line IN LISTS includes)
+        string(REGEX MATCH "estimators/([^/\"]+)/" _ "${line}")
+        set(other ${CMAKE_MATCH_1})
+        if(NOT other IN_LIST estimator_rooms)
+          continue()
+        endif()
+        aoeval_room_may_reach(${room} ${other} ok)
+        if(NOT ok)
+          list(APPEND errors "${rel}: ${line}: estimators/${room}/ includes estimators/${other}/, another estimator's room (share through a shared room such as estimators/screen_space/, or declare the share in aoeval_estimator_shares)")
+        endif()
+      endforeach()
     endforeach()
   endforeach()
   file(WRITE ${CMAKE_BINARY_DIR}/rooms_links.txt "${report}")

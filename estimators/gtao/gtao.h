@@ -20,12 +20,13 @@
 //
 // The per-pixel algorithm is one source, gtao_kernel.glsl, compiled as C++ for the CPU twin
 // (gtao-cpu, TBB over rows) and as GLSL for the Vulkan twin (gtao); both read the same eye-space
-// depth and normals (hbao-split's conversion of the G-buffer), the same noise and step tables made
-// here, and apply the final power and the world-space bent normal on the host with the same code,
-// so they agree bit for bit where the device rounds like IEEE 754 (gtao_test.cpp).
+// depth and normals (the screen-space frame, estimators/screen_space/frame.h), the same noise and
+// step tables made here, and apply the final power and the world-space bent normal on the host
+// with the same code, so they agree bit for bit where the device rounds like IEEE 754
+// (gtao_test.cpp).
 //
 // resolution = half runs both twins' passes on the half-resolution frame and upsamples the AO and
-// bent normals with the shared joint bilateral filter (estimators/hbao_split/half_res.h).
+// bent normals with the shared joint bilateral filter (estimators/screen_space/half_res.h).
 //
 // Declared AO definition: cosine weighting (eq. 1), dmax = R; falloff none when the falloff range
 // is 0 (an occluder counts fully within R: the horizon is the highest point seen within R), linear
@@ -43,7 +44,7 @@
 #include <vector>
 
 #include "estimators/estimator.h"
-#include "estimators/hbao_split/hbao_split.h"
+#include "estimators/screen_space/frame.h"
 #include "estimators/temporal/temporal_stage.h"
 #include "scenes/camera.h"
 
@@ -124,10 +125,10 @@ GtaoTables gtao_tables(const GtaoSettings& settings);
 // The workgroup side of the compute shaders (local_size_x = local_size_y).
 inline constexpr int kGtaoGroupSize = 8;
 // The constants for a frame of `shape`'s size, focal length and principal point (pixels unread).
-GtaoConstants gtao_constants(const GtaoSettings& settings, const HbaoFrame& shape);
+GtaoConstants gtao_constants(const GtaoSettings& settings, const ScreenSpaceFrame& shape);
 // Checks what the parameter table cannot (a frame of at least 2 x 2 pixels with a finite focal
 // length); InputError otherwise.
-void validate_gtao_frame(const HbaoFrame& frame);
+void validate_gtao_frame(const ScreenSpaceFrame& frame);
 
 struct GtaoOutput {
   std::vector<float> ao;        // final AO (denoised, then ^final_power), 0 where not covered
@@ -138,12 +139,13 @@ struct GtaoOutput {
 
 // What both twins do after the kernel, on the host with one piece of code: the final power
 // AO^final_power and the bent normals from eye space (camera right, up, forward) to world space.
-void gtao_finish(const GtaoSettings& settings, const Camera& camera, const HbaoFrame& frame,
+void gtao_finish(const GtaoSettings& settings, const Camera& camera, const ScreenSpaceFrame& frame,
                  std::vector<float>& ao, const std::vector<glm::vec3>& eye_bent, GtaoOutput& out);
 
 // The CPU twin. Deterministic: same inputs, same bits, whatever the thread count. The camera only
 // orients the bent normals in world space.
-GtaoOutput gtao_cpu(const HbaoFrame& frame, const Camera& camera, const GtaoSettings& settings);
+GtaoOutput gtao_cpu(const ScreenSpaceFrame& frame, const Camera& camera,
+                    const GtaoSettings& settings);
 
 // The estimate's channels: AO, and bent.X/Y/Z when settings.bent.
 EstimateResult gtao_estimate_result(const GtaoSettings& settings, GtaoOutput output);

@@ -1,7 +1,7 @@
 // What the gtao compute passes share: the bindings (one layout for both passes), the kernel's
 // accessors over them, and the kernel itself (gtao_kernel.glsl, the same source the CPU twin
 // compiles as C++).
-#define GTAO_OUT(T) out T
+#define GLSL_OUT(T) out T
 #define GTAO_IMAGES_PARAM
 #define GTAO_IMAGES_ARG
 
@@ -31,7 +31,7 @@ ivec2 gtao_invocation_pixel() {
   return ivec2(gl_GlobalInvocationID.x, row * gl_WorkGroupSize.y + gl_LocalInvocationID.y);
 }
 
-// The same as the C++ twin's (gtao_glsl_compat.h): out-of-range and NaN give a far-off texel.
+// The same as the C++ twin's (gtao_cpu_kernel.h): out-of-range and NaN give a far-off texel.
 int gtao_floor(float u) {
   if (!(u > -1.0e6f && u < 1.0e6f)) return -1000000;
   return int(floor(u));

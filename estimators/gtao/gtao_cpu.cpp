@@ -6,23 +6,24 @@
 
 #include "estimators/gtao/gtao.h"
 #include "estimators/gtao/gtao_cpu_kernel.h"
-#include "estimators/hbao_split/half_res.h"
+#include "estimators/screen_space/half_res.h"
 
 namespace aoeval {
 
 using Clock = std::chrono::steady_clock;
 
-GtaoOutput gtao_cpu(const HbaoFrame& full, const Camera& camera, const GtaoSettings& settings) {
+GtaoOutput gtao_cpu(const ScreenSpaceFrame& full, const Camera& camera,
+                    const GtaoSettings& settings) {
   validate_gtao_frame(full);
   GtaoOutput out;
   auto t0 = Clock::now();
   // resolution = half: the passes below run on the half-resolution frame (half_res.h).
-  const HbaoFrame low = settings.half_res ? half_resolution_frame(full) : HbaoFrame{};
+  const ScreenSpaceFrame low = settings.half_res ? half_resolution_frame(full) : ScreenSpaceFrame{};
   if (settings.half_res) {
     validate_gtao_frame(low);
     out.pass_ms["downsample_ms"] = ms_since(t0);
   }
-  const HbaoFrame& frame = settings.half_res ? low : full;
+  const ScreenSpaceFrame& frame = settings.half_res ? low : full;
   const int w = frame.width, h = frame.height;
   const size_t pixels = static_cast<size_t>(w) * static_cast<size_t>(h);
   const GtaoConstants c = gtao_constants(settings, frame);
@@ -83,7 +84,7 @@ class GtaoCpuEstimator : public Estimator {
   void prepare(const EstimateContext& context) override {
     settings_.frame = noise_frame(context);  // the noise of frame k (gtao_noise_of)
     still_ = context.frame == nullptr;
-    frame_ = hbao_frame_from_gbuffer(context.gbuffer);
+    frame_ = screen_space_frame_from_gbuffer(context.gbuffer);
     prepared_ = true;
   }
   EstimateResult run(const EstimateContext& context) override {
@@ -94,7 +95,7 @@ class GtaoCpuEstimator : public Estimator {
 
  private:
   GtaoSettings settings_;
-  HbaoFrame frame_;
+  ScreenSpaceFrame frame_;
   bool prepared_ = false;
   bool still_ = true;
 };

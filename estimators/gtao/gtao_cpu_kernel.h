@@ -5,9 +5,22 @@
 #include <cstddef>
 
 #include "estimators/gtao/gtao.h"
-#include "estimators/gtao/gtao_glsl_compat.h"
+#include "estimators/screen_space/glsl_compat.h"
+
+// The images reach the kernel as GLSL globals (bindings) and as an explicit first argument in C++.
+#define GTAO_IMAGES_PARAM const GtaoImages &img,
+#define GTAO_IMAGES_ARG img,
 
 namespace aoeval::gtao_glsl {
+using namespace aoeval::glsl;  // the GLSL spellings (screen_space/glsl_compat.h)
+
+// GLSL's floor() of a float image coordinate as an int texel index, defined for every input:
+// NaN and values beyond int's range (a point near the eye plane projects anywhere) give a
+// coordinate outside the image, which the kernel then ignores.
+inline int gtao_floor(float u) {
+  if (!(u > -1.0e6f && u < 1.0e6f)) return -1000000;
+  return static_cast<int>(std::floor(u));
+}
 
 struct GtaoImages {
   int width = 0;

@@ -7,7 +7,7 @@
 
 #include "base/errors.h"
 #include "estimators/gtao/gtao.h"
-#include "estimators/hbao_split/half_res.h"
+#include "estimators/screen_space/half_res.h"
 #include "estimators/temporal/temporal_estimator.h"
 #include "scenes/random.h"
 
@@ -330,7 +330,7 @@ GtaoTables gtao_tables(const GtaoSettings& s) {
   return t;
 }
 
-GtaoConstants gtao_constants(const GtaoSettings& s, const HbaoFrame& shape) {
+GtaoConstants gtao_constants(const GtaoSettings& s, const ScreenSpaceFrame& shape) {
   const int width = shape.width, height = shape.height;
   const float focal = shape.focal;
   GtaoConstants c{};
@@ -348,11 +348,11 @@ GtaoConstants gtao_constants(const GtaoSettings& s, const HbaoFrame& shape) {
   c.steps = s.steps;
   c.tile = s.tile;
   c.normalise = s.normalise ? 1 : 0;
-  c.row_stride = hbao_row_stride((height + kGtaoGroupSize - 1) / kGtaoGroupSize);
+  c.row_stride = workgroup_row_stride((height + kGtaoGroupSize - 1) / kGtaoGroupSize);
   return c;
 }
 
-void validate_gtao_frame(const HbaoFrame& f) {
+void validate_gtao_frame(const ScreenSpaceFrame& f) {
   if (f.width < 2 || f.height < 2)
     throw InputError("gtao: the G-buffer must be at least 2x2 pixels (it is " +
                      std::to_string(f.width) + "x" + std::to_string(f.height) + ")");
@@ -360,7 +360,7 @@ void validate_gtao_frame(const HbaoFrame& f) {
     throw InputError("gtao: the camera's field of view gives no finite focal length");
 }
 
-void gtao_finish(const GtaoSettings& s, const Camera& camera, const HbaoFrame& frame,
+void gtao_finish(const GtaoSettings& s, const Camera& camera, const ScreenSpaceFrame& frame,
                  std::vector<float>& ao, const std::vector<glm::vec3>& eye_bent, GtaoOutput& out) {
   if (s.final_power != 1.0)
     for (float& a : ao)

@@ -1,9 +1,9 @@
 // Ground-truth ambient occlusion (GTAO), per pixel: Jimenez, Wu, Pesce, Jarabo 2016, "Practical
 // Real-Time Strategies for Accurate Indirect Occlusion" (SIGGRAPH 2016 course / Activision
 // technical report ATVI-TR-16-01). ONE source for both twins: the Vulkan compute shaders include it
-// as GLSL 4.50 (gtao_common.glsl), the CPU twin (gtao_cpu.cpp) as C++ through gtao_glsl_compat.h.
+// as GLSL 4.50 (gtao_common.glsl), the CPU twin (gtao_cpu.cpp) as C++ through screen_space/glsl_compat.h.
 // It therefore uses only spellings both languages share (float literals with an f suffix,
-// float()/int() casts, `precise` on every result that could be contracted into an fma, GTAO_OUT
+// float()/int() casts, `precise` on every result that could be contracted into an fma, GLSL_OUT
 // for out parameters) and calls no transcendental function: the horizon angles come from a
 // polynomial arccosine (gtao_acos; the paper itself replaces acos by a polynomial for speed), the
 // slice directions from a table and a per-pixel rotation computed on the host in double, and the
@@ -39,7 +39,7 @@
 //   vec2  gtao_slice(GTAO_IMAGES_PARAM int s)               (cos, sin) of pi s / slices
 //   float gtao_raw_ao(GTAO_IMAGES_PARAM int i, int j)       (denoise pass) AO before the filter
 //   vec3  gtao_raw_bent(GTAO_IMAGES_PARAM int i, int j)     (denoise pass) bent normal before it
-// and gtao_floor(float) -> int (GLSL: int(floor(u)); see gtao_glsl_compat.h for C++).
+// and gtao_floor(float) -> int (GLSL: int(floor(u)); see gtao_cpu_kernel.h for C++).
 //
 // Eye space: x right, y up, z forward along the view axis (z = the G-buffer's linear depth); the
 // continuous image point (x, y) (pixel (i, j) has its centre at (i + 0.5, j + 0.5), row 0 at the
@@ -86,7 +86,7 @@ float gtao_acos(float x) {
 // no staircase (the nearest-texel one needs hbao-split's eq. 13 offset) and no sample off the
 // slice, the two sources of false occlusion on flat surfaces at grazing angles. False where a
 // texel is missing (outside the image or background): such a sample is ignored.
-bool gtao_sample_depth(GTAO_IMAGES_PARAM float x, float y, GtaoConstants c, GTAO_OUT(float) z) {
+bool gtao_sample_depth(GTAO_IMAGES_PARAM float x, float y, GtaoConstants c, GLSL_OUT(float) z) {
   precise float gx = x - 0.5f;
   precise float gy = y - 0.5f;
   int x0 = gtao_floor(gx);
@@ -173,7 +173,7 @@ vec2 gtao_slice_bent(float ch1, float sh1, float ch2, float sh2, float cg, float
 
 // GTAO of pixel (i, j) before the denoise pass: returns AO in [0, 1] and writes the unit eye-space
 // bent normal (0 where nothing is visible or the pixel is not covered).
-float gtao_pixel(GTAO_IMAGES_PARAM int i, int j, GtaoConstants c, GTAO_OUT(vec3) bent) {
+float gtao_pixel(GTAO_IMAGES_PARAM int i, int j, GtaoConstants c, GLSL_OUT(vec3) bent) {
   bent = vec3(0.0f, 0.0f, 0.0f);
   float z = gtao_depth(GTAO_IMAGES_ARG i, j);
   if (!(z > 0.0f)) return 0.0f;
@@ -276,7 +276,7 @@ float gtao_pixel(GTAO_IMAGES_PARAM int i, int j, GtaoConstants c, GTAO_OUT(vec3)
 // weighted by the inverse of its depth deviation from the centre in pixel footprints at the
 // centre's depth (z / f), offset by 1: w = 1 / (1 + |z - z_c| / (z_c / f)). The bent normal is the
 // normalised weighted sum of the unit bent normals.
-float gtao_denoise(GTAO_IMAGES_PARAM int i, int j, GtaoConstants c, GTAO_OUT(vec3) bent) {
+float gtao_denoise(GTAO_IMAGES_PARAM int i, int j, GtaoConstants c, GLSL_OUT(vec3) bent) {
   bent = vec3(0.0f, 0.0f, 0.0f);
   float zc = gtao_depth(GTAO_IMAGES_ARG i, j);
   if (!(zc > 0.0f)) return 0.0f;

@@ -71,8 +71,8 @@ TEST(GtaoTemporal, SixRotationsVisitTheSixSlicesOfSixSlicesPerFrame) {
 // sequence likewise. A still view with a schedule (rotations > 1) says so in its row ("derived").
 TEST(GtaoTemporal, StillFrameIsTheStillEstimateBitForBit) {
   const TestView view = crease(80, 60);
-  const GtaoOutput plain =
-      gtao_cpu(hbao_frame_from_gbuffer(view.gbuffer), view.gbuffer.camera, settings_with({}));
+  const GtaoOutput plain = gtao_cpu(screen_space_frame_from_gbuffer(view.gbuffer),
+                                    view.gbuffer.camera, settings_with({}));
   for (const nlohmann::json& o : {nlohmann::json::object(), nlohmann::json({{"rotations", 6}}),
                                   nlohmann::json({{"rotations", 3}})}) {
     nlohmann::json derived;
@@ -147,7 +147,7 @@ TEST(GtaoTemporal, TwinsAgreeAtFrameK) {
   const Scene scene = load_scene("bunny");
   const Camera camera = make_camera(scene.views.front(), 160, 120);
   EmbreeScene embree(scene);
-  const HbaoFrame frame = hbao_frame_from_gbuffer(render_gbuffer(embree, camera));
+  const ScreenSpaceFrame frame = screen_space_frame_from_gbuffer(render_gbuffer(embree, camera));
   for (const uint64_t k : {uint64_t{7}, uint64_t{13}}) {
     const GtaoSettings s = settings_with({{"slices", 2}, {"rotations", 6}}, k);
     const GtaoOutput cpu = gtao_cpu(frame, camera, s);

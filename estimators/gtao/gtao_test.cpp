@@ -24,7 +24,7 @@ GtaoSettings settings_with(nlohmann::json overrides) {
 }
 
 GtaoOutput run_cpu(const TestView& view, const GtaoSettings& s) {
-  return gtao_cpu(hbao_frame_from_gbuffer(view.gbuffer), view.gbuffer.camera, s);
+  return gtao_cpu(screen_space_frame_from_gbuffer(view.gbuffer), view.gbuffer.camera, s);
 }
 
 double angle_deg(glm::vec3 a, glm::vec3 b) {
@@ -148,9 +148,9 @@ TEST(GtaoCpu, DeclaresItsDefinition) {
       Falloff::linear);
   EXPECT_THROW(resolve_params(info.name, info.params, {{"slices", 0}}, "--set"), InputError);
   EXPECT_THROW(resolve_params(info.name, info.params, {{"radius", 1}}, "--set"), InputError);
-  EXPECT_THROW(
-      gtao_cpu(HbaoFrame{1, 1, 1.0f, {1.0f}, {glm::vec3(0, 0, -1)}}, Camera{}, gtao_settings_of(p)),
-      InputError);
+  EXPECT_THROW(gtao_cpu(ScreenSpaceFrame{1, 1, 1.0f, {1.0f}, {glm::vec3(0, 0, -1)}}, Camera{},
+                        gtao_settings_of(p)),
+               InputError);
 }
 
 // ---- gtao (Vulkan): skipped with the reason where there is no device; lavapipe runs them.
@@ -161,7 +161,7 @@ TEST(GtaoCpu, DeclaresItsDefinition) {
   if (!vk) GTEST_SKIP() << "no Vulkan device: " << skip_reason; \
   RecordProperty("vulkan_device", vk->device_description());
 
-double max_abs_difference(const HbaoFrame& f, const std::vector<float>& a,
+double max_abs_difference(const ScreenSpaceFrame& f, const std::vector<float>& a,
                           const std::vector<float>& b) {
   double m = 0.0;
   for (size_t k = 0; k < f.depth.size(); ++k)
@@ -169,7 +169,7 @@ double max_abs_difference(const HbaoFrame& f, const std::vector<float>& a,
   return m;
 }
 
-double max_bent_difference(const HbaoFrame& f, const std::vector<glm::vec3>& a,
+double max_bent_difference(const ScreenSpaceFrame& f, const std::vector<glm::vec3>& a,
                            const std::vector<glm::vec3>& b) {
   double m = 0.0;
   for (size_t k = 0; k < f.depth.size(); ++k)
@@ -187,7 +187,7 @@ TEST(GtaoVulkan, TwinsAgreeOnTheSameGBuffer) {
   const Scene scene = load_scene("bunny");
   const Camera camera = make_camera(scene.views.front(), 160, 120);
   EmbreeScene embree(scene);
-  const HbaoFrame frame = hbao_frame_from_gbuffer(render_gbuffer(embree, camera));
+  const ScreenSpaceFrame frame = screen_space_frame_from_gbuffer(render_gbuffer(embree, camera));
   for (bool denoise : {false, true}) {
     const GtaoSettings s = settings_with({{"denoise", denoise}, {"slices", denoise ? 3 : 4}});
     const GtaoOutput cpu = gtao_cpu(frame, camera, s);
@@ -213,8 +213,8 @@ TEST(GtaoVulkan, TwinsAgreeOnTheSameGBuffer) {
   }
 }
 
-// gbuffer=raster: the device rasterises the scene and converts its normals with hbao-split's
-// function; the CPU twin on the downloaded raster G-buffer agrees as on the Embree one.
+// gbuffer=raster: the device rasterises the scene and converts its normals with the shared
+// eye_normal.glsl; the CPU twin on the downloaded raster G-buffer agrees as on the Embree one.
 TEST(GtaoVulkan, RasterGBufferFeedsTheSameKernel) {
   REQUIRE_VULKAN(vk);
   const Scene scene = load_scene("bunny");
@@ -224,7 +224,7 @@ TEST(GtaoVulkan, RasterGBufferFeedsTheSameKernel) {
   const GtaoOutput gpu = device.run();
   EXPECT_GT(gpu.pass_ms.count("geometry_ms"), 0u);
   EXPECT_GT(gpu.pass_ms.count("total_ms"), 0u);
-  const HbaoFrame raster = device.frame();
+  const ScreenSpaceFrame raster = device.frame();
   const GtaoOutput cpu = gtao_cpu(raster, camera, s);
   EXPECT_LE(max_abs_difference(raster, cpu.ao, gpu.ao), 1e-4);
   EXPECT_LE(max_bent_difference(raster, cpu.bent, gpu.bent), 1e-4);
@@ -233,7 +233,7 @@ TEST(GtaoVulkan, RasterGBufferFeedsTheSameKernel) {
 TEST(GtaoVulkan, OpenPlaneOnTheDevice) {
   REQUIRE_VULKAN(vk);
   const TestView view = grazing_floor(160, 120);
-  GtaoDevice device(*vk, settings_with({{"R", 1.0}}), hbao_frame_from_gbuffer(view.gbuffer),
+  GtaoDevice device(*vk, settings_with({{"R", 1.0}}), screen_space_frame_from_gbuffer(view.gbuffer),
                     view.gbuffer.camera);
   const GtaoOutput r = device.run();
   double min_ao = 1.0;

@@ -3,8 +3,8 @@
 
 #include <glm/vec4.hpp>
 
-#include "estimators/hbao_split/frame_device.h"
-#include "estimators/hbao_split/half_res_device.h"
+#include "estimators/screen_space/frame_device.h"
+#include "estimators/screen_space/half_res_device.h"
 #include "estimators/vulkan/vk_commands.h"
 #include "estimators/vulkan/vk_pipelines.h"
 #include "estimators/vulkan/vk_resources.h"
@@ -38,8 +38,8 @@ struct GtaoDevice::Impl {
   GtaoConstants constants{};
   Camera camera;
   int width = 0, height = 0;
-  std::unique_ptr<HbaoFrameDevice> frame;  // depth and eye normals, uploaded or rasterised
-  std::unique_ptr<HalfResDevice> half;     // resolution = half: the passes run on its frame
+  std::unique_ptr<ScreenSpaceFrameDevice> frame;  // depth and eye normals, uploaded or rasterised
+  std::unique_ptr<HalfResDevice> half;            // resolution = half: the passes run on its frame
   vk::Image2D raw_ao, raw_bent, ao, bent;
   vk::Buffer rotation, steps, slices;
   std::unique_ptr<vk::ComputePipeline> main_pass, denoise;
@@ -47,9 +47,9 @@ struct GtaoDevice::Impl {
   vk::PassTimer timer;
 
   // `full`: the frame's shape; the passes' images have the computed resolution's.
-  Impl(vk::Context& context, const GtaoSettings& s, const Camera& cam, const HbaoFrame& full)
+  Impl(vk::Context& context, const GtaoSettings& s, const Camera& cam, const ScreenSpaceFrame& full)
       : vk(context), settings(s), camera(cam), timer(context) {
-    const HbaoFrame shape = s.half_res ? half_resolution_shape(full) : full;
+    const ScreenSpaceFrame shape = s.half_res ? half_resolution_shape(full) : full;
     validate_gtao_frame(shape);
     const int w = shape.width, h = shape.height;
     width = w;
@@ -85,21 +85,21 @@ struct GtaoDevice::Impl {
   }
 };
 
-GtaoDevice::GtaoDevice(vk::Context& vk, const GtaoSettings& settings, const HbaoFrame& frame,
+GtaoDevice::GtaoDevice(vk::Context& vk, const GtaoSettings& settings, const ScreenSpaceFrame& frame,
                        const Camera& camera) {
   validate_gtao_frame(frame);
   check_frame_matches_camera(frame, camera);
   impl_ = std::make_unique<Impl>(vk, settings, camera, frame);
-  impl_->frame = std::make_unique<HbaoFrameDevice>(vk, frame);
+  impl_->frame = std::make_unique<ScreenSpaceFrameDevice>(vk, frame);
   impl_->make_pipelines();
 }
 
 GtaoDevice::GtaoDevice(vk::Context& vk, const GtaoSettings& settings, const Scene& scene,
                        const Camera& camera) {
-  const HbaoFrame shape = hbao_frame_shape(camera);
+  const ScreenSpaceFrame shape = screen_space_frame_shape(camera);
   validate_gtao_frame(shape);
   impl_ = std::make_unique<Impl>(vk, settings, camera, shape);
-  impl_->frame = std::make_unique<HbaoFrameDevice>(vk, scene, camera);
+  impl_->frame = std::make_unique<ScreenSpaceFrameDevice>(vk, scene, camera);
   impl_->make_pipelines();
 }
 
@@ -129,12 +129,12 @@ GtaoOutput GtaoDevice::run() {
   std::vector<float> ao = final_ao.download<float>();
   std::vector<glm::vec3> eye_bent;
   if (m.settings.bent) eye_bent = unpadded_texels(final_bent.download<float>());
-  const HbaoFrame seen = frame();
+  const ScreenSpaceFrame seen = frame();
   gtao_finish(m.settings, m.camera, seen, ao, eye_bent, out);
   return out;
 }
 
-HbaoFrame GtaoDevice::frame() const {
+ScreenSpaceFrame GtaoDevice::frame() const {
   return impl_->frame->download();
 }
 

@@ -15,7 +15,7 @@ namespace aoeval {
 class GtaoDevice {
  public:
   // gbuffer=embree: `frame` (from the shared Embree G-buffer) is uploaded here, once.
-  GtaoDevice(vk::Context& vk, const GtaoSettings& settings, const HbaoFrame& frame,
+  GtaoDevice(vk::Context& vk, const GtaoSettings& settings, const ScreenSpaceFrame& frame,
              const Camera& camera);
   // gbuffer=raster: the scene is rasterised through `camera` at every run().
   GtaoDevice(vk::Context& vk, const GtaoSettings& settings, const Scene& scene,
@@ -29,7 +29,7 @@ class GtaoDevice {
   // on, total_ms) and downloads.
   GtaoOutput run();
   // The G-buffer the passes saw, for the CPU twin (gbuffer=raster: downloaded after a run()).
-  HbaoFrame frame() const;
+  ScreenSpaceFrame frame() const;
 
  private:
   struct Impl;

@@ -1,8 +1,8 @@
 // What the hbao-split compute passes share: the bindings (one layout for the horizon, normal and
 // blur passes), the kernel's accessors over them, and the kernel itself (hbao_kernel.glsl, the same
 // source the CPU twin compiles as C++).
-#define HBAO_OUT(T) out T
-#define HBAO_INOUT(T) inout T
+#define GLSL_OUT(T) out T
+#define GLSL_INOUT(T) inout T
 #define HBAO_IMAGES_PARAM
 #define HBAO_IMAGES_ARG
 
@@ -28,7 +28,7 @@ layout(push_constant) uniform Push {
 // (lp_cs_tpool_queue_task), so with workgroups in image order the thread whose rows hold the model
 // works while the one whose rows hold the sky waits: on bunny the second of two cores added only
 // 22 % to the horizon pass. Dispatch row r therefore covers tile row (r * row_stride) mod rows,
-// a stride near rows times the golden ratio and coprime with rows (hbao_row_stride), so any
+// a stride near rows times the golden ratio and coprime with rows (workgroup_row_stride), so any
 // contiguous run of dispatch rows covers tile rows spread over the whole image. A GPU's scheduler
 // does not care about the order.
 ivec2 hbao_invocation_pixel() {
@@ -65,5 +65,4 @@ float hbao_load_horizon(int i, int j, int d) {
   return horizons[hbao_horizon_index(i, j, d)];
 }
 
-#include "hbao_basics.glsl"
 #include "hbao_kernel.glsl"

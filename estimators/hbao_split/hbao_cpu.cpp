@@ -6,8 +6,8 @@
 #include "estimators/pixel_loops.h"
 
 #include "base/errors.h"
-#include "estimators/hbao_split/half_res.h"
 #include "estimators/hbao_split/hbao_split.h"
+#include "estimators/screen_space/half_res.h"
 
 // The kernel, compiled twice: `plain` for frames, `counting` (the same text with a depth accessor
 // that counts) for the benchmark's fetch count, so the plain loop carries no counter.
@@ -19,7 +19,6 @@ namespace plain {
 inline float hbao_depth(const HbaoImages& img, int i, int j) {
   return img.depth[pixel_of(img, i, j)];
 }
-#include "estimators/hbao_split/hbao_basics.glsl"
 #include "estimators/hbao_split/hbao_kernel.glsl"
 }  // namespace plain
 
@@ -28,7 +27,6 @@ inline float hbao_depth(const HbaoImages& img, int i, int j) {
   ++*img.fetches;
   return img.depth[pixel_of(img, i, j)];
 }
-#include "estimators/hbao_split/hbao_basics.glsl"
 #include "estimators/hbao_split/hbao_kernel.glsl"
 }  // namespace counting
 
@@ -40,31 +38,10 @@ namespace aoeval {
 
 using Clock = std::chrono::steady_clock;
 
-HbaoFrame hbao_frame_shape(const Camera& camera) {
-  HbaoFrame f;
-  f.width = camera.width;
-  f.height = camera.height;
-  f.focal = static_cast<float>(camera.height) / (2.0f * camera.tan_half_fov_y);
-  return f;
-}
-
-HbaoFrame hbao_frame_from_gbuffer(const GBuffer& g) {
-  HbaoFrame f = hbao_frame_shape(g.camera);
-  f.depth.assign(g.pixel_count(), 0.0f);
-  f.normal.assign(g.pixel_count(), glm::vec3(0.0f, 0.0f, -1.0f));
-  const Camera& c = g.camera;
-  for (size_t k = 0; k < g.pixel_count(); ++k) {
-    if (!g.covered(k) || !(g.depth[k] > 0.0f)) continue;
-    f.depth[k] = g.depth[k];
-    f.normal[k] = hbao_glsl::plain::hbao_eye_normal(g.normal[k], c.right, c.up, c.forward);
-  }
-  return f;
-}
-
 namespace {
 
 // The passes at the frame's own resolution.
-HbaoCpuResult hbao_passes(const HbaoFrame& frame, const HbaoSettings& settings,
+HbaoCpuResult hbao_passes(const ScreenSpaceFrame& frame, const HbaoSettings& settings,
                           bool count_fetches) {
   const int w = frame.width, h = frame.height;
   const size_t pixels = static_cast<size_t>(w) * static_cast<size_t>(h);
@@ -148,12 +125,12 @@ HbaoCpuResult hbao_passes(const HbaoFrame& frame, const HbaoSettings& settings,
 
 }  // namespace
 
-HbaoCpuResult hbao_split_cpu(const HbaoFrame& frame, const HbaoSettings& settings,
+HbaoCpuResult hbao_split_cpu(const ScreenSpaceFrame& frame, const HbaoSettings& settings,
                              bool count_fetches) {
   validate_hbao_frame(frame);
   if (!settings.half_res) return hbao_passes(frame, settings, count_fetches);
   auto t0 = Clock::now();
-  const HbaoFrame low = half_resolution_frame(frame);
+  const ScreenSpaceFrame low = half_resolution_frame(frame);
   const double downsample_ms = ms_since(t0);
   HbaoCpuResult out = hbao_passes(low, settings, count_fetches);
   out.downsample_ms = downsample_ms;
@@ -171,7 +148,7 @@ class HbaoCpuEstimator : public Estimator {
   explicit HbaoCpuEstimator(const ParamSet& p) : settings_(hbao_settings_of(p)) {}
   void prepare(const EstimateContext& context) override {
     settings_.frame = noise_frame(context);  // the random texture of seed + k
-    frame_ = hbao_frame_from_gbuffer(context.gbuffer);
+    frame_ = screen_space_frame_from_gbuffer(context.gbuffer);
     prepared_ = true;
   }
   EstimateResult run(const EstimateContext& context) override {
@@ -192,7 +169,7 @@ class HbaoCpuEstimator : public Estimator {
 
  private:
   HbaoSettings settings_;
-  HbaoFrame frame_;
+  ScreenSpaceFrame frame_;
   bool prepared_ = false;
 };
 

@@ -8,10 +8,12 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "estimators/hbao_split/glsl_compat.h"
 #include "estimators/hbao_split/hbao_split.h"
+#include "estimators/screen_space/glsl_compat.h"
 
 namespace aoeval::hbao_glsl {
+using namespace aoeval::glsl;  // the GLSL spellings (screen_space/glsl_compat.h)
+
 struct HbaoImages {
   int width = 0;
   size_t pixels = 0;
@@ -47,4 +49,19 @@ inline float hbao_load_horizon(const HbaoImages& img, int i, int j, int d) {
   return img.horizon[static_cast<size_t>(d) * img.pixels + pixel_of(img, i, j)];
 }
 
+// The texel index of image coordinate u, clamped into [0, size) (hbao_kernel.glsl): GLSL's
+// clamp(int(u), 0, size - 1) for every finite u, without C++'s undefined conversion of a float
+// beyond int's range (a point near the eye plane projects anywhere) or of NaN (taken as 0).
+inline int hbao_texel(float u, int size) {
+  if (!(u >= 0.0f)) return 0;
+  if (u >= static_cast<float>(size - 1)) return size - 1;
+  return static_cast<int>(u);
+}
+
 }  // namespace aoeval::hbao_glsl
+
+// The CPU runs one pixel at a time: loops may stop early (hbao_kernel.glsl, hbao_march).
+#define HBAO_SCALAR_DEVICE 1
+// The images reach the kernel as GLSL globals (bindings) and as an explicit first argument in C++.
+#define HBAO_IMAGES_PARAM const HbaoImages &img,
+#define HBAO_IMAGES_ARG img,

@@ -4,11 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <numeric>
 
 #include "base/errors.h"
-#include "estimators/hbao_split/half_res.h"
 #include "estimators/hbao_split/hbao_split.h"
+#include "estimators/screen_space/half_res.h"
 #include "scenes/random.h"
 
 namespace aoeval {
@@ -179,16 +178,7 @@ std::vector<glm::vec2> hbao_direction_table(int directions) {
   return table;
 }
 
-int hbao_row_stride(int rows) {
-  if (rows <= 2) return 1;
-  const auto golden = static_cast<int>(std::lround(rows * 0.6180339887498949));
-  for (int offset = 0;; ++offset) {
-    for (const int s : {golden - offset, golden + offset})
-      if (s >= 1 && s < rows && std::gcd(s, rows) == 1) return s;
-  }
-}
-
-HbaoConstants hbao_constants(const HbaoSettings& s, const HbaoFrame& shape) {
+HbaoConstants hbao_constants(const HbaoSettings& s, const ScreenSpaceFrame& shape) {
   const int width = shape.width, height = shape.height;
   const float focal = shape.focal;
   HbaoConstants c{};
@@ -207,11 +197,11 @@ HbaoConstants hbao_constants(const HbaoSettings& s, const HbaoFrame& shape) {
   c.normal_rays = s.normal_rays;
   c.attenuation = s.attenuation ? 1 : 0;
   c.tile = s.tile;
-  c.row_stride = hbao_row_stride((height + kHbaoGroupSize - 1) / kHbaoGroupSize);
+  c.row_stride = workgroup_row_stride((height + kHbaoGroupSize - 1) / kHbaoGroupSize);
   return c;
 }
 
-void validate_hbao_frame(const HbaoFrame& f) {
+void validate_hbao_frame(const ScreenSpaceFrame& f) {
   if (f.width < 1 || f.height < 1)
     throw InputError("hbao-split: the G-buffer is empty (" + std::to_string(f.width) + "x" +
                      std::to_string(f.height) + ")");
@@ -219,7 +209,7 @@ void validate_hbao_frame(const HbaoFrame& f) {
     throw InputError("hbao-split: the camera's field of view gives no finite focal length");
 }
 
-double hbao_max_abs_difference(const HbaoFrame& f, const std::vector<float>& a,
+double hbao_max_abs_difference(const ScreenSpaceFrame& f, const std::vector<float>& a,
                                const std::vector<float>& b) {
   double m = 0.0;
   for (size_t k = 0; k < f.depth.size(); ++k)

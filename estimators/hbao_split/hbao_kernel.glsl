@@ -1,10 +1,10 @@
 // Horizon-split ambient occlusion, per pixel: Dimitrov, Bavoil, Sainz 2008, "Horizon-Split Ambient
 // Occlusion". ONE source for both twins: the Vulkan compute shaders include it as GLSL 4.50, the
-// CPU twin (hbao_cpu.cpp) includes it as C++ through glsl_compat.h. So it uses only spellings both
+// CPU twin (hbao_cpu.cpp) includes it as C++ through screen_space/glsl_compat.h. So it uses only spellings both
 // languages share (float literals with an f suffix, float()/int() casts, `precise` on every result
-// that could be contracted into an fma, HBAO_OUT / HBAO_INOUT for out / inout parameters) and the
+// that could be contracted into an fma, GLSL_OUT / GLSL_INOUT for out / inout parameters) and the
 // same operations in the same order, which is what makes the twins agree to 1e-3
-// (hbao_split_test.cpp). It needs hbao_basics.glsl (hbao_dot, hbao_eye_normal) included before it.
+// (hbao_split_test.cpp).
 //
 // Before including it, each side defines the accessors of the input images (nearest-texel reads,
 // §4.1.1; coordinates are always inside the image):
@@ -22,6 +22,12 @@
 // Eye space: x right, y up, z forward along the view axis (z = the G-buffer's linear depth); pixel
 // (i, j) is seen through the eye-space point ((i + 0.5 - W/2) / f, (H/2 - j - 0.5) / f, 1), with
 // f = H / (2 tan(fov_y / 2)) the focal length in pixels (square pixels, CONTRACT §3).
+
+// a . b, written out so that both twins sum in the same order.
+float hbao_dot(vec3 a, vec3 b) {
+  precise float r = a.x * b.x + a.y * b.y + a.z * b.z;
+  return r;
+}
 
 // The eye-space point of pixel (i, j) at linear depth z (§4: "we compute an eye-space position of
 // its corresponding surface point P").
@@ -46,8 +52,8 @@ vec3 hbao_screen(vec3 v, HbaoConstants c) {
 // lies in front of it, z < Q.z, and then the intersection is the surface's point I = (z / Q.z) Q
 // on the eye ray through Q. Gives z and 1 / Q.z. Outside the screen, behind the eye or over
 // background: not below.
-bool hbao_below(HBAO_IMAGES_PARAM vec3 sq, HbaoConstants c, HBAO_OUT(float) depth,
-                HBAO_OUT(float) inv_qz) {
+bool hbao_below(HBAO_IMAGES_PARAM vec3 sq, HbaoConstants c, GLSL_OUT(float) depth,
+                GLSL_OUT(float) inv_qz) {
   precise float inv_z = 1.0f / sq.z;  // the step's one division
   precise float u = sq.x * inv_z;
   precise float v = sq.y * inv_z;
@@ -116,7 +122,7 @@ struct HbaoWalk {
 // the step formed from S(t), S(n) (61 -> 46 ms, against keeping S(h) as state), attenuation
 // without a select (46 -> 40 ms), fetch addresses clamped rather than selected (65 -> 61 ms).
 void hbao_horizon_step(HBAO_IMAGES_PARAM vec3 sp, vec3 sn, float pn, HbaoWalk w, float dist,
-                       HbaoConstants c, HBAO_INOUT(HbaoHorizon) hz) {
+                       HbaoConstants c, GLSL_INOUT(HbaoHorizon) hz) {
   precise float at = dist * hz.ht;
   precise float an = dist * hz.hn;
   precise vec3 sq = sp + w.st * at + sn * an;  // S(Q), Q = P + dist (ht t + hn n)
@@ -153,7 +159,7 @@ void hbao_horizon_step(HBAO_IMAGES_PARAM vec3 sp, vec3 sn, float pn, HbaoWalk w,
 // as S(P), S(r) (hbao_screen); with I = s Q, I - P = (s - 1) P + s dist r, so |I - P|^2 follows
 // from pr = DOT(P, r) and pp = |P|^2.
 void hbao_march_step(HBAO_IMAGES_PARAM vec3 sp, vec3 sr, float pr, float pp, float dist,
-                     HbaoConstants c, HBAO_INOUT(float) hit_len2) {
+                     HbaoConstants c, GLSL_INOUT(float) hit_len2) {
   precise vec3 sq = sp + sr * dist;
   float z;
   float inv_z;
@@ -220,7 +226,7 @@ struct HbaoPixel {
   float beta;  // step jitter in (-1, 1)
 };
 
-bool hbao_setup_pixel(HBAO_IMAGES_PARAM int i, int j, HbaoConstants c, HBAO_OUT(HbaoPixel) px) {
+bool hbao_setup_pixel(HBAO_IMAGES_PARAM int i, int j, HbaoConstants c, GLSL_OUT(HbaoPixel) px) {
   float z = hbao_depth(HBAO_IMAGES_ARG i, j);
   if (!(z > 0.0f)) return false;
   vec3 n = hbao_normal(HBAO_IMAGES_ARG i, j);

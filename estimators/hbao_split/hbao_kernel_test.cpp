@@ -18,7 +18,6 @@ inline float hbao_depth(const HbaoImages& img, int i, int j) {
   }
   return img.depth[pixel_of(img, i, j)];
 }
-#include "estimators/hbao_split/hbao_basics.glsl"
 #include "estimators/hbao_split/hbao_kernel.glsl"
 }  // namespace kernel_test
 }  // namespace aoeval::hbao_glsl

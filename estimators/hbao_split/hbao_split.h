@@ -8,9 +8,9 @@
 // (hbao-split-cpu, TBB over rows) and as GLSL for the Vulkan twin (hbao-split); both read the same
 // eye-space depth and normals, the same random texture bits generated here and the same direction
 // table, so they agree to 1e-3 (hbao_split_test.cpp). resolution = half runs the passes on the
-// half-resolution frame and upsamples the AO with the shared joint bilateral filter (half_res.h).
-// Declared AO definition: cosine weighting, dmax = R, linear falloff when attenuation is on (none
-// otherwise).
+// half-resolution frame and upsamples the AO with the shared joint bilateral filter
+// (screen_space/half_res.h). Declared AO definition: cosine weighting, dmax = R, linear falloff
+// when attenuation is on (none otherwise).
 #pragma once
 
 #include <cstdint>
@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "estimators/estimator.h"
+#include "estimators/screen_space/frame.h"
 
 namespace aoeval {
 namespace hbao_glsl {
@@ -42,19 +43,12 @@ struct HbaoSettings {
   int tile;
   bool blur;
   uint64_t seed;
-  bool half_res;  // resolution = half (half_res.h)
+  bool half_res;  // resolution = half (screen_space/half_res.h)
   // Not a parameter: the sequence frame whose random texture this is, the seed rule's k
   // (FrameInfo::seed_offset; 0 for a still view and when the run keeps one seed): the texture of
   // frame k is drawn from seed + k, so the per-pixel rotation advances every frame.
   uint64_t frame = 0;
 };
-
-// The seed rule's k of the frame a context is (CONTRACT §10): FrameInfo::seed_offset, 0 for a still
-// view. hbao-split and gtao keep state over a sequence (EstimatorInfo::keeps_state) and draw frame
-// k's noise from it themselves (HbaoSettings::frame, GtaoSettings::frame).
-inline uint64_t noise_frame(const EstimateContext& context) {
-  return context.frame ? context.frame->seed_offset : 0;
-}
 
 // What a row records about the time design (FrameDeviceEstimator::derived): nothing; the texture
 // of frame k is the still texture of seed + k, so a still view is frame 0 and says nothing new.
@@ -70,22 +64,6 @@ AoDefinition hbao_definition(const HbaoSettings& settings);
 extern const char* const kHbaoPaper;
 extern const char* const kHbaoDefinitionDoc;
 
-// The inputs of the kernel in eye space (x right, y up, z forward), prepared on the host: linear
-// depth (0 = background) and unit eye-space shading normals, row-major, row 0 at the top.
-struct HbaoFrame {
-  int width = 0;
-  int height = 0;
-  float focal = 1.0f;  // pixels: height / (2 tan(fov_y / 2))
-  std::vector<float> depth;
-  std::vector<glm::vec3> normal;
-  // The principal point is (width / 2, height / 2) + centre_shift pixels: 0 for a frame drawn by a
-  // camera, a quarter pixel for a half-resolution frame of one (half_res.h).
-  glm::vec2 centre_shift{0.0f};
-};
-HbaoFrame hbao_frame_from_gbuffer(const GBuffer& gbuffer);
-// A frame's size and focal length for `camera`, without pixels (what the raster pass will draw).
-HbaoFrame hbao_frame_shape(const Camera& camera);
-
 // §4.1.2: tile x tile texels of (cos alpha, sin alpha, beta), alpha uniform in [0, 2 pi / Nd), beta
 // uniform in (-1, 1), from `seed` + `frame`; all (1, 0, 0) without jitter. Row-major, texel (i mod
 // tile, j mod tile) serves pixel (i, j).
@@ -94,17 +72,14 @@ std::vector<glm::vec3> hbao_random_texture(const HbaoSettings& settings);
 std::vector<glm::vec2> hbao_direction_table(int directions);
 // The compute shaders' workgroup side (local_size_x = local_size_y in every hbao shader).
 inline constexpr int kHbaoGroupSize = 8;
-// A stride coprime with `rows` (tile rows of kHbaoGroupSize pixels) near rows times the golden
-// ratio: dispatch row r covers tile row (r * stride) mod rows (hbao_common.glsl says why).
-int hbao_row_stride(int rows);
 // The constants for a frame of `shape`'s size, focal length and principal point (pixels unread).
-HbaoConstants hbao_constants(const HbaoSettings& settings, const HbaoFrame& shape);
+HbaoConstants hbao_constants(const HbaoSettings& settings, const ScreenSpaceFrame& shape);
 
 // Checks what the parameter table cannot (a frame to work on); InputError otherwise.
-void validate_hbao_frame(const HbaoFrame& frame);
+void validate_hbao_frame(const ScreenSpaceFrame& frame);
 // Max |a - b| over the frame's covered pixels (depth > 0): how far two AO images of the frame
 // differ, e.g. the twins' (the bench and the twin tests).
-double hbao_max_abs_difference(const HbaoFrame& frame, const std::vector<float>& a,
+double hbao_max_abs_difference(const ScreenSpaceFrame& frame, const std::vector<float>& a,
                                const std::vector<float>& b);
 
 struct HbaoCpuResult {
@@ -117,7 +92,7 @@ struct HbaoCpuResult {
 };
 
 // The CPU twin. Deterministic: same inputs, same bits, whatever the thread count.
-HbaoCpuResult hbao_split_cpu(const HbaoFrame& frame, const HbaoSettings& settings,
+HbaoCpuResult hbao_split_cpu(const ScreenSpaceFrame& frame, const HbaoSettings& settings,
                              bool count_fetches = false);
 
 EstimatorInfo hbao_split_cpu_estimator();

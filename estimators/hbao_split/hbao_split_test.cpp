@@ -47,7 +47,7 @@ Stats floor_stats(const GBuffer& g, const std::vector<float>& ao, double max_ang
 // rise exceeds P's offset by at most (z_Q - z_P) / (f res): a horizon of sin < 1 / (f res)).
 TEST(HbaoSplitCpu, OpenPlaneIsUnoccludedWithTheOffset) {
   const TestView view = grazing_floor(160, 120);
-  const HbaoFrame frame = hbao_frame_from_gbuffer(view.gbuffer);
+  const ScreenSpaceFrame frame = screen_space_frame_from_gbuffer(view.gbuffer);
   for (bool blur : {false, true}) {
     const HbaoCpuResult r = hbao_split_cpu(frame, settings_with({{"Nn", 2}, {"blur", blur}}));
     const Stats s = floor_stats(view.gbuffer, r.ao, 60.0);
@@ -63,7 +63,7 @@ TEST(HbaoSplitCpu, OpenPlaneIsUnoccludedWithTheOffset) {
 // issue notes: printed here).
 TEST(HbaoSplitCpu, GrazingFloorNeedsTheOffset) {
   const TestView view = grazing_floor(160, 120);
-  const HbaoFrame frame = hbao_frame_from_gbuffer(view.gbuffer);
+  const ScreenSpaceFrame frame = screen_space_frame_from_gbuffer(view.gbuffer);
   const Stats on = floor_stats(view.gbuffer, hbao_split_cpu(frame, settings_with({})).ao, 80.0);
   const Stats off =
       floor_stats(view.gbuffer, hbao_split_cpu(frame, settings_with({{"offset", false}})).ao, 80.0);
@@ -81,7 +81,7 @@ TEST(HbaoSplitCpu, GrazingFloorNeedsTheOffset) {
 // in the worst direction).
 TEST(HbaoSplitCpu, CreaseMatchesTheClosedForm) {
   const TestView view = crease(160, 120);
-  const HbaoFrame frame = hbao_frame_from_gbuffer(view.gbuffer);
+  const ScreenSpaceFrame frame = screen_space_frame_from_gbuffer(view.gbuffer);
   const double radius = 0.5;
   const std::vector<CreasePixel> pixels = crease_floor_pixels(view.gbuffer, radius + 0.05);
   for (bool attenuation : {false, true}) {
@@ -108,7 +108,7 @@ TEST(HbaoSplitCpu, CreaseMatchesTheClosedForm) {
 // the crease, Nn = 2 changes AO only by misses of the horizon search.
 TEST(HbaoSplitCpu, NormalRaysAboveTheHorizonEscapeInACrease) {
   const TestView view = crease(160, 120);
-  const HbaoFrame frame = hbao_frame_from_gbuffer(view.gbuffer);
+  const ScreenSpaceFrame frame = screen_space_frame_from_gbuffer(view.gbuffer);
   const nlohmann::json base = {{"R", 0.5}, {"Nd", 16}, {"Ns", 32}, {"blur", false}};
   nlohmann::json with_rays = base;
   with_rays["Nn"] = 2;
@@ -125,7 +125,7 @@ TEST(HbaoSplitCpu, NormalRaysAboveTheHorizonEscapeInACrease) {
 
 TEST(HbaoSplitCpu, SameSeedSameBitsOtherSeedOtherBits) {
   const TestView view = crease(80, 60);
-  const HbaoFrame frame = hbao_frame_from_gbuffer(view.gbuffer);
+  const ScreenSpaceFrame frame = screen_space_frame_from_gbuffer(view.gbuffer);
   const HbaoCpuResult a = hbao_split_cpu(frame, settings_with({{"seed", 3}}));
   const HbaoCpuResult b = hbao_split_cpu(frame, settings_with({{"seed", 3}}), true);
   const HbaoCpuResult c = hbao_split_cpu(frame, settings_with({{"seed", 4}}));
@@ -145,7 +145,7 @@ TEST(HbaoSplitCpu, SameSeedSameBitsOtherSeedOtherBits) {
 // stop early, so Nn = 1 adds fewer than Nd Ns fetches per pixel.
 TEST(HbaoSplitCpu, FetchCountIsWhatTheSearchesNeed) {
   const TestView view = crease(80, 60);
-  const HbaoFrame frame = hbao_frame_from_gbuffer(view.gbuffer);
+  const ScreenSpaceFrame frame = screen_space_frame_from_gbuffer(view.gbuffer);
   uint64_t covered = 0;
   for (float z : frame.depth) covered += z > 0.0f ? 1 : 0;
   const nlohmann::json base = {{"Nd", 7}, {"Ns", 11}, {"R", 0.5}};  // 7: a part-filled group
@@ -165,7 +165,7 @@ TEST(HbaoSplitCpu, FetchCountIsWhatTheSearchesNeed) {
 // the image, so a model in one half of the frame no longer leaves a thread idle.
 TEST(HbaoRowStride, PermutesRowsAndSpreadsEachThreadsShare) {
   for (int rows = 1; rows <= 300; ++rows) {
-    const int stride = hbao_row_stride(rows);
+    const int stride = workgroup_row_stride(rows);
     ASSERT_GE(stride, 1) << rows;
     ASSERT_TRUE(rows <= 2 || stride < rows) << rows;
     std::vector<int> seen(static_cast<size_t>(rows), 0);
@@ -173,7 +173,7 @@ TEST(HbaoRowStride, PermutesRowsAndSpreadsEachThreadsShare) {
     ASSERT_EQ(std::count(seen.begin(), seen.end(), 1), rows) << rows;
   }
   for (int rows : {60, 75, 96, 145}) {  // 480 to 1160 pixel rows in 8-pixel tiles
-    const int stride = hbao_row_stride(rows);
+    const int stride = workgroup_row_stride(rows);
     for (int threads : {2, 4, 8}) {
       const int run = rows / threads;
       for (int t = 0; t < threads; ++t) {
@@ -219,7 +219,7 @@ TEST(HbaoSplitCpu, ParametersAndDefinition) {
 }
 
 TEST(HbaoSplitCpu, EmptyFrameIsAnInputError) {
-  HbaoFrame empty;
+  ScreenSpaceFrame empty;
   EXPECT_THROW(hbao_split_cpu(empty, HbaoSettings{}), InputError);
 }
 
@@ -239,7 +239,7 @@ TEST(HbaoSplitVulkan, TwinsAgreeOnTheSameGBuffer) {
   const Scene scene = load_scene("bunny");
   const Camera camera = make_camera(scene.views.front(), 160, 120);
   EmbreeScene embree(scene);
-  const HbaoFrame frame = hbao_frame_from_gbuffer(render_gbuffer(embree, camera));
+  const ScreenSpaceFrame frame = screen_space_frame_from_gbuffer(render_gbuffer(embree, camera));
   for (bool blur : {false, true}) {
     // Nd = 7 leaves the last group of directions part-filled (HBAO_GROUP = 4, hbao_kernel.glsl).
     const HbaoSettings s =
@@ -272,11 +272,11 @@ TEST(HbaoSplitVulkan, RasterGBufferFeedsTheSameKernel) {
   const HbaoGpuResult gpu = device.run();
   EXPECT_GT(gpu.pass_ms.count("geometry_ms"), 0u);
   EXPECT_GT(gpu.pass_ms.count("total_ms"), 0u);
-  const HbaoFrame raster = device.frame();
+  const ScreenSpaceFrame raster = device.frame();
   EXPECT_LE(hbao_max_abs_difference(raster, hbao_split_cpu(raster, s).ao, gpu.ao), 1e-3);
 
   EmbreeScene embree(scene);
-  const HbaoFrame traced = hbao_frame_from_gbuffer(render_gbuffer(embree, camera));
+  const ScreenSpaceFrame traced = screen_space_frame_from_gbuffer(render_gbuffer(embree, camera));
   const std::vector<float> cpu = hbao_split_cpu(traced, s).ao;
   double sum = 0.0;
   size_t both = 0, large = 0;
@@ -301,14 +301,15 @@ TEST(HbaoSplitVulkan, AFrameOfAnotherSizeThanTheCameraIsRejected) {
   const TestView view = grazing_floor(80, 60);
   Camera other = view.gbuffer.camera;
   other.width = 40;
-  EXPECT_THROW(HbaoDevice(*vk, settings_with({}), hbao_frame_from_gbuffer(view.gbuffer), other),
-               InputError);
+  EXPECT_THROW(
+      HbaoDevice(*vk, settings_with({}), screen_space_frame_from_gbuffer(view.gbuffer), other),
+      InputError);
 }
 
 TEST(HbaoSplitVulkan, GrazingFloorOnTheDevice) {
   REQUIRE_VULKAN(vk);
   const TestView view = grazing_floor(160, 120);
-  const HbaoFrame frame = hbao_frame_from_gbuffer(view.gbuffer);
+  const ScreenSpaceFrame frame = screen_space_frame_from_gbuffer(view.gbuffer);
   HbaoDevice on(*vk, settings_with({}), frame, view.gbuffer.camera);
   HbaoDevice off(*vk, settings_with({{"offset", false}}), frame, view.gbuffer.camera);
   const Stats a = floor_stats(view.gbuffer, on.run().ao, 80.0);

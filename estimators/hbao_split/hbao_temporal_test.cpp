@@ -25,7 +25,7 @@ TEST(HbaoSplitTemporal, FrameKRotatesByTheTextureOfSeedPlusK) {
   const auto kept = run_static_frames("hbao-split-cpu", {{"seed", 5}}, view, 3, false);
   for (int k = 0; k < 3; ++k) {
     EXPECT_EQ(frames[k], run_still_frame("hbao-split-cpu", {{"seed", 5 + k}}, view).ao) << k;
-    EXPECT_EQ(frames[k], hbao_split_cpu(hbao_frame_from_gbuffer(view.gbuffer),
+    EXPECT_EQ(frames[k], hbao_split_cpu(screen_space_frame_from_gbuffer(view.gbuffer),
                                         settings_with({{"seed", 5}}, static_cast<uint64_t>(k)))
                              .ao)
         << k;
@@ -41,7 +41,7 @@ TEST(HbaoSplitTemporal, FrameKRotatesByTheTextureOfSeedPlusK) {
 TEST(HbaoSplitTemporal, StillFrameUnchanged) {
   const TestView view = crease(64, 48);
   const std::vector<float> plain =
-      hbao_split_cpu(hbao_frame_from_gbuffer(view.gbuffer), settings_with({})).ao;
+      hbao_split_cpu(screen_space_frame_from_gbuffer(view.gbuffer), settings_with({})).ao;
   nlohmann::json derived;
   EXPECT_EQ(run_still_frame("hbao-split-cpu", {}, view, &derived).ao, plain);
   EXPECT_TRUE(derived.empty()) << derived.dump();
@@ -57,7 +57,7 @@ TEST(HbaoSplitTemporal, TwinsAgreeAtFrameK) {
   const Scene scene = load_scene("bunny");
   const Camera camera = make_camera(scene.views.front(), 160, 120);
   EmbreeScene embree(scene);
-  const HbaoFrame frame = hbao_frame_from_gbuffer(render_gbuffer(embree, camera));
+  const ScreenSpaceFrame frame = screen_space_frame_from_gbuffer(render_gbuffer(embree, camera));
   const HbaoSettings s = settings_with({}, 9);
   const HbaoCpuResult cpu = hbao_split_cpu(frame, s);
   HbaoDevice device(*vk, s, frame, camera);

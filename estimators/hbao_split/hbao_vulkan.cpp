@@ -5,8 +5,8 @@
 #include <glm/vec4.hpp>
 #include <numbers>
 
-#include "estimators/hbao_split/frame_device.h"
-#include "estimators/hbao_split/half_res_device.h"
+#include "estimators/screen_space/frame_device.h"
+#include "estimators/screen_space/half_res_device.h"
 #include "estimators/vulkan/vk_commands.h"
 #include "estimators/vulkan/vk_pipelines.h"
 #include "hbao_bare_fetch_comp_spv.h"
@@ -39,8 +39,8 @@ struct HbaoDevice::Impl {
   HbaoSettings settings{};
   HbaoConstants constants{};
   int width = 0, height = 0;
-  std::unique_ptr<HbaoFrameDevice> frame;  // depth and eye normals, uploaded or rasterised
-  std::unique_ptr<HalfResDevice> half;     // resolution = half: the passes run on its frame
+  std::unique_ptr<ScreenSpaceFrameDevice> frame;  // depth and eye normals, uploaded or rasterised
+  std::unique_ptr<HalfResDevice> half;            // resolution = half: the passes run on its frame
   vk::Image2D ot, raw_ao, ao;
   vk::Buffer random, directions, horizons;
   std::unique_ptr<vk::ComputePipeline> horizon, normal_pass, blur;
@@ -49,9 +49,9 @@ struct HbaoDevice::Impl {
   vk::PassTimer timer;
 
   // `full`: the frame's shape; the passes' images have the computed resolution's.
-  Impl(vk::Context& context, const HbaoSettings& s, const HbaoFrame& full)
+  Impl(vk::Context& context, const HbaoSettings& s, const ScreenSpaceFrame& full)
       : vk(context), settings(s), timer(context) {
-    const HbaoFrame shape = s.half_res ? half_resolution_shape(full) : full;
+    const ScreenSpaceFrame shape = s.half_res ? half_resolution_shape(full) : full;
     const int w = shape.width, h = shape.height;
     width = w;
     height = h;
@@ -85,21 +85,21 @@ struct HbaoDevice::Impl {
   }
 };
 
-HbaoDevice::HbaoDevice(vk::Context& vk, const HbaoSettings& settings, const HbaoFrame& frame,
+HbaoDevice::HbaoDevice(vk::Context& vk, const HbaoSettings& settings, const ScreenSpaceFrame& frame,
                        const Camera& camera) {
   validate_hbao_frame(frame);
   check_frame_matches_camera(frame, camera);
   impl_ = std::make_unique<Impl>(vk, settings, frame);
-  impl_->frame = std::make_unique<HbaoFrameDevice>(vk, frame);
+  impl_->frame = std::make_unique<ScreenSpaceFrameDevice>(vk, frame);
   impl_->make_pipelines();
 }
 
 HbaoDevice::HbaoDevice(vk::Context& vk, const HbaoSettings& settings, const Scene& scene,
                        const Camera& camera) {
-  const HbaoFrame shape = hbao_frame_shape(camera);
+  const ScreenSpaceFrame shape = screen_space_frame_shape(camera);
   validate_hbao_frame(shape);
   impl_ = std::make_unique<Impl>(vk, settings, shape);
-  impl_->frame = std::make_unique<HbaoFrameDevice>(vk, scene, camera);
+  impl_->frame = std::make_unique<ScreenSpaceFrameDevice>(vk, scene, camera);
   impl_->make_pipelines();
 }
 
@@ -139,7 +139,7 @@ HbaoGpuResult HbaoDevice::run() {
   return r;
 }
 
-HbaoFrame HbaoDevice::frame() const {
+ScreenSpaceFrame HbaoDevice::frame() const {
   return impl_->frame->download();
 }
 

@@ -30,7 +30,7 @@ class HbaoDevice {
  public:
   // gbuffer=embree: `frame` (from the shared Embree G-buffer, seen through `camera`: its size is
   // checked) is uploaded here, once.
-  HbaoDevice(vk::Context& vk, const HbaoSettings& settings, const HbaoFrame& frame,
+  HbaoDevice(vk::Context& vk, const HbaoSettings& settings, const ScreenSpaceFrame& frame,
              const Camera& camera);
   // gbuffer=raster: the scene is rasterised through `camera` at every run().
   HbaoDevice(vk::Context& vk, const HbaoSettings& settings, const Scene& scene,
@@ -44,7 +44,7 @@ class HbaoDevice {
   // The depth image the passes read (the bench's bare-fetch loop reads the same one).
   const vk::Image2D& depth_image() const;
   // The G-buffer the passes saw, for the CPU twin (gbuffer=raster: downloaded after a run()).
-  HbaoFrame frame() const;
+  ScreenSpaceFrame frame() const;
 
  private:
   struct Impl;

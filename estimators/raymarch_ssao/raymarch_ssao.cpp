@@ -19,7 +19,6 @@ namespace raymarch {
 inline float hbao_depth(const HbaoImages& img, int i, int j) {
   return img.depth[pixel_of(img, i, j)];
 }
-#include "estimators/hbao_split/hbao_basics.glsl"
 #include "estimators/hbao_split/hbao_kernel.glsl"
 }  // namespace raymarch
 }  // namespace aoeval::hbao_glsl
@@ -81,7 +80,7 @@ class RaymarchEstimator : public Estimator {
 }  // namespace
 
 std::vector<float> raymarch_ssao(const GBuffer& gbuffer, const RaymarchSettings& s) {
-  const HbaoFrame frame = hbao_frame_from_gbuffer(gbuffer);
+  const ScreenSpaceFrame frame = screen_space_frame_from_gbuffer(gbuffer);
   validate_hbao_frame(frame);
   const HbaoSettings hs = march_settings(s);
   const HbaoConstants c = hbao_constants(hs, frame);

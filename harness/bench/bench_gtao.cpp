@@ -9,7 +9,7 @@
 #include "base/summary.h"
 #include "estimators/gtao/gtao.h"
 #include "estimators/gtao/gtao_vulkan.h"
-#include "estimators/hbao_split/frame_device.h"
+#include "estimators/screen_space/frame_device.h"
 #include "harness/bench/twin_bench.h"
 
 namespace aoeval {
@@ -24,7 +24,7 @@ void bench_gtao(const GtaoBenchOptions& o) {
   const std::unique_ptr<GtaoDevice> device =
       make_frame_device<GtaoDevice>(*b.vk, s, b.raster, b.scene, b.gbuffer);
   const GtaoOutput first = device->run();
-  const HbaoFrame frame = device->frame();
+  const ScreenSpaceFrame frame = device->frame();
   const GtaoOutput twin = gtao_cpu(frame, b.camera, s);
   double ao_diff = 0.0, bent_diff = 0.0;
   size_t covered = 0, not_identical = 0;

@@ -8,9 +8,9 @@
 #include <sstream>
 
 #include "base/summary.h"
-#include "estimators/hbao_split/frame_device.h"
 #include "estimators/hbao_split/hbao_split.h"
 #include "estimators/hbao_split/hbao_vulkan.h"
+#include "estimators/screen_space/frame_device.h"
 #include "harness/bench/twin_bench.h"
 
 namespace aoeval {
@@ -18,7 +18,7 @@ namespace aoeval {
 namespace {
 
 // The mean screen-space length of one step R / Ns at the covered pixels' depths, pixels.
-double mean_step_pixels(const HbaoFrame& f, const HbaoSettings& s) {
+double mean_step_pixels(const ScreenSpaceFrame& f, const HbaoSettings& s) {
   const double step = s.radius / s.steps;
   double sum = 0.0;
   size_t n = 0;
@@ -47,7 +47,7 @@ void bench_hbao(const HbaoBenchOptions& o) {
   const HbaoGpuResult first = device->run();
 
   // hbao-split-cpu on that G-buffer: the exact fetch count and the twin check.
-  const HbaoFrame frame = device->frame();
+  const ScreenSpaceFrame frame = device->frame();
   const HbaoCpuResult counted = hbao_split_cpu(frame, s, true);
   const double twin_diff = hbao_max_abs_difference(frame, counted.ao, first.ao);
 

@@ -6,7 +6,7 @@
 #include <filesystem>
 
 #include "base/resolution.h"
-#include "estimators/hbao_split/frame_device.h"
+#include "estimators/screen_space/frame_device.h"
 #include "harness/results/results_store.h"
 #include "scenes/corpus.h"
 #include "scenes/exr_io.h"

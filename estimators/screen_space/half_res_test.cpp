@@ -11,9 +11,9 @@
 #include "base/errors.h"
 #include "estimators/gtao/gtao.h"
 #include "estimators/gtao/gtao_vulkan.h"
-#include "estimators/hbao_split/half_res.h"
 #include "estimators/hbao_split/hbao_vulkan.h"
 #include "estimators/registry.h"
+#include "estimators/screen_space/half_res.h"
 #include "estimators/testing/ssao_test_scenes.h"
 #include "estimators/vulkan/vk_context.h"
 #include "scenes/corpus.h"
@@ -30,11 +30,11 @@ ParamSet params_of(const std::string& name, const nlohmann::json& overrides) {
 // (2i, 2j) seen through the full frame's: the same view ray, so the same eye position.
 TEST(HalfResolution, HalfFrameRebuildsEverySampleWhereItIs) {
   for (int w : {9, 10}) {
-    HbaoFrame full;
+    ScreenSpaceFrame full;
     full.width = w;
     full.height = w + 3;
     full.focal = 7.5f;
-    const HbaoFrame half = half_resolution_shape(full);
+    const ScreenSpaceFrame half = half_resolution_shape(full);
     EXPECT_EQ(half.width, (w + 1) / 2);
     EXPECT_EQ(half.height, (w + 4) / 2);
     EXPECT_EQ(half.focal, 3.75f);
@@ -51,7 +51,7 @@ TEST(HalfResolution, HalfFrameRebuildsEverySampleWhereItIs) {
 // full-resolution value (both within rounding) on the floor up to 60 degrees from its normal.
 TEST(HalfResolution, OpenPlaneStaysAtTheFullResolutionValue) {
   const TestView view = grazing_floor(161, 120);  // an odd width: a clamped last column
-  const HbaoFrame frame = hbao_frame_from_gbuffer(view.gbuffer);
+  const ScreenSpaceFrame frame = screen_space_frame_from_gbuffer(view.gbuffer);
   const GtaoOutput g_full =
       gtao_cpu(frame, view.gbuffer.camera, gtao_settings_of(params_of("gtao-cpu", {{"R", 1.0}})));
   const GtaoOutput g_half =
@@ -89,8 +89,8 @@ TEST(HalfResolution, OpenPlaneStaysAtTheFullResolutionValue) {
 // (a step between columns 4 and 5). The half frame keeps columns 0, 2, 4 (depth 1) and 6, 8
 // (depth 2); give them AO 0.3 and 0.9. A plain bilinear upsample would give column 5 the mean 0.6;
 // the joint bilateral one gives every near pixel 0.3 and every far pixel 0.9, within rounding.
-HbaoFrame step_frame() {
-  HbaoFrame f;
+ScreenSpaceFrame step_frame() {
+  ScreenSpaceFrame f;
   f.width = 9;
   f.height = 6;
   f.focal = 10.0f;
@@ -103,8 +103,8 @@ HbaoFrame step_frame() {
 }
 
 TEST(HalfResolution, UpsampleDoesNotBleedAcrossADepthStep) {
-  const HbaoFrame f = step_frame();
-  const HbaoFrame low = half_resolution_frame(f);
+  const ScreenSpaceFrame f = step_frame();
+  const ScreenSpaceFrame low = half_resolution_frame(f);
   ASSERT_EQ(low.width, 5);
   ASSERT_EQ(low.height, 3);
   std::vector<float> ao(low.depth.size());
@@ -119,12 +119,12 @@ TEST(HalfResolution, UpsampleDoesNotBleedAcrossADepthStep) {
 // the normal weight (n_p . n_k)^8 = 0 keeps each side's value, and the vectors (bent normals)
 // follow the same weights.
 TEST(HalfResolution, UpsampleDoesNotBleedAcrossACrease) {
-  HbaoFrame f = step_frame();
+  ScreenSpaceFrame f = step_frame();
   for (size_t k = 0; k < f.depth.size(); ++k) {
     f.depth[k] = 1.0f;
     if (k % 9 >= 5) f.normal[k] = glm::vec3(1.0f, 0.0f, 0.0f);
   }
-  const HbaoFrame low = half_resolution_frame(f);
+  const ScreenSpaceFrame low = half_resolution_frame(f);
   std::vector<float> ao(low.depth.size());
   std::vector<glm::vec3> v(low.depth.size());
   for (size_t k = 0; k < ao.size(); ++k) {
@@ -144,13 +144,13 @@ TEST(HalfResolution, UpsampleDoesNotBleedAcrossACrease) {
 // nearest in depth alone gives the value; with no covered candidate, AO is 1 and the vector 0;
 // uncovered pixels stay 0.
 TEST(HalfResolution, FallbackWhereNoSampleFits) {
-  HbaoFrame f = step_frame();
+  ScreenSpaceFrame f = step_frame();
   f.depth.assign(f.depth.size(), 0.0f);
   for (int j = 0; j < 6; ++j) f.depth[static_cast<size_t>(j * 9 + 4)] = 1.0f;  // kept column 4
   f.depth[9 + 3] = 3.0f;  // (3, 1): candidates (2, *) are background, (4, *) at depth 1
   f.depth[9 + 1] = 5.0f;  // (1, 1): candidates columns 0 and 2, all background
   f.depth[2 * 9 + 4] = 1.0f;
-  const HbaoFrame low = half_resolution_frame(f);
+  const ScreenSpaceFrame low = half_resolution_frame(f);
   std::vector<float> ao(low.depth.size(), 0.5f);
   ao[static_cast<size_t>(0 * 5 + 2)] = 0.25f;  // half (2, 0) = full (4, 0), depth 1
   ao[static_cast<size_t>(1 * 5 + 2)] = 0.75f;  // half (2, 1) = full (4, 2), depth 1
@@ -181,7 +181,7 @@ TEST(HalfResolutionVulkan, TwinsAgreeAtHalfResolution) {
   const Scene scene = load_scene("bunny");
   const Camera camera = make_camera(scene.views.front(), 161, 121);
   EmbreeScene embree(scene);
-  const HbaoFrame frame = hbao_frame_from_gbuffer(render_gbuffer(embree, camera));
+  const ScreenSpaceFrame frame = screen_space_frame_from_gbuffer(render_gbuffer(embree, camera));
   const bool lavapipe = vk->device_description().find("llvmpipe") != std::string::npos;
   const GtaoSettings gs = gtao_settings_of(params_of("gtao-cpu", {{"resolution", "half"}}));
   const GtaoOutput gc = gtao_cpu(frame, camera, gs);

@@ -1,19 +1,18 @@
 // Half resolution on the CPU: the frame, the parameter and the upsample (see half_res.h; the
 // weights are half_res.glsl's, compiled here as C++).
-#include "estimators/hbao_split/half_res.h"
+#include "estimators/screen_space/half_res.h"
 
 #include <glm/vec4.hpp>
 
-#include "estimators/hbao_split/glsl_compat.h"
 #include "estimators/pixel_loops.h"
+#include "estimators/screen_space/glsl_compat.h"
 
-namespace aoeval::hbao_glsl::half_res {
+namespace aoeval::glsl::half_res {
 
-using glm::vec4;
 using half_res_glsl::HalfResConstants;
 
 struct HalfResImages {
-  const HbaoFrame* full = nullptr;
+  const ScreenSpaceFrame* full = nullptr;
 };
 inline float halfres_depth(const HalfResImages& img, int i, int j) {
   return img.full->depth[static_cast<size_t>(j) * static_cast<size_t>(img.full->width) +
@@ -26,13 +25,13 @@ inline vec3 halfres_normal(const HalfResImages& img, int i, int j) {
 
 #define HALFRES_IMAGES_PARAM const HalfResImages &img,
 #define HALFRES_IMAGES_ARG img,
-#include "estimators/hbao_split/half_res.glsl"
+#include "estimators/screen_space/half_res.glsl"
 #undef HALFRES_IMAGES_PARAM
 #undef HALFRES_IMAGES_ARG
 
-}  // namespace aoeval::hbao_glsl::half_res
+}  // namespace aoeval::glsl::half_res
 
-#include "estimators/hbao_split/hbao_cpu_kernel_end.h"
+#include "estimators/screen_space/glsl_compat_end.h"
 
 namespace aoeval {
 
@@ -40,8 +39,8 @@ namespace {
 
 // sum_k w_k low(candidate k), in the shaders' order; `none` where no candidate is usable.
 template <class T>
-std::vector<T> upsample(const HbaoFrame& full, const std::vector<T>& low, T none) {
-  namespace hr = hbao_glsl::half_res;
+std::vector<T> upsample(const ScreenSpaceFrame& full, const std::vector<T>& low, T none) {
+  namespace hr = glsl::half_res;
   const HalfResConstants c = half_res_constants(full, false);
   const hr::HalfResImages img{&full};
   std::vector<T> out(full.depth.size(), T(0.0f));
@@ -87,8 +86,8 @@ bool half_resolution(const ParamSet& params) {
   return params.choice("resolution") == "half";
 }
 
-HbaoFrame half_resolution_shape(const HbaoFrame& full) {
-  HbaoFrame f;
+ScreenSpaceFrame half_resolution_shape(const ScreenSpaceFrame& full) {
+  ScreenSpaceFrame f;
   f.width = (full.width + 1) / 2;
   f.height = (full.height + 1) / 2;
   f.focal = 0.5f * full.focal;
@@ -102,8 +101,8 @@ HbaoFrame half_resolution_shape(const HbaoFrame& full) {
   return f;
 }
 
-HbaoFrame half_resolution_frame(const HbaoFrame& full) {
-  HbaoFrame f = half_resolution_shape(full);
+ScreenSpaceFrame half_resolution_frame(const ScreenSpaceFrame& full) {
+  ScreenSpaceFrame f = half_resolution_shape(full);
   const size_t n = static_cast<size_t>(f.width) * static_cast<size_t>(f.height);
   f.depth.resize(n);
   f.normal.resize(n);
@@ -120,7 +119,7 @@ HbaoFrame half_resolution_frame(const HbaoFrame& full) {
   return f;
 }
 
-HalfResConstants half_res_constants(const HbaoFrame& full, bool vector) {
+HalfResConstants half_res_constants(const ScreenSpaceFrame& full, bool vector) {
   HalfResConstants c{};
   c.width = full.width;
   c.height = full.height;
@@ -130,11 +129,12 @@ HalfResConstants half_res_constants(const HbaoFrame& full, bool vector) {
   return c;
 }
 
-std::vector<float> upsample_half_res(const HbaoFrame& full, const std::vector<float>& low) {
+std::vector<float> upsample_half_res(const ScreenSpaceFrame& full, const std::vector<float>& low) {
   return upsample(full, low, 1.0f);
 }
 
-std::vector<glm::vec3> upsample_half_res(const HbaoFrame& full, const std::vector<glm::vec3>& low) {
+std::vector<glm::vec3> upsample_half_res(const ScreenSpaceFrame& full,
+                                         const std::vector<glm::vec3>& low) {
   return upsample(full, low, glm::vec3(0.0f));
 }
 

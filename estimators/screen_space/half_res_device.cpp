@@ -1,5 +1,5 @@
 // Half resolution on the device: see half_res_device.h and, for the algorithm, half_res.glsl.
-#include "estimators/hbao_split/half_res_device.h"
+#include "estimators/screen_space/half_res_device.h"
 
 #include "estimators/vulkan/vk_pipelines.h"
 #include "half_res_down_comp_spv.h"
@@ -13,14 +13,14 @@ const VkDescriptorType kImage = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
 }  // namespace
 
 struct HalfResDevice::Impl {
-  const HbaoFrameDevice& full;
-  HbaoFrame shape;
+  const ScreenSpaceFrameDevice& full;
+  ScreenSpaceFrame shape;
   HalfResConstants constants{};
   vk::Image2D depth, normal, ao, vector, unused;  // unused: the vector slots when vector = 0
   vk::ComputePipeline down, up;
   VkDescriptorSet down_set = VK_NULL_HANDLE, up_set = VK_NULL_HANDLE;
 
-  Impl(vk::Context& vk, const HbaoFrameDevice& f, bool with_vector)
+  Impl(vk::Context& vk, const ScreenSpaceFrameDevice& f, bool with_vector)
       : full(f),
         shape(half_resolution_shape(shape_of_full(f))),
         constants(half_res_constants(shape_of_full(f), with_vector)),
@@ -37,8 +37,8 @@ struct HalfResDevice::Impl {
     down_set = down.make_set({full.depth(), full.normal(), depth, normal});
   }
 
-  static HbaoFrame shape_of_full(const HbaoFrameDevice& f) {
-    HbaoFrame s;
+  static ScreenSpaceFrame shape_of_full(const ScreenSpaceFrameDevice& f) {
+    ScreenSpaceFrame s;
     s.width = f.width();
     s.height = f.height();
     s.focal = f.focal();
@@ -46,12 +46,12 @@ struct HalfResDevice::Impl {
   }
 };
 
-HalfResDevice::HalfResDevice(vk::Context& vk, const HbaoFrameDevice& full, bool vector)
+HalfResDevice::HalfResDevice(vk::Context& vk, const ScreenSpaceFrameDevice& full, bool vector)
     : impl_(std::make_unique<Impl>(vk, full, vector)) {}
 
 HalfResDevice::~HalfResDevice() = default;
 
-const HbaoFrame& HalfResDevice::shape() const {
+const ScreenSpaceFrame& HalfResDevice::shape() const {
   return impl_->shape;
 }
 const vk::Image2D& HalfResDevice::depth() const {

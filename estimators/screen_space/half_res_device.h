@@ -1,5 +1,5 @@
 // Half resolution on the Vulkan device (hbao-split, gtao): the half-resolution G-buffer made from
-// an HbaoFrameDevice by a downsample pass, and the joint bilateral upsample pass back to full
+// a ScreenSpaceFrameDevice by a downsample pass, and the joint bilateral upsample pass back to full
 // resolution, both timed (downsample_ms, upsample_ms). The algorithm is half_res.glsl's.
 #pragma once
 
@@ -7,21 +7,21 @@
 
 #include <memory>
 
-#include "estimators/hbao_split/frame_device.h"
-#include "estimators/hbao_split/half_res.h"
+#include "estimators/screen_space/frame_device.h"
+#include "estimators/screen_space/half_res.h"
 
 namespace aoeval {
 
 class HalfResDevice {
  public:
   // `full` must outlive this. `vector`: the upsample also carries a vector image (bent normals).
-  HalfResDevice(vk::Context& vk, const HbaoFrameDevice& full, bool vector);
+  HalfResDevice(vk::Context& vk, const ScreenSpaceFrameDevice& full, bool vector);
   ~HalfResDevice();
   HalfResDevice(const HalfResDevice&) = delete;
   HalfResDevice& operator=(const HalfResDevice&) = delete;
 
   // The half-resolution frame's size, focal length and principal point (half_resolution_shape).
-  const HbaoFrame& shape() const;
+  const ScreenSpaceFrame& shape() const;
   // The half-resolution G-buffer the technique's passes read.
   const vk::Image2D& depth() const;
   const vk::Image2D& normal() const;

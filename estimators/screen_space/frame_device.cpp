@@ -1,17 +1,17 @@
-#include "estimators/hbao_split/frame_device.h"
+#include "estimators/screen_space/frame_device.h"
 
 #include <glm/vec4.hpp>
 
 #include "base/errors.h"
 #include "estimators/vulkan/raster_gbuffer.h"
 #include "estimators/vulkan/vk_pipelines.h"
-#include "hbao_eye_normals_comp_spv.h"
+#include "eye_normals_comp_spv.h"
 
 namespace aoeval {
 
 namespace {
 
-constexpr uint32_t kEyeNormalsGroup = 8;  // hbao_eye_normals.comp's local size
+constexpr uint32_t kEyeNormalsGroup = 8;  // eye_normals.comp's local size
 
 struct EyeNormalsPush {
   glm::vec4 right, up, forward;
@@ -32,12 +32,12 @@ std::vector<glm::vec3> unpadded_texels(const std::vector<float>& v) {
   return out;
 }
 
-struct HbaoFrameDevice::Impl {
+struct ScreenSpaceFrameDevice::Impl {
   vk::Context& vk;
   int width = 0, height = 0;
   float focal = 1.0f;
   Camera camera;
-  HbaoFrame embree_frame;  // gbuffer=embree
+  ScreenSpaceFrame embree_frame;  // gbuffer=embree
   std::unique_ptr<vk::RasterGBuffer> raster;
   vk::DeviceGBuffer gbuffer;  // gbuffer=raster
   vk::Image2D depth, normal;  // depth: gbuffer=embree only (raster: gbuffer.depth)
@@ -49,7 +49,7 @@ struct HbaoFrameDevice::Impl {
   }
 };
 
-HbaoFrameDevice::HbaoFrameDevice(vk::Context& vk, const HbaoFrame& frame)
+ScreenSpaceFrameDevice::ScreenSpaceFrameDevice(vk::Context& vk, const ScreenSpaceFrame& frame)
     : impl_(std::make_unique<Impl>(vk, frame.width, frame.height, frame.focal)) {
   impl_->embree_frame = frame;
   impl_->depth = vk::Image2D(vk, frame.width, frame.height, VK_FORMAT_R32_SFLOAT);
@@ -57,7 +57,8 @@ HbaoFrameDevice::HbaoFrameDevice(vk::Context& vk, const HbaoFrame& frame)
   impl_->normal.upload(padded_texels(frame.normal));
 }
 
-HbaoFrameDevice::HbaoFrameDevice(vk::Context& vk, const Scene& scene, const Camera& camera)
+ScreenSpaceFrameDevice::ScreenSpaceFrameDevice(vk::Context& vk, const Scene& scene,
+                                               const Camera& camera)
     : impl_(std::make_unique<Impl>(
           vk, camera.width, camera.height,
           static_cast<float>(camera.height) / (2.0f * camera.tan_half_fov_y))) {
@@ -66,32 +67,32 @@ HbaoFrameDevice::HbaoFrameDevice(vk::Context& vk, const Scene& scene, const Came
   m.raster = std::make_unique<vk::RasterGBuffer>(vk, scene);
   m.gbuffer = vk::make_device_gbuffer(vk, camera.width, camera.height);
   m.eye_normals = std::make_unique<vk::ComputePipeline>(
-      vk, "eye normals", hbao_eye_normals_comp_spv,
+      vk, "eye normals", eye_normals_comp_spv,
       std::vector<VkDescriptorType>{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
                                     VK_DESCRIPTOR_TYPE_STORAGE_IMAGE},
       sizeof(EyeNormalsPush));
   m.eye_set = m.eye_normals->make_set({m.gbuffer.normal, m.normal});
 }
 
-HbaoFrameDevice::~HbaoFrameDevice() = default;
+ScreenSpaceFrameDevice::~ScreenSpaceFrameDevice() = default;
 
-int HbaoFrameDevice::width() const {
+int ScreenSpaceFrameDevice::width() const {
   return impl_->width;
 }
-int HbaoFrameDevice::height() const {
+int ScreenSpaceFrameDevice::height() const {
   return impl_->height;
 }
-float HbaoFrameDevice::focal() const {
+float ScreenSpaceFrameDevice::focal() const {
   return impl_->focal;
 }
-const vk::Image2D& HbaoFrameDevice::depth() const {
+const vk::Image2D& ScreenSpaceFrameDevice::depth() const {
   return impl_->raster ? impl_->gbuffer.depth : impl_->depth;
 }
-const vk::Image2D& HbaoFrameDevice::normal() const {
+const vk::Image2D& ScreenSpaceFrameDevice::normal() const {
   return impl_->normal;
 }
 
-void HbaoFrameDevice::record(VkCommandBuffer cmd, vk::PassTimer& timer) {
+void ScreenSpaceFrameDevice::record(VkCommandBuffer cmd, vk::PassTimer& timer) {
   Impl& m = *impl_;
   if (!m.raster) return;
   m.raster->record(cmd, m.camera, m.gbuffer, &timer);  // timed as "geometry" by record()
@@ -105,10 +106,10 @@ void HbaoFrameDevice::record(VkCommandBuffer cmd, vk::PassTimer& timer) {
   vk::pass_barrier(cmd);
 }
 
-HbaoFrame HbaoFrameDevice::download() const {
+ScreenSpaceFrame ScreenSpaceFrameDevice::download() const {
   const Impl& m = *impl_;
   if (!m.raster) return m.embree_frame;
-  HbaoFrame f;
+  ScreenSpaceFrame f;
   f.width = m.width;
   f.height = m.height;
   f.focal = m.focal;
@@ -117,7 +118,7 @@ HbaoFrame HbaoFrameDevice::download() const {
   return f;
 }
 
-void check_frame_matches_camera(const HbaoFrame& frame, const Camera& camera) {
+void check_frame_matches_camera(const ScreenSpaceFrame& frame, const Camera& camera) {
   if (frame.width != camera.width || frame.height != camera.height)
     throw InputError("frame of " + std::to_string(frame.width) + "x" +
                      std::to_string(frame.height) + " pixels for a camera of " +

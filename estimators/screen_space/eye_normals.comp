@@ -1,6 +1,6 @@
-// hbao-split's and gtao's geometry pass with gbuffer=raster (HbaoFrameDevice, frame_device.h): the
-// raster G-buffer's world-space normals in eye space (hbao_eye_normal, the conversion the CPU twins
-// apply to the Embree ones).
+// The screen-space geometry pass with gbuffer=raster (ScreenSpaceFrameDevice, frame_device.h;
+// hbao-split and gtao): the raster G-buffer's world-space normals in eye space (eye_normal.glsl,
+// the conversion the CPU twins apply to the Embree ones).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 
@@ -16,12 +16,12 @@ layout(push_constant) uniform Push {
   ivec2 size;
 } pc;
 
-#include "hbao_basics.glsl"
+#include "eye_normal.glsl"
 
 void main() {
   ivec2 xy = ivec2(gl_GlobalInvocationID.xy);
   if (xy.x >= pc.size.x || xy.y >= pc.size.y) return;
   vec3 n = imageLoad(world_normal_image, xy).xyz;
-  vec3 e = hbao_eye_normal(n, pc.right.xyz, pc.up.xyz, pc.forward.xyz);
+  vec3 e = eye_normal(n, pc.right.xyz, pc.up.xyz, pc.forward.xyz);
   imageStore(eye_normal_image, xy, vec4(e, 0.0f));
 }

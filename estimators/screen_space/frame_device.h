@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "estimators/estimator.h"
-#include "estimators/hbao_split/hbao_split.h"
+#include "estimators/screen_space/frame.h"
 #include "estimators/vulkan/vk_commands.h"
 #include "estimators/vulkan/vk_context.h"
 #include "estimators/vulkan/vk_resources.h"
@@ -20,15 +20,15 @@
 
 namespace aoeval {
 
-class HbaoFrameDevice {
+class ScreenSpaceFrameDevice {
  public:
   // gbuffer=embree: `frame` uploaded once (its size and focal checked by the caller).
-  HbaoFrameDevice(vk::Context& vk, const HbaoFrame& frame);
+  ScreenSpaceFrameDevice(vk::Context& vk, const ScreenSpaceFrame& frame);
   // gbuffer=raster: `scene` rasterised from `camera` by record().
-  HbaoFrameDevice(vk::Context& vk, const Scene& scene, const Camera& camera);
-  ~HbaoFrameDevice();
-  HbaoFrameDevice(const HbaoFrameDevice&) = delete;
-  HbaoFrameDevice& operator=(const HbaoFrameDevice&) = delete;
+  ScreenSpaceFrameDevice(vk::Context& vk, const Scene& scene, const Camera& camera);
+  ~ScreenSpaceFrameDevice();
+  ScreenSpaceFrameDevice(const ScreenSpaceFrameDevice&) = delete;
+  ScreenSpaceFrameDevice& operator=(const ScreenSpaceFrameDevice&) = delete;
 
   int width() const;
   int height() const;
@@ -40,7 +40,7 @@ class HbaoFrameDevice {
   // "geometry" (the spans add up), then a barrier. gbuffer=embree: records nothing.
   void record(VkCommandBuffer cmd, vk::PassTimer& timer);
   // The frame the passes saw (downloaded with gbuffer=raster).
-  HbaoFrame download() const;
+  ScreenSpaceFrame download() const;
 
  private:
   struct Impl;
@@ -48,16 +48,17 @@ class HbaoFrameDevice {
 };
 
 // InputError unless `frame` has `camera`'s size (an uploaded frame drawn through another camera).
-void check_frame_matches_camera(const HbaoFrame& frame, const Camera& camera);
+void check_frame_matches_camera(const ScreenSpaceFrame& frame, const Camera& camera);
 
-// The device of a technique on an HbaoFrameDevice (HbaoDevice, GtaoDevice) for one view: with
+// The device of a technique on a ScreenSpaceFrameDevice (HbaoDevice, GtaoDevice) for one view: with
 // gbuffer=raster, Device(vk, settings, scene, camera) rasterises the scene at every frame; with
 // gbuffer=embree, Device(vk, settings, frame, camera) uploads the shared Embree G-buffer once.
 template <class Device, class Settings>
 std::unique_ptr<Device> make_frame_device(vk::Context& vk, const Settings& settings, bool raster,
                                           const Scene& scene, const GBuffer& gbuffer) {
   if (raster) return std::make_unique<Device>(vk, settings, scene, gbuffer.camera);
-  return std::make_unique<Device>(vk, settings, hbao_frame_from_gbuffer(gbuffer), gbuffer.camera);
+  return std::make_unique<Device>(vk, settings, screen_space_frame_from_gbuffer(gbuffer),
+                                  gbuffer.camera);
 }
 
 // The Estimator of such a technique (hbao-split, gtao): prepare() builds the device on the shared
@@ -90,9 +91,9 @@ class FrameDeviceEstimator : public Estimator {
   bool still_ = true;
 };
 
-// The `gbuffer` parameter of the estimators that run on an HbaoFrameDevice (hbao-split, gtao):
-// where their frame comes from, "raster" (the default) or "embree". `geometry_pass` names what
-// the estimator's paper calls the raster pass, if anything ("" for nothing).
+// The `gbuffer` parameter of the estimators that run on a ScreenSpaceFrameDevice (hbao-split,
+// gtao): where their frame comes from, "raster" (the default) or "embree". `geometry_pass` names
+// what the estimator's paper calls the raster pass, if anything ("" for nothing).
 ParamSpec frame_source_param(const std::string& geometry_pass);
 // Whether a ParamSet of such an estimator chose gbuffer=raster.
 bool rasterises_frame(const ParamSet& params);
