@@ -62,7 +62,7 @@ void write_index(const std::string& out_dir) {
     os << "<h2 id=\"" << f->name << "\">" << f->name << "</h2>\n";
     for (const auto& entry : {f->name + ".png", f->name + "-plot.png", f->name + "-images.png"})
       if (fs::exists(dir / entry))
-        os << "<p><img src=\"" << entry << "\" alt=\"" << entry << "\"></p>\n";
+        os << "<p><img src=\"" << entry << "\" loading=\"lazy\" alt=\"" << entry << "\"></p>\n";
     if (fs::exists(dir / (f->name + ".csv")))
       os << "<p><a href=\"" << f->name << ".csv\">numbers (CSV)</a></p>\n";
     os << "<pre>" << html_escape(read_file(dir / (f->name + ".txt"))) << "</pre>\n";

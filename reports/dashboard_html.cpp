@@ -104,13 +104,15 @@ std::string images(const RowReport& rep) {
     h += "<div class=\"images\">\n<figure><img class=\"swap\" src=\"" + html_escape(rep.new_png) +
          "\" data-new=\"" + html_escape(rep.new_png) + "\" data-baseline=\"" +
          html_escape(rep.baseline_png) +
-         "\" alt=\"new estimate\"><figcaption>new (hover: baseline)"
+         "\" loading=\"lazy\" alt=\"new estimate\"><figcaption>new (hover: baseline)"
          "</figcaption></figure>\n";
     h += "<figure><img class=\"baseline\" src=\"" + html_escape(rep.baseline_png) +
-         "\" alt=\"baseline estimate\"><figcaption>baseline</figcaption></figure>\n";
+         "\" loading=\"lazy\" alt=\"baseline "
+         "estimate\"><figcaption>baseline</figcaption></figure>\n";
     if (!rep.diff_png.empty()) {
       h += "<figure><img class=\"difference\" src=\"" + html_escape(rep.diff_png) +
-           "\" alt=\"new minus baseline\"><figcaption>new &minus; baseline (red: new brighter, "
+           "\" loading=\"lazy\" alt=\"new minus baseline\"><figcaption>new &minus; baseline (red: "
+           "new brighter, "
            "blue: new darker)</figcaption></figure>\n";
     }
     h += "</div>\n";
@@ -263,7 +265,8 @@ std::string dashboard_html(const Dashboard& d) {
     for (const auto& g : d.groups)
       if (g.estimator == key.first && g.scene == key.second)
         for (const auto& chart : g.charts)
-          h += "<img class=\"chart\" src=\"" + html_escape(chart) + "\" alt=\"history chart\">";
+          h += "<img class=\"chart\" src=\"" + html_escape(chart) +
+               "\" loading=\"lazy\" alt=\"history chart\">";
     h += "</div>\n";
     for (const RowReport* rep : members[key]) {
       h += "<article class=\"row " + css_class(rep->verdict) + "\" id=\"" + anchors[rep] +

@@ -83,7 +83,7 @@ std::string write_gbuffer_gallery(const std::string& out_dir, const std::string&
     std::string figures;
     for (const auto& [img, label] : {std::pair{normals, "normals"}, std::pair{depth, "depth"}}) {
       figures += "<figure><a href=\"" + html_escape(e.gbuffer_exr) + "\"><img src=\"" +
-                 html_escape(img) + "\" alt=\"" +
+                 html_escape(img) + "\" loading=\"lazy\" alt=\"" +
                  html_escape(e.scene + " " + e.view + " " + label) + "\"></a><figcaption>" +
                  html_escape(e.view) + ": " + label + "</figcaption></figure>\n";
     }

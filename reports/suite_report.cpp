@@ -145,7 +145,7 @@ std::string mosaic_html(const std::string& out_dir, const SuiteReportEntry& e) {
   const ResultRow& r = e.row;
   const std::string image = "<a href=\"" + html_escape(r.estimate_file) +
                             "\"><img class=\"mosaic\" src=\"" + html_escape(e.mosaic_png) +
-                            "\" alt=\"" + html_escape(r.run_name) + "\"></a>";
+                            "\" loading=\"lazy\" alt=\"" + html_escape(r.run_name) + "\"></a>";
   std::error_code ec;
   const fs::path dir(out_dir);
   if (r.estimate_file.empty() || e.reference_exr.empty() ||
@@ -249,7 +249,7 @@ void estimator_section(std::ostringstream& h, const EstimatorChart& c) {
     return;
   }
   h << "<figure><a href=\"" << html_escape(c.png) << ".plot.json\"><img class=\"chart\" src=\""
-    << html_escape(c.png) << "\" alt=\"" << html_escape(c.estimator)
+    << html_escape(c.png) << "\" loading=\"lazy\" alt=\"" << html_escape(c.estimator)
     << ": error against time\"></a><figcaption>" << kChartMetric
     << " against the median time per frame, one series per scene view; the Pareto front (no "
        "other point of the series is both at least as fast and more accurate, times closer than "

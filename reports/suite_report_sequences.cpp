@@ -276,21 +276,22 @@ std::string sequence_sections(const std::string& out_dir, const SuiteReport& rep
       for (size_t i : pick) picked += (picked.empty() ? "" : ", ") + std::to_string(numbers[i]);
       h << "<figure>"
         << viewer_html(spec, "<img class=\"mosaic strip\" src=\"" + html_escape(strip) +
-                                 "\" alt=\"" + html_escape(r.run_name) + ": frames " + picked +
-                                 "\">")
+                                 "\" loading=\"lazy\" alt=\"" + html_escape(r.run_name) +
+                                 ": frames " + picked + "\">")
         << "<figcaption>Frames " << picked
         << " (the first, the one with most disoccluded pixels, the last): reference | estimate | "
            "|estimate &minus; reference|, one error scale for the three. The viewer holds all "
         << kept.size() << " kept frames (frame slider, play: , . p).</figcaption></figure>\n"
-        << "<figure><img class=\"video\" src=\"" << html_escape(video) << "\" alt=\""
-        << html_escape(r.run_name) << ": video\"><figcaption>Reference | estimate, every kept "
+        << "<figure><img class=\"video\" src=\"" << html_escape(video)
+        << "\" loading=\"lazy\" alt=\"" << html_escape(r.run_name)
+        << ": video\"><figcaption>Reference | estimate, every kept "
         << "frame at " << value_of(m, "fps") << " frames per second (animated GIF).</figcaption>"
         << "</figure>\n";
     }
     const std::string chart = (dir / "rmse_excess.png").string();
     if (!up_to_date(out / chart, {manifest_path}))
       charts.emplace_back(chart_of(m, r), (out / chart).string());
-    h << "<figure><img class=\"chart\" src=\"" << html_escape(chart) << "\" alt=\""
+    h << "<figure><img class=\"chart\" src=\"" << html_escape(chart) << "\" loading=\"lazy\" alt=\""
       << html_escape(r.run_name) << ": rmse_excess by frame and by frames since disocclusion\">"
       << "<figcaption>Left: each frame's rmse_excess, steady_rmse_excess dashed over the frames it "
          "averages (the last half). Right: rmse_excess over pixels grouped by the frames since "

@@ -135,6 +135,14 @@ TEST(SuiteReport, PageHasTheSummaryTablesChartsAndSkippedRows) {
                                "skipped: no Vulkan device (test)", "id=\"estimator-hbao\"",
                                "href=\"e.exr\"", "href=\"r.exr\""})
     EXPECT_NE(html.find(expected), std::string::npos) << expected;
+  // Every image is loaded lazily, so a suite of hundreds of mosaics opens at the speed of its
+  // first screen (README, "The suite report": bytes read by the load event).
+  EXPECT_NE(html.find("src=\"m.png\" loading=\"lazy\""), std::string::npos);
+  EXPECT_NE(html.find("src=\"runs/run-1/plots/raytraced.png\" loading=\"lazy\""),
+            std::string::npos);
+  for (size_t at = html.find("<img "); at != std::string::npos; at = html.find("<img ", at + 1))
+    EXPECT_NE(html.substr(at, html.find('>', at) - at).find("loading=\"lazy\""), std::string::npos)
+        << html.substr(at, 120);
   // Scripts only from the page's own folder (the viewer, the sortable leaderboard).
   EXPECT_NE(html.find("<script src=\"viewer/viewer.js\""), std::string::npos);
   EXPECT_EQ(html.find("src=\"http"), std::string::npos);

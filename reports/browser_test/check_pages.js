@@ -1,8 +1,8 @@
 #!/usr/bin/env node
 // Opens aoeval's HTML pages in Debian's headless chromium (playwright-core drives it; no server,
 // file:// URLs) and fails on anything a reader would see broken:
-//   every page:      a console error or uncaught exception, a failed request, an <img> that did not
-//                    load (naturalWidth == 0);
+//   every page:      a console error or uncaught exception, a failed request, an <img> without
+//                    loading="lazy", an <img> that did not load once asked (naturalWidth == 0);
 //   a dashboard:     no verdict banner, a banner other than the expected one, no history chart,
 //                    a chart that did not render, hovering a new image that does not swap it for
 //                    the baseline (and back);
@@ -45,11 +45,18 @@ function parseArgs(argv) {
   return out;
 }
 
-async function checkImages(page) {
-  // Images below the fold load too (no lazy loading), but wait for every one to settle.
+async function checkImages(page, problems) {
+  // The pages load their images lazily (loading="lazy": only what is near the screen loads with
+  // the page); the first screen's must have started with the page, the rest is asked for here,
+  // and every one must then load.
+  const lazy = await page.$$eval('img', (imgs) => imgs.filter((img) => img.loading !== 'lazy')
+    .map((img) => img.getAttribute('src')));
+  for (const src of lazy) problems.push(`image not loaded lazily: ${src}`);
+  await page.$$eval('img', (imgs) => imgs.forEach((img) => { img.loading = 'eager'; }));
   await page.waitForFunction(() => Array.from(document.images).every((img) => img.complete));
-  return page.$$eval('img', (imgs) =>
+  const broken = await page.$$eval('img', (imgs) =>
     imgs.filter((img) => img.naturalWidth === 0).map((img) => img.getAttribute('src')));
+  for (const src of broken) problems.push(`image did not load: ${src}`);
 }
 
 async function checkDashboard(page, spec, args, problems) {
@@ -129,8 +136,7 @@ async function main() {
       page.on('requestfailed', (req) =>
         problems.push(`request failed: ${req.url()} (${req.failure() && req.failure().errorText})`));
       await page.goto('file://' + spec.file, { waitUntil: 'load' });
-      const broken = await checkImages(page);
-      for (const src of broken) problems.push(`image did not load: ${src}`);
+      await checkImages(page, problems);
       const count = await page.$$eval('img', (imgs) => imgs.length);
       if (spec.kind !== 'page') await checkDashboard(page, spec, args, problems);
       const shot = path.join(args.screenshots,
