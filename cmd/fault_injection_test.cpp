@@ -28,10 +28,12 @@ namespace {
 namespace fs = std::filesystem;
 using aoeval::cli_test::csv_run_names;
 using aoeval::cli_test::json_row_count;
+using aoeval::cli_test::KillCount;
 using aoeval::cli_test::Result;
 using aoeval::cli_test::slurp;
 using aoeval::cli_test::spawn_aoeval;
 using aoeval::cli_test::sqlite_strings;
+using aoeval::cli_test::sweep_killed_and_resumed;
 
 constexpr int kPoints = 160;
 
@@ -61,49 +63,17 @@ TEST(FaultInjection, ThirtyRandomSigkillsThenResumeKeepOneRowPerPointAndOneRunId
   const std::string spec = write_spec(d), cache = (d / "cache").string();
   const fs::path out = d / "out", db = d / "r.sqlite";
   std::mt19937 rng(20261201);
-  int kills = 0, launches = 0;
-  size_t rows_before = 0;
-  bool finished = false;
-  while (kills < 36 && !finished) {
-    std::vector<std::string> args = {"sweep", spec, "--out", out.string(), "--db", db.string()};
-    if (fs::exists(out / "results.json")) args.push_back("--resume");
-    const pid_t pid = spawn_aoeval(args, d, cache);
-    ASSERT_GT(pid, 0);
-    ++launches;
-    // Kill after 0, 1 or 2 new rows (a third of the kills land while the process starts up or
-    // computes the reference), then after a random 0-30 ms: anywhere in a row's life.
-    const size_t wait_rows = std::uniform_int_distribution<size_t>(0, 2)(rng);
-    int status = 0;
-    bool exited = false;
-    for (int i = 0; i < 3000; ++i) {
-      if (waitpid(pid, &status, WNOHANG) == pid) {
-        exited = true;
-        break;
-      }
-      if (json_row_count(out) >= rows_before + wait_rows) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
-    if (!exited) {
-      std::this_thread::sleep_for(
-          std::chrono::microseconds(std::uniform_int_distribution<int>(0, 30000)(rng)));
-      kill(pid, SIGKILL);
-      waitpid(pid, &status, 0);
-      if (WIFSIGNALED(status)) ++kills;
-    }
-    if (WIFEXITED(status)) {
-      ASSERT_EQ(WEXITSTATUS(status), 0) << slurp(d / "err.log");
-      finished = true;
-    }
-    rows_before = json_row_count(out);
-  }
-  if (!finished) {
-    const Result r = aoeval::cli_test::run_aoeval(
-        "AOEVAL_CACHE=" + cache + " ",
-        "sweep " + spec + " --out " + out.string() + " --db " + db.string() + " --resume", d);
-    ASSERT_EQ(r.code, 0) << r.err;
-  }
-  std::printf("fault injection: %d SIGKILLs over %d launches\n", kills, launches);
-  EXPECT_GE(kills, 30);
+  // Kill after 0, 1 or 2 new rows (a third of the kills land while the process starts up or
+  // computes the reference), then after a random 0-30 ms: anywhere in a row's life.
+  KillCount count;
+  ASSERT_NO_FATAL_FAILURE(sweep_killed_and_resumed("fault injection", spec, out, db, d, cache, rng,
+                                                   {.max_kills = 36,
+                                                    .max_launches = 1000,
+                                                    .max_wait_rows = 2,
+                                                    .max_delay_us = 30000,
+                                                    .polls = 3000},
+                                                   &count));
+  EXPECT_GE(count.kills, 30);
 
   const auto j = nlohmann::json::parse(slurp(out / "results.json"));
   std::set<std::string> json_names;

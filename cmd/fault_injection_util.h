@@ -1,17 +1,25 @@
 // What the kill tests share (fault_injection_test.cpp, sequence_kill_test.cpp): spawn the aoeval
-// binary with its own reference cache and logs (so it can be SIGKILLed at any moment), and read
-// what a killed and resumed sweep left: results.json's rows, SQLite's, results.csv's run names.
+// binary with its own reference cache and logs (so it can be SIGKILLed at any moment), SIGKILL a
+// sweep at random moments and resume it until it finishes, and read what it left: results.json's
+// rows, SQLite's, results.csv's run names.
 #pragma once
 
 #include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sqlite3.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "base/testing/cli_test_util.h"
@@ -81,6 +89,74 @@ inline std::vector<std::string> csv_run_names(const fs::path& csv) {
     names.push_back(line.substr(a + 1, b - a - 1));
   }
   return names;
+}
+
+// How a kill loop kills: each launch is SIGKILLed once 0 to max_wait_rows new rows (uniform) are
+// in results.json, after a further 0 to max_delay_us (uniform); a launch that writes no row within
+// `polls` polls of 2 ms is killed then. The loop stops after max_kills SIGKILLs or max_launches
+// launches, or when a launch finishes on its own.
+struct KillSchedule {
+  int max_kills = 0;
+  int max_launches = 0;
+  size_t max_wait_rows = 0;
+  int max_delay_us = 0;
+  int polls = 0;
+};
+
+struct KillCount {
+  int kills = 0;     // launches that ended by the SIGKILL
+  int launches = 0;  // every launch, the finishing one included
+};
+
+// `aoeval sweep SPEC --out OUT --db DB` (with --resume once results.json exists) launched and
+// SIGKILLed again and again as `schedule` says (its randomness from `rng`), logs and the reference
+// cache under `dir` and `cache`; when no launch finished on its own, one last --resume runs it to
+// the end. Fails the test (fatally: wrap the call in ASSERT_NO_FATAL_FAILURE) when a launch or the
+// last resume exits other than 0, and prints "<label>: N SIGKILLs over M launches".
+inline void sweep_killed_and_resumed(const std::string& label, const std::string& spec,
+                                     const fs::path& out, const fs::path& db, const fs::path& dir,
+                                     const std::string& cache, std::mt19937& rng,
+                                     const KillSchedule& schedule, KillCount* count) {
+  size_t rows_before = 0;
+  bool finished = false;
+  while (count->kills < schedule.max_kills && count->launches < schedule.max_launches &&
+         !finished) {
+    std::vector<std::string> args = {"sweep", spec, "--out", out.string(), "--db", db.string()};
+    if (fs::exists(out / "results.json")) args.push_back("--resume");
+    const pid_t pid = spawn_aoeval(args, dir, cache);
+    ASSERT_GT(pid, 0);
+    ++count->launches;
+    const size_t wait_rows = std::uniform_int_distribution<size_t>(0, schedule.max_wait_rows)(rng);
+    const int delay_us = std::uniform_int_distribution<int>(0, schedule.max_delay_us)(rng);
+    int status = 0;
+    bool exited = false;
+    for (int i = 0; i < schedule.polls; ++i) {
+      if (waitpid(pid, &status, WNOHANG) == pid) {
+        exited = true;
+        break;
+      }
+      if (json_row_count(out) >= rows_before + wait_rows) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    if (!exited) {
+      std::this_thread::sleep_for(std::chrono::microseconds(delay_us));
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      if (WIFSIGNALED(status)) ++count->kills;
+    }
+    if (WIFEXITED(status)) {
+      ASSERT_EQ(WEXITSTATUS(status), 0) << slurp(dir / "err.log");
+      finished = true;
+    }
+    rows_before = json_row_count(out);
+  }
+  if (!finished) {
+    const Result r = run_aoeval(
+        "AOEVAL_CACHE=" + cache + " ",
+        "sweep " + spec + " --out " + out.string() + " --db " + db.string() + " --resume", dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+  }
+  std::printf("%s: %d SIGKILLs over %d launches\n", label.c_str(), count->kills, count->launches);
 }
 
 }  // namespace aoeval::cli_test

@@ -3,10 +3,7 @@
 // each with its complete frames.csv, manifest and kept frames, and the same values as a run that
 // was never interrupted; its page has every row's sequence section and every row's references.
 #include <gtest/gtest.h>
-#include <signal.h>
-#include <sys/wait.h>
 
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -14,7 +11,6 @@
 #include <random>
 #include <set>
 #include <sstream>
-#include <thread>
 
 #include "base/testing/cli_test_util.h"
 #include "base/testing/test_temp_dir.h"
@@ -25,10 +21,10 @@ namespace {
 
 namespace fs = std::filesystem;
 using aoeval::cli_test::csv_run_names;
-using aoeval::cli_test::json_row_count;
+using aoeval::cli_test::KillCount;
 using aoeval::cli_test::slurp;
-using aoeval::cli_test::spawn_aoeval;
 using aoeval::cli_test::sqlite_strings;
+using aoeval::cli_test::sweep_killed_and_resumed;
 
 constexpr int kFrames = 8;
 constexpr size_t kPoints = 20;
@@ -107,49 +103,17 @@ TEST(SequenceKill, TenRandomSigkillsThenResumeEqualAnUninterruptedRun) {
   const fs::path out = d / "out", db = d / "r.sqlite";
   const std::string cache = (d / "cache").string();
   std::mt19937 rng(29);
-  int kills = 0, launches = 0;
-  size_t rows_before = 0;
-  bool finished = false;
-  while (kills < 10 && !finished && launches < 40) {
-    std::vector<std::string> args = {"sweep", spec, "--out", out.string(), "--db", db.string()};
-    if (fs::exists(out / "results.json")) args.push_back("--resume");
-    const pid_t pid = spawn_aoeval(args, d, cache);
-    ASSERT_GT(pid, 0);
-    ++launches;
-    // Kill once 0 or 1 new rows exist, after a random 0-60 ms more: the first point of a launch
-    // also pays the process start, the scene and the references' cache misses.
-    const size_t wait_rows = std::uniform_int_distribution<size_t>(0, 1)(rng);
-    const int delay_us = std::uniform_int_distribution<int>(0, 60000)(rng);
-    int status = 0;
-    bool exited = false;
-    for (int i = 0; i < 5000; ++i) {
-      if (waitpid(pid, &status, WNOHANG) == pid) {
-        exited = true;
-        break;
-      }
-      if (json_row_count(out) >= rows_before + wait_rows) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
-    if (!exited) {
-      std::this_thread::sleep_for(std::chrono::microseconds(delay_us));
-      kill(pid, SIGKILL);
-      waitpid(pid, &status, 0);
-      if (WIFSIGNALED(status)) ++kills;
-    }
-    if (WIFEXITED(status)) {
-      ASSERT_EQ(WEXITSTATUS(status), 0) << slurp(d / "err.log");
-      finished = true;
-    }
-    rows_before = json_row_count(out);
-  }
-  if (!finished) {
-    const auto r = aoeval::cli_test::run_aoeval(
-        "AOEVAL_CACHE=" + cache + " ",
-        "sweep " + spec + " --out " + out.string() + " --db " + db.string() + " --resume", d);
-    ASSERT_EQ(r.code, 0) << r.err;
-  }
-  std::printf("sequence kill: %d SIGKILLs over %d launches\n", kills, launches);
-  EXPECT_GE(kills, 10);
+  // Kill once 0 or 1 new rows exist, after a random 0-60 ms more: the first point of a launch also
+  // pays the process start, the scene and the references' cache misses.
+  KillCount count;
+  ASSERT_NO_FATAL_FAILURE(sweep_killed_and_resumed("sequence kill", spec, out, db, d, cache, rng,
+                                                   {.max_kills = 10,
+                                                    .max_launches = 40,
+                                                    .max_wait_rows = 1,
+                                                    .max_delay_us = 60000,
+                                                    .polls = 5000},
+                                                   &count));
+  EXPECT_GE(count.kills, 10);
 
   // Every sequence row once, in every store, under one run id.
   const nlohmann::json got = rows_by_name(out), want = rows_by_name(whole);

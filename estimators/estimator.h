@@ -14,6 +14,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "base/param_text.h"
@@ -28,10 +29,10 @@ enum class ParamType { real, integer, boolean, choice };
 const char* param_type_name(ParamType t);
 
 // One parameter, declared once (XeGTAO's settings, pbrt's parameter dictionaries). Rows are written
-// with designated initialisers, so that a row reads as names rather than as a count of commas:
-// `{.name = "R", .type = ParamType::real, .default_value = 0.3, .min = 0.01, .max = 10, ...}`.
-// Every field is written (a choice's range as 0, 0; no unit as ""; no choices as {}): GCC 12's
-// -Wmissing-field-initializers warns of a designated list that leaves one out.
+// with the builders below, one per type, so that a row reads as its type and its values:
+// `real_param("R", 0.3, 0.01, 10.0, Spacing::log, "scene units", "...")`. A row written as a
+// designated initialiser writes every field (GCC 12's -Wmissing-field-initializers warns of one
+// that leaves a field out).
 struct ParamSpec {
   std::string name;  // the --set key and the results column
   ParamType type = ParamType::real;
@@ -42,6 +43,60 @@ struct ParamSpec {
   std::string meaning;               // one line, citing the paper's equation or section
   std::vector<std::string> choices;  // for ParamType::choice
 };
+
+// How sweeps and plots space a number parameter's values (ParamSpec::log_scale).
+enum class Spacing { linear, log };
+
+// The ParamSpec rows of each type, every field in ParamSpec's order. A number's default, range,
+// spacing and unit ("" for none) are written at the call; a boolean or a choice has no range,
+// spacing or unit (0, 0, linear, ""), and only a choice has choices.
+inline ParamSpec real_param(std::string name, double default_value, double min, double max,
+                            Spacing spacing, std::string unit, std::string meaning) {
+  return {.name = std::move(name),
+          .type = ParamType::real,
+          .default_value = default_value,
+          .min = min,
+          .max = max,
+          .log_scale = spacing == Spacing::log,
+          .unit = std::move(unit),
+          .meaning = std::move(meaning),
+          .choices = {}};
+}
+inline ParamSpec int_param(std::string name, int64_t default_value, double min, double max,
+                           Spacing spacing, std::string unit, std::string meaning) {
+  return {.name = std::move(name),
+          .type = ParamType::integer,
+          .default_value = default_value,
+          .min = min,
+          .max = max,
+          .log_scale = spacing == Spacing::log,
+          .unit = std::move(unit),
+          .meaning = std::move(meaning),
+          .choices = {}};
+}
+inline ParamSpec bool_param(std::string name, bool default_value, std::string meaning) {
+  return {.name = std::move(name),
+          .type = ParamType::boolean,
+          .default_value = default_value,
+          .min = 0,
+          .max = 0,
+          .log_scale = false,
+          .unit = "",
+          .meaning = std::move(meaning),
+          .choices = {}};
+}
+inline ParamSpec choice_param(std::string name, std::string default_value,
+                              std::vector<std::string> choices, std::string meaning) {
+  return {.name = std::move(name),
+          .type = ParamType::choice,
+          .default_value = std::move(default_value),
+          .min = 0,
+          .max = 0,
+          .log_scale = false,
+          .unit = "",
+          .meaning = std::move(meaning),
+          .choices = std::move(choices)};
+}
 
 // A complete, validated set of parameter values: every declared parameter, defaults filled in.
 class ParamSet {

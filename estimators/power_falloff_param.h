@@ -14,33 +14,19 @@
 namespace aoeval {
 
 inline ParamSpec power_exponent_param(std::string name, std::string meaning) {
-  return {.name = std::move(name),
-          .type = ParamType::real,
-          .default_value = 2.0,
-          .min = 1e-3,
-          .max = 1e3,
-          .log_scale = false,
-          .unit = "",
-          .meaning = std::move(meaning),
-          .choices = {}};
+  return real_param(std::move(name), 2.0, 1e-3, 1e3, Spacing::linear, "", std::move(meaning));
 }
 
 // `falloff` and `falloff_k`, in this order; `range` names the estimator's own range parameter
 // (raytraced's dmax, rtao's t_max) in the meanings.
 inline std::vector<ParamSpec> falloff_params(const std::string& range) {
-  return {{.name = "falloff",
-           .type = ParamType::choice,
-           .default_value = "none",
-           .min = 0,
-           .max = 0,
-           .log_scale = false,
-           .unit = "",
-           .meaning = "occluder weight 1 - rho(d/" + range +
-                      "): none, linear, sqrt, exp or power (rho(x) = x^falloff_k) (CONTRACT §3)",
-           .choices = {"none", "linear", "sqrt", "exp", "power"}},
-          power_exponent_param("falloff_k",
-                               "the exponent K of falloff power, rho(x) = x^K (1 = linear, 0.5 = "
-                               "sqrt); unused otherwise")};
+  return {
+      choice_param("falloff", "none", {"none", "linear", "sqrt", "exp", "power"},
+                   "occluder weight 1 - rho(d/" + range +
+                       "): none, linear, sqrt, exp or power (rho(x) = x^falloff_k) (CONTRACT §3)"),
+      power_exponent_param("falloff_k",
+                           "the exponent K of falloff power, rho(x) = x^K (1 = linear, 0.5 = "
+                           "sqrt); unused otherwise")};
 }
 
 // The falloff that falloff_params() select: power:falloff_k for power, else the named one.

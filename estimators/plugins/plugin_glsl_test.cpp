@@ -80,15 +80,7 @@ TEST(GlslPlugin, SpirvIsCachedByContent) {
   EXPECT_EQ(second.local_size[0], 4u);
   EXPECT_EQ(second.local_size[1], 2u);
   // Other parameters change the preamble, so the entry.
-  const ParamSpec p{.name = "r",
-                    .type = ParamType::real,
-                    .default_value = 0.5,
-                    .min = 0,
-                    .max = 1,
-                    .log_scale = false,
-                    .unit = "",
-                    .meaning = "m",
-                    .choices = {}};
+  const ParamSpec p = real_param("r", 0.5, 0, 1, Spacing::linear, "", "m");
   EXPECT_FALSE(compile_glsl_compute("a.comp", source, {p}).from_cache);
   EXPECT_FALSE(compile_glsl_compute("a.comp", source + "\n", {}).from_cache);
 }
@@ -97,33 +89,9 @@ TEST(GlslPlugin, TheAbiTextDeclaresEveryBindingAndTheParametersInOrder) {
   const std::string text = glsl_abi_text();
   for (int b = 0; b <= 10; ++b)
     EXPECT_NE(text.find("binding = " + std::to_string(b)), std::string::npos) << b;
-  const std::vector<ParamSpec> params = {{.name = "zeta",
-                                          .type = ParamType::real,
-                                          .default_value = 0.5,
-                                          .min = 0,
-                                          .max = 1,
-                                          .log_scale = false,
-                                          .unit = "",
-                                          .meaning = "m",
-                                          .choices = {}},
-                                         {.name = "alpha",
-                                          .type = ParamType::boolean,
-                                          .default_value = true,
-                                          .min = 0,
-                                          .max = 0,
-                                          .log_scale = false,
-                                          .unit = "",
-                                          .meaning = "m",
-                                          .choices = {}},
-                                         {.name = "mode",
-                                          .type = ParamType::choice,
-                                          .default_value = "b",
-                                          .min = 0,
-                                          .max = 0,
-                                          .log_scale = false,
-                                          .unit = "",
-                                          .meaning = "m",
-                                          .choices = {"a", "b"}}};
+  const std::vector<ParamSpec> params = {real_param("zeta", 0.5, 0, 1, Spacing::linear, "", "m"),
+                                         bool_param("alpha", true, "m"),
+                                         choice_param("mode", "b", {"a", "b"}, "m")};
   for (const char* name : {"aoeval_motion", "aoeval_disoccluded", "aoeval_history", "int frame;"})
     EXPECT_NE(text.find(name), std::string::npos) << name;
   const std::string preamble = glsl_abi_preamble(params);

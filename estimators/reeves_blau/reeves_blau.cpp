@@ -96,38 +96,17 @@ EstimatorInfo reeves_blau_estimator() {
   info.backend = Backend::cpu;
   info.inputs = {EstimatorInput::gbuffer, EstimatorInput::tree_proxies};
   info.params = {
-      {.name = "attenuation",
-       .type = ParamType::real,
-       .default_value = 0.0,
-       .min = 0.0,
-       .max = 1e6,
-       .log_scale = false,
-       .unit = "1/scene units",
-       .meaning = "k of V = exp(-k depth); 0 = lambda, the leaves a ray meets per unit length "
-                  "(Hegeman et al. "
-                  "§3)",
-       .choices = {}},
-      {.name = "envelope",
-       .type = ParamType::choice,
-       .default_value = "sphere",
-       .min = 0,
-       .max = 0,
-       .log_scale = false,
-       .unit = "",
-       .meaning = "the tree envelope the depth is measured in: the bounding sphere or the moment "
-                  "ellipsoid",
-       .choices = {"sphere", "ellipsoid"}},
-      {.name = "proxy_source",
-       .type = ParamType::choice,
-       .default_value = "auto",
-       .min = 0,
-       .max = 0,
-       .log_scale = false,
-       .unit = "",
-       .meaning = "auto: the scene file's proxy when it has one of this kind, else derived; "
-                  "derived: always "
-                  "derive from the leaves",
-       .choices = {"auto", "derived"}},
+      real_param("attenuation", 0.0, 0.0, 1e6, Spacing::linear, "1/scene units",
+                 "k of V = exp(-k depth); 0 = lambda, the leaves a ray meets per unit length "
+                 "(Hegeman et al. "
+                 "§3)"),
+      choice_param("envelope", "sphere", {"sphere", "ellipsoid"},
+                   "the tree envelope the depth is measured in: the bounding sphere or the moment "
+                   "ellipsoid"),
+      choice_param("proxy_source", "auto", {"auto", "derived"},
+                   "auto: the scene file's proxy when it has one of this kind, else derived; "
+                   "derived: always "
+                   "derive from the leaves"),
   };
   info.definition_doc =
       "uniform-weighted, unbounded: compared against Hegeman et al.'s eq. 3 ambient visibility";

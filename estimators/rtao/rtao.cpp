@@ -133,113 +133,42 @@ class RtaoEstimator : public Estimator {
 
 std::vector<ParamSpec> rtao_params() {
   std::vector<ParamSpec> params = {
-      {.name = "rays",
-       .type = ParamType::integer,
-       .default_value = 1,
-       .min = 1,
-       .max = 1024,
-       .log_scale = true,
-       .unit = "rays",
-       .meaning = "cosine rays per pixel per frame",
-       .choices = {}},
-      {.name = "t_max",
-       .type = ParamType::real,
-       .default_value = 0.0,
-       .min = 0.0,
-       .max = 1e6,
-       .log_scale = false,
-       .unit = "scene units",
-       .meaning = "ray length, the definition's dmax; 0 = unbounded (CONTRACT §3)",
-       .choices = {}},
+      int_param("rays", 1, 1, 1024, Spacing::log, "rays", "cosine rays per pixel per frame"),
+      real_param("t_max", 0.0, 0.0, 1e6, Spacing::linear, "scene units",
+                 "ray length, the definition's dmax; 0 = unbounded (CONTRACT §3)"),
   };
   // falloff and falloff_k: the declaration raytraced uses (power_falloff_param.h), so rtao
   // accepts every falloff raytraced does, power:K included (CONTRACT §3).
   for (ParamSpec& p : falloff_params("t_max")) params.push_back(std::move(p));
   const std::vector<ParamSpec> rest = {
-      {.name = "seed",
-       .type = ParamType::integer,
-       .default_value = 7,
-       .min = 0,
-       .max = 1e15,
-       .log_scale = false,
-       .unit = "",
-       .meaning = "random seed of the per-pixel Owen scrambles; frame k takes the sequence's "
-                  "points from k rays on (the seed rule)",
-       .choices = {}},
-      {.name = "temporal",
-       .type = ParamType::boolean,
-       .default_value = true,
-       .min = 0,
-       .max = 0,
-       .log_scale = false,
-       .unit = "",
-       .meaning = "accumulate over frames with the shared temporal stage (Schied et al. 2017 "
-                  "§4.1); false = each frame's rays alone",
-       .choices = {}},
+      int_param("seed", 7, 0, 1e15, Spacing::linear, "",
+                "random seed of the per-pixel Owen scrambles; frame k takes the sequence's "
+                "points from k rays on (the seed rule)"),
+      bool_param("temporal", true,
+                 "accumulate over frames with the shared temporal stage (Schied et al. 2017 "
+                 "§4.1); false = each frame's rays alone"),
   };
   params.insert(params.end(), rest.begin(), rest.end());
   for (ParamSpec& p : temporal_params(rtao_temporal_defaults())) params.push_back(std::move(p));
   const std::vector<ParamSpec> svgf = {
-      {.name = "variance_frames",
-       .type = ParamType::integer,
-       .default_value = 4,
-       .min = 1,
-       .max = 4096,
-       .log_scale = true,
-       .unit = "frames",
-       .meaning = "history length from which the variance is temporal; shorter histories "
-                  "estimate it over a bilateral neighbourhood (Schied et al. 2017 §4.2)",
-       .choices = {}},
-      {.name = "variance_radius",
-       .type = ParamType::integer,
-       .default_value = 3,
-       .min = 0,
-       .max = 8,
-       .log_scale = false,
-       .unit = "pixels",
-       .meaning = "half-width of that spatial variance estimate: (2 r + 1)^2 pixels, the paper's "
-                  "7x7 at 3 (Schied et al. 2017 §4.2); 0 = the pixel's own moments",
-       .choices = {}},
-      {.name = "atrous_iterations",
-       .type = ParamType::integer,
-       .default_value = 5,
-       .min = 0,
-       .max = 10,
-       .log_scale = false,
-       .unit = "passes",
-       .meaning = "edge-avoiding a-trous wavelet passes, 5x5 B3 kernel, step 2^i (Schied et al. "
-                  "2017 §4.3, eq. 1); 0 = no spatial filter",
-       .choices = {}},
-      {.name = "sigma_z",
-       .type = ParamType::real,
-       .default_value = 1.0,
-       .min = 1e-3,
-       .max = 1e3,
-       .log_scale = true,
-       .unit = "",
-       .meaning = "depth edge-stopping: w_z = exp(-|z_p - z_q| / (sigma_z |grad z . (p - q)|)) "
-                  "(Schied et al. 2017 eq. 3)",
-       .choices = {}},
-      {.name = "sigma_n",
-       .type = ParamType::real,
-       .default_value = 128.0,
-       .min = 0.0,
-       .max = 1e4,
-       .log_scale = false,
-       .unit = "",
-       .meaning = "normal edge-stopping exponent: w_n = max(0, n_p . n_q)^sigma_n (Schied et al. "
-                  "2017 eq. 4)",
-       .choices = {}},
-      {.name = "sigma_l",
-       .type = ParamType::real,
-       .default_value = 4.0,
-       .min = 1e-3,
-       .max = 1e3,
-       .log_scale = true,
-       .unit = "standard deviations",
-       .meaning = "AO (luminance) edge-stopping: w_l = exp(-|l_p - l_q| / (sigma_l sqrt(g3x3 "
-                  "Var))) (Schied et al. 2017 eq. 5)",
-       .choices = {}},
+      int_param("variance_frames", 4, 1, 4096, Spacing::log, "frames",
+                "history length from which the variance is temporal; shorter histories "
+                "estimate it over a bilateral neighbourhood (Schied et al. 2017 §4.2)"),
+      int_param("variance_radius", 3, 0, 8, Spacing::linear, "pixels",
+                "half-width of that spatial variance estimate: (2 r + 1)^2 pixels, the paper's "
+                "7x7 at 3 (Schied et al. 2017 §4.2); 0 = the pixel's own moments"),
+      int_param("atrous_iterations", 5, 0, 10, Spacing::linear, "passes",
+                "edge-avoiding a-trous wavelet passes, 5x5 B3 kernel, step 2^i (Schied et al. "
+                "2017 §4.3, eq. 1); 0 = no spatial filter"),
+      real_param("sigma_z", 1.0, 1e-3, 1e3, Spacing::log, "",
+                 "depth edge-stopping: w_z = exp(-|z_p - z_q| / (sigma_z |grad z . (p - q)|)) "
+                 "(Schied et al. 2017 eq. 3)"),
+      real_param("sigma_n", 128.0, 0.0, 1e4, Spacing::linear, "",
+                 "normal edge-stopping exponent: w_n = max(0, n_p . n_q)^sigma_n (Schied et al. "
+                 "2017 eq. 4)"),
+      real_param("sigma_l", 4.0, 1e-3, 1e3, Spacing::log, "standard deviations",
+                 "AO (luminance) edge-stopping: w_l = exp(-|l_p - l_q| / (sigma_l sqrt(g3x3 "
+                 "Var))) (Schied et al. 2017 eq. 5)"),
   };
   params.insert(params.end(), svgf.begin(), svgf.end());
   return params;

@@ -128,17 +128,10 @@ void check_frame_matches_camera(const ScreenSpaceFrame& frame, const Camera& cam
 ParamSpec frame_source_param(const std::string& geometry_pass) {
   const std::string timed_as =
       geometry_pass.empty() ? "timed as geometry_ms" : "timed as geometry_ms, " + geometry_pass;
-  return {.name = "gbuffer",
-          .type = ParamType::choice,
-          .default_value = "raster",
-          .min = 0,
-          .max = 0,
-          .log_scale = false,
-          .unit = "",
-          .meaning = "raster: the scene rasterised on the device every frame (" + timed_as +
-                     "); embree: the shared Embree G-buffer, uploaded once in prepare() (no "
-                     "geometry_ms)",
-          .choices = {"raster", "embree"}};
+  return choice_param("gbuffer", "raster", {"raster", "embree"},
+                      "raster: the scene rasterised on the device every frame (" + timed_as +
+                          "); embree: the shared Embree G-buffer, uploaded once in prepare() (no "
+                          "geometry_ms)");
 }
 
 bool rasterises_frame(const ParamSet& params) {

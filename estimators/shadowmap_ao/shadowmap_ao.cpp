@@ -455,124 +455,46 @@ EstimatorInfo shadowmap_ao_estimator() {
   info.backend = Backend::vulkan;
   info.inputs = {EstimatorInput::gbuffer, EstimatorInput::scene_geometry};
   info.params = {
-      {.name = "lights",
-       .type = ParamType::integer,
-       .default_value = 256,
-       .min = 1,
-       .max = 4096,
-       .log_scale = true,
-       .unit = "lights",
-       .meaning = "shadow-casting directional lights (§17.3: \"128 to 1024 is required for good "
-                  "results\")",
-       .choices = {}},
-      {.name = "resolution",
-       .type = ParamType::integer,
-       .default_value = 512,
-       .min = 16,
-       .max = 4096,
-       .log_scale = true,
-       .unit = "texels",
-       .meaning = "texels per side of each light's orthographic shadow map (its extent: fit)",
-       .choices = {}},
-      {.name = "fit",
-       .type = ParamType::choice,
-       .default_value = "receivers",
-       .min = 0,
-       .max = 0,
-       .log_scale = false,
-       .unit = "",
-       .meaning =
-           "each light's map laterally: receivers = the extent of the receivers as that light sees "
-           "them (mode pixel: the covered G-buffer points; vertex: the baked triangle centres), as "
-           "cascaded shadow maps fit the view; scene = the scene's bounding sphere (GPU Gems' "
-           "whole-object map, which spends the texels on what no receiver needs). Depth covers the "
-           "sphere either way, so every occluder is drawn",
-       .choices = {"receivers", "scene"}},
-      {.name = "distribution",
-       .type = ParamType::choice,
-       .default_value = "uniform",
-       .min = 0,
-       .max = 0,
-       .log_scale = false,
-       .unit = "",
-       .meaning =
-           "light placement: uniform (spherical Fibonacci lattice under a seeded rotation, §17.3's "
-           "\"uniform distribution on the sphere\") or latlong (evenly spaced latitudes and "
-           "longitudes, which \"concentrate too many samples at the poles\")",
-       .choices = {"uniform", "latlong"}},
-      {.name = "layout",
-       .type = ParamType::choice,
-       .default_value = "sphere",
-       .min = 0,
-       .max = 0,
-       .log_scale = false,
-       .unit = "",
-       .meaning = "sphere, or dome: lights over the +Y hemisphere only, the ground assumed to "
-                  "block the rest "
-                  "(§17.3: \"a dome or a hemisphere can be used instead\")",
-       .choices = {"sphere", "dome"}},
-      {.name = "bias",
-       .type = ParamType::real,
-       .default_value = 1.0,
-       .min = 0.0,
-       .max = 64.0,
-       .log_scale = false,
-       .unit = "texels",
-       .meaning = "constant depth bias of the shadow test at the receiver",
-       .choices = {}},
-      {.name = "slope_bias",
-       .type = ParamType::real,
-       .default_value = 1.0,
-       .min = 0.0,
-       .max = 64.0,
-       .log_scale = false,
-       .unit = "texels",
-       .meaning =
-           "slope-scaled depth bias: slope_bias * tan(angle between light and surface normal), tan "
-           "capped at 1000 (§17.3's \"streaking ... at the transition from lit to shadowed\")",
-       .choices = {}},
-      {.name = "lights_per_pass",
-       .type = ParamType::integer,
-       .default_value = 8,
-       .min = 1,
-       .max = 16,
-       .log_scale = false,
-       .unit = "lights",
-       .meaning =
-           "shadow maps tested in one accumulation pass (§17.3: \"accumulate eight shadows in the "
-           "shader at once\")",
-       .choices = {}},
-      {.name = "weighting",
-       .type = ParamType::choice,
-       .default_value = "uniform",
-       .min = 0,
-       .max = 0,
-       .log_scale = false,
-       .unit = "",
-       .meaning =
-           "uniform: every light above the surface counts 1 (the chapter's accessibility); cosine: "
-           "each counts n.l, estimating the cosine-weighted AO",
-       .choices = {"uniform", "cosine"}},
-      {.name = "mode",
-       .type = ParamType::choice,
-       .default_value = "pixel",
-       .min = 0,
-       .max = 0,
-       .log_scale = false,
-       .unit = "",
-       .meaning =
-           "pixel: every camera G-buffer pixel is a receiver; vertex: triangle centres baked, "
-           "area-averaged to vertices and interpolated per pixel (§17.2, §17.4), as vertex-baked",
-       .choices = {"pixel", "vertex"}},
-      {.name = "seed",
-       .type = ParamType::integer,
-       .default_value = 7,
-       .min = 0,
-       .max = 1e15,
-       .log_scale = false,
-       .unit = "",
-       .meaning = "random seed of the lights' rotation",
-       .choices = {}},
+      int_param("lights", 256, 1, 4096, Spacing::log, "lights",
+                "shadow-casting directional lights (§17.3: \"128 to 1024 is required for good "
+                "results\")"),
+      int_param("resolution", 512, 16, 4096, Spacing::log, "texels",
+                "texels per side of each light's orthographic shadow map (its extent: fit)"),
+      choice_param(
+          "fit", "receivers", {"receivers", "scene"},
+          "each light's map laterally: receivers = the extent of the receivers as that light sees "
+          "them (mode pixel: the covered G-buffer points; vertex: the baked triangle centres), as "
+          "cascaded shadow maps fit the view; scene = the scene's bounding sphere (GPU Gems' "
+          "whole-object map, which spends the texels on what no receiver needs). Depth covers the "
+          "sphere either way, so every occluder is drawn"),
+      choice_param(
+          "distribution", "uniform", {"uniform", "latlong"},
+          "light placement: uniform (spherical Fibonacci lattice under a seeded rotation, §17.3's "
+          "\"uniform distribution on the sphere\") or latlong (evenly spaced latitudes and "
+          "longitudes, which \"concentrate too many samples at the poles\")"),
+      choice_param("layout", "sphere", {"sphere", "dome"},
+                   "sphere, or dome: lights over the +Y hemisphere only, the ground assumed to "
+                   "block the rest "
+                   "(§17.3: \"a dome or a hemisphere can be used instead\")"),
+      real_param("bias", 1.0, 0.0, 64.0, Spacing::linear, "texels",
+                 "constant depth bias of the shadow test at the receiver"),
+      real_param(
+          "slope_bias", 1.0, 0.0, 64.0, Spacing::linear, "texels",
+          "slope-scaled depth bias: slope_bias * tan(angle between light and surface normal), tan "
+          "capped at 1000 (§17.3's \"streaking ... at the transition from lit to shadowed\")"),
+      int_param(
+          "lights_per_pass", 8, 1, 16, Spacing::linear, "lights",
+          "shadow maps tested in one accumulation pass (§17.3: \"accumulate eight shadows in the "
+          "shader at once\")"),
+      choice_param(
+          "weighting", "uniform", {"uniform", "cosine"},
+          "uniform: every light above the surface counts 1 (the chapter's accessibility); cosine: "
+          "each counts n.l, estimating the cosine-weighted AO"),
+      choice_param(
+          "mode", "pixel", {"pixel", "vertex"},
+          "pixel: every camera G-buffer pixel is a receiver; vertex: triangle centres baked, "
+          "area-averaged to vertices and interpolated per pixel (§17.2, §17.4), as vertex-baked"),
+      int_param("seed", 7, 0, 1e15, Spacing::linear, "", "random seed of the lights' rotation"),
   };
   info.definition_doc = "the weighting parameter's (uniform or cosine), unbounded, no falloff";
   info.definition = [](const ParamSet& p) {

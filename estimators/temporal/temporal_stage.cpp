@@ -12,67 +12,25 @@ namespace aoeval {
 
 std::vector<ParamSpec> temporal_params(const TemporalDefaults& d) {
   return {
-      {.name = "history_limit",
-       .type = ParamType::integer,
-       .default_value = d.history_limit,
-       .min = 1,
-       .max = 4096,
-       .log_scale = true,
-       .unit = "frames",
-       .meaning = "temporal stage: the longest history a pixel keeps; the blend factor is never "
-                  "below 1/(history_limit+1) (Schied et al. 2017 §4.1, history length)",
-       .choices = {}},
-      {.name = "alpha_min",
-       .type = ParamType::real,
-       .default_value = d.alpha_min,
-       .min = 0.0,
-       .max = 1.0,
-       .log_scale = false,
-       .unit = "",
-       .meaning = "temporal stage: the smallest weight of the current frame, alpha = "
-                  "max(alpha_min, 1/(L+1)) (Schied et al. 2017 §4.1; 1 = no history)",
-       .choices = {}},
-      {.name = "clamp",
-       .type = ParamType::boolean,
-       .default_value = d.clamp,
-       .min = 0,
-       .max = 0,
-       .log_scale = false,
-       .unit = "",
-       .meaning = "temporal stage: clamp the reprojected history to the current frame's "
-                  "neighbourhood, mean +- max(gamma sigma, clamp_sigma_min) (Salvi 2016)",
-       .choices = {}},
-      {.name = "gamma",
-       .type = ParamType::real,
-       .default_value = d.gamma,
-       .min = 0.0,
-       .max = 100.0,
-       .log_scale = false,
-       .unit = "standard deviations",
-       .meaning = "temporal stage: half-width of the clamp range around the neighbourhood's mean "
-                  "(Salvi 2016; the D3D12 denoised AO sample's std.dev gamma)",
-       .choices = {}},
-      {.name = "clamp_sigma_min",
-       .type = ParamType::real,
-       .default_value = d.clamp_sigma_min,
-       .min = 0.0,
-       .max = 1.0,
-       .log_scale = false,
-       .unit = "AO",
-       .meaning =
-           "temporal stage: the smallest half-width of the clamp range, so that a flat "
-           "noisy neighbourhood does not clamp at random (the D3D12 sample's minimum std.dev)",
-       .choices = {}},
-      {.name = "clamp_radius",
-       .type = ParamType::integer,
-       .default_value = d.clamp_radius,
-       .min = 0,
-       .max = 16,
-       .log_scale = false,
-       .unit = "pixels",
-       .meaning = "temporal stage: the clamp's neighbourhood is (2 clamp_radius + 1)^2 pixels of "
-                  "the current frame (1 = the 3x3 of TAA)",
-       .choices = {}},
+      int_param("history_limit", d.history_limit, 1, 4096, Spacing::log, "frames",
+                "temporal stage: the longest history a pixel keeps; the blend factor is never "
+                "below 1/(history_limit+1) (Schied et al. 2017 §4.1, history length)"),
+      real_param("alpha_min", d.alpha_min, 0.0, 1.0, Spacing::linear, "",
+                 "temporal stage: the smallest weight of the current frame, alpha = "
+                 "max(alpha_min, 1/(L+1)) (Schied et al. 2017 §4.1; 1 = no history)"),
+      bool_param("clamp", d.clamp,
+                 "temporal stage: clamp the reprojected history to the current frame's "
+                 "neighbourhood, mean +- max(gamma sigma, clamp_sigma_min) (Salvi 2016)"),
+      real_param("gamma", d.gamma, 0.0, 100.0, Spacing::linear, "standard deviations",
+                 "temporal stage: half-width of the clamp range around the neighbourhood's mean "
+                 "(Salvi 2016; the D3D12 denoised AO sample's std.dev gamma)"),
+      real_param(
+          "clamp_sigma_min", d.clamp_sigma_min, 0.0, 1.0, Spacing::linear, "AO",
+          "temporal stage: the smallest half-width of the clamp range, so that a flat "
+          "noisy neighbourhood does not clamp at random (the D3D12 sample's minimum std.dev)"),
+      int_param("clamp_radius", d.clamp_radius, 0, 16, Spacing::linear, "pixels",
+                "temporal stage: the clamp's neighbourhood is (2 clamp_radius + 1)^2 pixels of "
+                "the current frame (1 = the 3x3 of TAA)"),
   };
 }
 

@@ -142,37 +142,16 @@ class HegemanEstimator : public Estimator {
 
 std::vector<ParamSpec> common_params() {
   return {
-      {.name = "alpha_rho",
-       .type = ParamType::real,
-       .default_value = 0.0,
-       .min = 0.0,
-       .max = 1e12,
-       .log_scale = false,
-       .unit = "1/scene units^3",
-       .meaning =
-           "alpha rho of eq. 6 for every tree; 0 = derive 3 lambda / (2 pi R^2) from §3's Poisson "
-           "argument (lambda = leaves met per unit length)",
-       .choices = {}},
-      {.name = "alpha_scale",
-       .type = ParamType::real,
-       .default_value = 1.0,
-       .min = 0.01,
-       .max = 100.0,
-       .log_scale = true,
-       .unit = "",
-       .meaning =
-           "multiplies alpha rho: the user-tuned alpha of eq. 6 (§4: chosen by hand per object)",
-       .choices = {}},
-      {.name = "ambient_only",
-       .type = ParamType::boolean,
-       .default_value = false,
-       .min = 0,
-       .max = 0,
-       .log_scale = false,
-       .unit = "",
-       .meaning = "§4's ambient-only shader (Fig. 12 bottom row): the same per-pixel pass with the "
-                  "visibility left out, every covered pixel 1; a throughput baseline",
-       .choices = {}},
+      real_param(
+          "alpha_rho", 0.0, 0.0, 1e12, Spacing::linear, "1/scene units^3",
+          "alpha rho of eq. 6 for every tree; 0 = derive 3 lambda / (2 pi R^2) from §3's Poisson "
+          "argument (lambda = leaves met per unit length)"),
+      real_param(
+          "alpha_scale", 1.0, 0.01, 100.0, Spacing::log, "",
+          "multiplies alpha rho: the user-tuned alpha of eq. 6 (§4: chosen by hand per object)"),
+      bool_param("ambient_only", false,
+                 "§4's ambient-only shader (Fig. 12 bottom row): the same per-pixel pass with the "
+                 "visibility left out, every covered pixel 1; a throughput baseline"),
   };
 }
 
@@ -206,15 +185,8 @@ EstimatorInfo hegeman_info(ProxyKind kind) {
       info.paper +=
           "eq. 4-6 per spherical shell, closest centre (§5, Fig. 3 left), eq. 7-8, "
           "eq. 9";
-      info.params.push_back({.name = "shells",
-                             .type = ParamType::integer,
-                             .default_value = 4,
-                             .min = 1,
-                             .max = 64,
-                             .log_scale = false,
-                             .unit = "shells",
-                             .meaning = "number of k-means shells per derived tree envelope (§5)",
-                             .choices = {}});
+      info.params.push_back(int_param("shells", 4, 1, 64, Spacing::linear, "shells",
+                                      "number of k-means shells per derived tree envelope (§5)"));
       break;
   }
   info.definition_doc =

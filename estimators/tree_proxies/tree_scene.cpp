@@ -4,48 +4,20 @@ namespace aoeval {
 
 std::vector<ParamSpec> tree_scene_params() {
   return {
-      {.name = "proxy_source",
-       .type = ParamType::choice,
-       .default_value = "auto",
-       .min = 0,
-       .max = 0,
-       .log_scale = false,
-       .unit = "",
-       .meaning = "auto: the scene file's proxy when it has one of this kind, else derived; "
-                  "derived: always "
-                  "derive from the leaves (§3 bounding sphere, ellipsoid, §5 k-means shells)",
-       .choices = {"auto", "derived"}},
-      {.name = "ground_horizon",
-       .type = ParamType::boolean,
-       .default_value = true,
-       .min = 0,
-       .max = 0,
-       .log_scale = false,
-       .unit = "",
-       .meaning = "eq. 7-8: count only the part of a tree's silhouette above the shaded point's "
-                  "tangent plane "
-                  "(false: eq. 8 verbatim)",
-       .choices = {}},
-      {.name = "grass_ground",
-       .type = ParamType::boolean,
-       .default_value = true,
-       .min = 0,
-       .max = 0,
-       .log_scale = false,
-       .unit = "",
-       .meaning =
-           "ground pixels inside a grass field's footprint and below its tips use eq. 9 at their "
-           "height",
-       .choices = {}},
-      {.name = "blade_height",
-       .type = ParamType::real,
-       .default_value = 0.0,
-       .min = 0.0,
-       .max = 1e6,
-       .log_scale = false,
-       .unit = "scene units",
-       .meaning = "h of eq. 9; 0 = each grass object's height (its world-space vertical extent)",
-       .choices = {}},
+      choice_param("proxy_source", "auto", {"auto", "derived"},
+                   "auto: the scene file's proxy when it has one of this kind, else derived; "
+                   "derived: always "
+                   "derive from the leaves (§3 bounding sphere, ellipsoid, §5 k-means shells)"),
+      bool_param("ground_horizon", true,
+                 "eq. 7-8: count only the part of a tree's silhouette above the shaded point's "
+                 "tangent plane "
+                 "(false: eq. 8 verbatim)"),
+      bool_param(
+          "grass_ground", true,
+          "ground pixels inside a grass field's footprint and below its tips use eq. 9 at their "
+          "height"),
+      real_param("blade_height", 0.0, 0.0, 1e6, Spacing::linear, "scene units",
+                 "h of eq. 9; 0 = each grass object's height (its world-space vertical extent)"),
   };
 }
 

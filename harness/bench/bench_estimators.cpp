@@ -13,8 +13,8 @@
 #include "harness/bench/bench_rows.h"
 #include "harness/evaluation/evaluation.h"
 #include "harness/evaluation/progress.h"
-#include "harness/results/output_lock.h"
 #include "harness/results/results_store.h"
+#include "harness/results/run_recorder.h"
 #include "scenes/corpus.h"
 
 namespace aoeval {
@@ -91,11 +91,10 @@ void bench_estimators(const EstimatorBenchOptions& o) {
   }
   std::vector<Scene> scenes;
   for (const auto& scene_name : o.scenes) scenes.push_back(load_scene(scene_name));
-  check_output_folder(o.out_dir);
-  const RunContext context = make_run_context("bench estimators");
-  ResultsFolder folder(o.out_dir, context);
-  SqliteStore store(o.database);
-  store.add_run(context);
+  // Bench writes each timing row as it is measured, and takes no lock on its folder.
+  RunRecorder recorder(o.out_dir, o.database, "bench estimators", FolderAccess::shared);
+  recorder.register_run();
+  const RunContext& context = recorder.context();
   std::vector<BenchLine> lines;
   Progress progress("bench", chosen.size() * o.scenes.size());
   for (Scene& scene : scenes) {
@@ -149,13 +148,10 @@ void bench_estimators(const EstimatorBenchOptions& o) {
       lines.push_back(l);
       PassTimes pass_times;
       for (const auto& [pass, values] : passes) pass_times[pass] = median(values);
-      std::string device = backend_device(e->backend);
-      if (device.empty()) device = context.device;
       ResultRow row = timing_row(context, *e, params, overrides, scene.name, view.name, g.width,
-                                 g.height, times, pass_times, device);
+                                 g.height, times, pass_times, backend_device(e->backend));
       row.precompute_ms = pre;
-      folder.add(row);
-      store.add(row);
+      recorder.record(row);  // a CPU estimator's row names the machine's CPU
       progress.step(e->name + " " + scene.name);
     }
   }

@@ -35,7 +35,6 @@ ResultRow timing_row(const RunContext& context, const EstimatorInfo& estimator,
                      const std::vector<double>& totals_ms, const PassTimes& passes,
                      const std::string& device) {
   ResultRow row;
-  row.run_id = context.run_id;
   row.run_name = run_name(estimator, params, overrides, scene, view, width, height);
   row.estimator = estimator.name;
   row.params = params.json();
@@ -48,9 +47,7 @@ ResultRow timing_row(const RunContext& context, const EstimatorInfo& estimator,
   row.set_times(totals_ms);
   for (const auto& [pass, ms] : passes)
     if (pass != "total_ms") row.pass_ms[pass] = ms;
-  row.machine = context.machine;
   row.device = device;
-  row.git_commit = context.git_commit;
   row.aoeval_version = kAoevalVersion;
   row.timestamp = context.started;
   row.status = "timing only";

@@ -27,7 +27,9 @@ double pass_ms(const PassTimes& times, const std::string& pass);
 std::string format_number(const char* printf_format, double value);
 
 // The row of one timed configuration: median/min/max and the samples of `totals_ms`, the passes'
-// medians (total_ms excluded: it is the row's time), and the run's identity from `context`.
+// medians (total_ms excluded: it is the row's time), `device` (the CPU's: "", filled in when the
+// row is recorded), and the run's start as its timestamp. RunRecorder::record (run_recorder.h)
+// stamps the run's identity (run_id, machine, git_commit) on it.
 ResultRow timing_row(const RunContext& context, const EstimatorInfo& estimator,
                      const ParamSet& params, const nlohmann::json& overrides,
                      const std::string& scene, const std::string& view, int width, int height,

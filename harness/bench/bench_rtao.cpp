@@ -15,6 +15,7 @@
 #include "estimators/registry.h"
 #include "harness/bench/bench_rows.h"
 #include "harness/results/results_store.h"
+#include "harness/results/run_recorder.h"
 #include "scenes/corpus.h"
 
 namespace aoeval {
@@ -114,14 +115,11 @@ void bench_rtao(const RtaoBenchOptions& o) {
        << " ms a frame\n";
   std::printf("%s", md.str().c_str());
 
-  const RunContext context = make_run_context("bench " + e.name);
-  ResultsFolder folder(o.out_dir, context);
-  SqliteStore store(o.database);
-  store.add_run(context);
-  const ResultRow row = timing_row(context, e, params, overrides, scene.name, view.name, w, h,
-                                   steady_totals, steady, backend_device(e.backend));
-  folder.add(row);
-  store.add(row);
+  // Bench writes its row once, at the end, and takes no lock on its folder.
+  RunRecorder recorder(o.out_dir, o.database, "bench " + e.name, FolderAccess::shared);
+  recorder.register_run();
+  recorder.record(timing_row(recorder.context(), e, params, overrides, scene.name, view.name, w, h,
+                             steady_totals, steady, backend_device(e.backend)));
   const std::string stem = "bench_" + e.name;
   write_text((fs::path(o.out_dir) / (stem + ".md")).string(), md.str());
   write_text((fs::path(o.out_dir) / (stem + ".csv")).string(), csv.str());

@@ -13,6 +13,7 @@
 #include "harness/evaluation/evaluation.h"
 #include "harness/evaluation/progress.h"
 #include "harness/results/results_store.h"
+#include "harness/results/run_recorder.h"
 #include "scenes/corpus.h"
 
 namespace aoeval {
@@ -39,10 +40,10 @@ void bench_shadowmap(const ShadowmapBenchOptions& o) {
   EmbreeScene es(scene);
   const GBuffer g = render_gbuffer(es, make_camera(view, w, h));
   const EstimateContext in{scene, es, g};
-  const RunContext context = make_run_context("bench shadowmap");
-  ResultsFolder folder(o.out_dir, context);
-  SqliteStore store(o.database);
-  store.add_run(context);
+  // Bench writes each timing row as it is measured, and takes no lock on its folder.
+  RunRecorder recorder(o.out_dir, o.database, "bench shadowmap", FolderAccess::shared);
+  recorder.register_run();
+  const RunContext& context = recorder.context();
   std::vector<Line> lines;
   Progress progress("bench shadowmap", o.lights.size() * o.resolutions.size());
   for (int map : o.resolutions)
@@ -74,8 +75,7 @@ void bench_shadowmap(const ShadowmapBenchOptions& o) {
           timing_row(context, e, params, overrides, scene.name, view.name, g.width, g.height, total,
                      {{"shadow_maps_ms", l.shadow_ms}, {"accumulate_ms", l.accumulate_ms}},
                      backend_device(e.backend));
-      folder.add(row);
-      store.add(row);
+      recorder.record(row);
       progress.step(std::to_string(n) + " lights, " + std::to_string(map) + "²");
     }
   // Per light: a shadow map costs a render of the scene plus its texels; a light's accumulation

@@ -8,6 +8,7 @@
 #include "base/resolution.h"
 #include "estimators/screen_space/frame_device.h"
 #include "harness/results/results_store.h"
+#include "harness/results/run_recorder.h"
 #include "scenes/corpus.h"
 #include "scenes/exr_io.h"
 
@@ -93,20 +94,17 @@ void TwinBench::write(const std::string& command, const std::string& stem,
                       const std::vector<double>& cpu_totals_ms, const PassTimes& cpu) const {
   namespace fs = std::filesystem;
   std::printf("%s", markdown.c_str());
-  const RunContext context = make_run_context(command);
-  ResultsFolder folder(options.out_dir, context);
-  SqliteStore store(options.database);
-  store.add_run(context);
+  // Bench writes its rows once, at the end, and takes no lock on its folder.
+  RunRecorder recorder(options.out_dir, options.database, command, FolderAccess::shared);
+  recorder.register_run();
+  const RunContext& context = recorder.context();
   const ResultRow gpu_row =
       timing_row(context, gpu_info, gpu_params, gpu_overrides, scene.name, view.name, camera.width,
                  camera.height, gpu_totals_ms, gpu, vk->device_description());
   const ResultRow cpu_row =
       timing_row(context, cpu_info, cpu_params, cpu_overrides, scene.name, view.name, camera.width,
                  camera.height, cpu_totals_ms, cpu, context.device);
-  for (const ResultRow& row : {gpu_row, cpu_row}) {
-    folder.add(row);
-    store.add(row);
-  }
+  for (const ResultRow& row : {gpu_row, cpu_row}) recorder.record(row);
   const std::string json_path = (fs::path(options.out_dir) / (stem + ".json")).string();
   const std::string md_path = (fs::path(options.out_dir) / (stem + ".md")).string();
   write_text(json_path, summary.dump(2) + "\n");

@@ -8,7 +8,7 @@
 
 #include "base/errors.h"
 #include "base/json_reader.h"
-#include "harness/results/output_lock.h"
+#include "harness/results/run_recorder.h"
 #include "harness/results/suite_record_io.h"
 #include "harness/sweep/shard_plan.h"
 #include "scenes/exr_io.h"
@@ -152,27 +152,23 @@ MergeResult merge_results(const MergeOptions& o) {
     result.measured_ratio = ratio(walls);
   }
 
-  check_output_folder(o.out);  // inputs all read and checked above; the store is opened last
-  SqliteStore store(o.database);
-  OutputFolderLock lock(o.out);
-  remove_stale_temporaries(o.out);
+  // Inputs all read and checked above; the store is opened last. The rows already carry their
+  // identity (each keeps the machine, device and commit of the shard that measured it): they take
+  // the merge's run id, one run in the history, and are imported as they are, not stamped.
   std::string command = "merge";
   for (const auto& d : o.dirs) command += " " + d;
-  result.context = make_run_context(command);
-  result.context.output_dir = fs::weakly_canonical(fs::absolute(o.out)).string();
+  RunRecorder recorder(o.out, o.database, command, FolderAccess::exclusive);
+  recorder.context().output_dir = fs::weakly_canonical(fs::absolute(o.out)).string();
+  result.context = recorder.context();
   for (const auto& n : order) {
     ResultRow row = by_name.at(n).row;
-    row.run_id = result.context.run_id;  // one run in the history; row.machine keeps its node
+    row.run_id = result.context.run_id;
     result.rows.push_back(row);
   }
   for (const auto& d : o.dirs)
     if (fs::weakly_canonical(fs::absolute(d)) != fs::weakly_canonical(fs::absolute(o.out)))
       copy_images(d, o.out);
-  ResultsFolder folder(o.out, result.context);
-  for (const ResultRow& r : result.rows) folder.merge(r);
-  folder.write();
-  store.add_run(result.context);
-  for (const ResultRow& r : result.rows) store.add(r);
+  recorder.import_rows(result.rows);
 
   if (!result.timings.empty() || result.planned_ratio > 0.0) {
     nlohmann::json shards = nlohmann::json::array();

@@ -16,8 +16,8 @@
 #include "harness/evaluation/background_lane.h"
 #include "harness/evaluation/evaluation.h"
 #include "harness/evaluation/progress.h"
-#include "harness/results/output_lock.h"
 #include "harness/results/results_store.h"
+#include "harness/results/run_recorder.h"
 #include "harness/results/suite_record.h"
 #include "harness/sweep/kept_references.h"
 #include "harness/sweep/kept_sequence.h"
@@ -154,8 +154,7 @@ Measurement measure_point(const SuitePoint& sp, EvaluationSession& session) {
 // Scores a measured point, keeps its estimate (and, when featured, its mosaic) and the references
 // it was scored against (on the background lane, while the next point's estimator gets ready).
 SuiteReportEntry finish_point(const SuitePoint& sp, Measurement& measured,
-                              EvaluationSession& session, RunImages& images,
-                              const RunContext& context, const std::string& out,
+                              EvaluationSession& session, RunImages& images, const std::string& out,
                               const std::string& run_dir, StageTimes& stages) {
   const SweepPoint& p = sp.point;
   const std::string estimate_rel = run_dir + "/estimates/" + file_stem_for(p.name) + ".exr";
@@ -168,11 +167,7 @@ SuiteReportEntry finish_point(const SuitePoint& sp, Measurement& measured,
   } catch (const std::exception& e) {
     throw std::runtime_error(p.name + ": " + e.what());
   }
-  ResultRow& row = entry.row;
-  row.run_id = context.run_id;
-  row.machine = context.machine;
-  if (row.device.empty()) row.device = context.device;  // CPU estimators name the CPU
-  row.git_commit = context.git_commit;
+  ResultRow& row = entry.row;  // stamped with the run when it is recorded
   if (row.status != "ok") return entry;
   if (!measured.frames.empty()) {  // before the row is committed: a committed row has its frames
     const auto timer = stages.time("sequence frames kept");
@@ -222,20 +217,17 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
   }
 
   const std::string out = o.out_dir.empty() ? "out/" + suite.name : o.out_dir;
-  // Database first (an unwritable --db leaves no folder), then one writer per folder (see
-  // sweep_runner.cpp for the order that makes results kill-safe).
-  check_output_folder(out);  // a bad --out fails before the database is created
-  SqliteStore store(o.database);
-  OutputFolderLock lock(out);
-  remove_stale_temporaries(out);
+  // Database first (an unwritable --db leaves no folder), then one writer per folder
+  // (run_recorder.h: the order that makes results kill-safe). A suite run never resumes: its rows
+  // replace the folder's results files, and the run is registered before its first row.
   std::string command = "run " + suite.name;
   for (const auto& s : o.sets) command += " --set " + s;
   if (!o.shard.empty()) command += " --shard " + o.shard;
-  RunContext context = make_run_context(command);
-  context.output_dir = fs::weakly_canonical(fs::absolute(out)).string();
+  RunRecorder recorder(out, o.database, command, FolderAccess::exclusive);
+  recorder.context().output_dir = fs::weakly_canonical(fs::absolute(out)).string();
+  const RunContext& context = recorder.context();
   const std::string run_dir = "runs/" + context.run_id;
-  ResultsFolder folder(out, context);
-  store.add_run(context);
+  recorder.register_run();
 
   std::set<std::string> scenes, estimators;
   for (const auto& p : points) {
@@ -295,17 +287,10 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
       }
       auto measured = std::make_shared<Measurement>(measure_point(sp, session));
       auto finish = [&, measured, sp_ptr = &sp, session_ptr = &session] {
-        SuiteReportEntry entry = finish_point(*sp_ptr, *measured, *session_ptr, images, context,
-                                              out, run_dir, result.stages);
+        SuiteReportEntry entry =
+            finish_point(*sp_ptr, *measured, *session_ptr, images, out, run_dir, result.stages);
         skipped += entry.row.status != "ok";
-        {
-          const auto timer = result.stages.time("results SQLite");
-          store.add(entry.row);
-        }
-        {
-          const auto timer = result.stages.time("results CSV + JSON");
-          folder.add(entry.row);
-        }
+        entry.row = recorder.record(std::move(entry.row), &result.stages);
         report.entries.push_back(std::move(entry));
       };
       {
@@ -323,7 +308,7 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
   {
     const auto timer = result.stages.time("results CSV + JSON");
     write_text((fs::path(out) / run_dir / "results.json").string(),
-               results_json(folder.rows(), context));
+               results_json(recorder.rows(), context));
   }
 
   // The G-buffer gallery needs a session holding the scenes: every suite point used one.

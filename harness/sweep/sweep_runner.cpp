@@ -1,11 +1,10 @@
 #include "harness/sweep/sweep_runner.h"
 
-#include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "base/errors.h"
@@ -14,6 +13,7 @@
 #include "harness/evaluation/progress.h"
 #include "harness/results/output_lock.h"
 #include "harness/results/results_store.h"
+#include "harness/results/run_recorder.h"
 #include "harness/results/stage_times.h"
 #include "harness/results/suite_record_io.h"
 #include "harness/sweep/kept_references.h"
@@ -26,13 +26,6 @@ namespace aoeval {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::atomic<bool> g_interrupted{false};
-
-extern "C" void on_sigint(int) {
-  g_interrupted = true;
-  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the process at once
-}
 
 // The sweep's suite_record.json: every row's kept references, none featured (its report features
 // the Pareto fronts), so that `aoeval merge` of its shards writes its page too.
@@ -89,25 +82,15 @@ int run_sweep(const SweepOptions& o, std::string* out_dir) {
   };
   refuse_existing_results();
   if (o.resume && fs::exists(results_json)) read_results_file(results_json.string());
-  // The order below is what makes a sweep safe to kill at any instant (SIGKILL included) and
-  // resume without losing or duplicating a row:
-  //  1. the database is opened first, so an unwritable --db fails before any folder exists;
-  //  2. the folder is locked, so no second process writes it, and leftovers of killed atomic
-  //     writes are removed;
-  //  3. results.json is written (with the run context, possibly no rows) before any row reaches
-  //     the database, so the run id is on disk before it is used: a resume keeps it, and one
-  //     sweep is one run in the history however often it was interrupted;
-  //  4. each row is committed to SQLite first, then the files derived from it are rewritten
-  //     (atomically). A kill between the two leaves the row in SQLite only; --resume takes it
-  //     back from there into the files instead of running the point again.
-  SqliteStore store(o.database);
-  OutputFolderLock lock(out);
-  remove_stale_temporaries(out);
-  RunContext context =
-      make_run_context("sweep " + spec.name + (o.shard.empty() ? "" : " --shard " + o.shard));
+  // The recorder's order (run_recorder.h) is what makes a sweep safe to kill at any instant and
+  // resume without losing or duplicating a row: database, folder lock, leftovers of killed writes,
+  // results.json with the run id before any row reaches the database, then each row to SQLite
+  // first and to the files after.
+  RunRecorder recorder(out, o.database,
+                       "sweep " + spec.name + (o.shard.empty() ? "" : " --shard " + o.shard),
+                       FolderAccess::exclusive);
   // The dashboard finds a run's estimate images through this folder.
-  context.output_dir = fs::absolute(out).lexically_normal().string();
-  ResultsFolder folder(out, context);
+  recorder.context().output_dir = fs::absolute(out).lexically_normal().string();
   std::set<std::string> done;
   // What the report needs besides the rows (suite_record_io.h): the references each row was scored
   // against, kept under <out>/references/; a resumed sweep keeps those of its earlier part.
@@ -115,27 +98,13 @@ int run_sweep(const SweepOptions& o, std::string* out_dir) {
   if (o.resume && has_suite_record(out)) kept = read_suite_record(out).entries;
   KeptReferences references(out);
   if (o.resume) {
-    folder.load_existing();
-    if (const auto& existing = folder.existing_context()) {
-      context.run_id = existing->run_id;
-      context.started = existing->started;
-      folder.set_context(context);
-    }
-    std::set<std::string> in_files;
-    for (const ResultRow& r : folder.rows()) in_files.insert(r.run_name);
-    std::set<std::string> in_database;
-    for (const ResultRow& r : store.rows_of_run(context.run_id)) {
-      in_database.insert(r.run_name);
-      folder.merge(r);  // committed to SQLite, killed before the files were rewritten
-    }
-    for (const ResultRow& r : folder.rows())
-      if (!in_database.count(r.run_name) && in_files.count(r.run_name)) store.add(r);
-    for (const ResultRow& r : folder.rows()) done.insert(r.run_name);
+    recorder.resume();
+    for (const ResultRow& r : recorder.rows()) done.insert(r.run_name);
   } else {
     refuse_existing_results();  // written between the first check and the lock
   }
-  folder.write();  // also repairs a CSV that lagged behind results.json
-  store.add_run(context);
+  recorder.write_files();  // also repairs a CSV that lagged behind results.json
+  recorder.register_run();
 
   std::vector<const SweepPoint*> pending;
   for (const auto& p : points)
@@ -144,15 +113,14 @@ int run_sweep(const SweepOptions& o, std::string* out_dir) {
                spec.name.c_str(), total, points.size(), points.size() - pending.size(),
                pending.size());
 
-  g_interrupted = false;
-  auto previous = std::signal(SIGINT, on_sigint);
+  std::optional<InterruptScope> interrupts(std::in_place);  // SIGINT stops between two points
   EvaluationSession session(spec.reference, spec.timing);
   // The record is written when an invocation ends, so a SIGKILLed one leaves rows without their
   // kept references: a resume keeps them again (from the reference cache) for every finished ok
   // row the record lacks, so the page shows every row, not only those of the last invocation.
   if (o.resume && o.keep_estimates) {
     std::map<std::string, const ResultRow*> finished_rows;
-    for (const ResultRow& r : folder.rows()) finished_rows[r.run_name] = &r;
+    for (const ResultRow& r : recorder.rows()) finished_rows[r.run_name] = &r;
     for (const auto& p : points) {
       const auto row = finished_rows.find(p.name);
       if (row == finished_rows.end() || row->second->status != "ok" ||
@@ -177,16 +145,12 @@ int run_sweep(const SweepOptions& o, std::string* out_dir) {
     BackgroundLane lane;
     session.set_timed_frames_guard([&lane] { lane.pause(); }, [&lane] { lane.resume(); });
     for (const SweepPoint* p : pending) {
-      if (g_interrupted) break;
+      if (interrupts->interrupted()) break;
       auto measured = std::make_shared<Measurement>(session.measure(evaluation_request(*p)));
       auto finish = [&, p, measured] {
         const std::string estimate_rel = "estimates/" + file_stem_for(p->name) + ".exr";
         ResultRow row = session.score(
             *measured, o.keep_estimates ? (fs::path(out) / estimate_rel).string() : "");
-        row.run_id = context.run_id;
-        row.machine = context.machine;
-        if (row.device.empty()) row.device = context.device;
-        row.git_commit = context.git_commit;
         if (o.keep_estimates && row.status == "ok") {
           row.estimate_file = estimate_rel;
           const auto timer = runner_stages.time("references copied");
@@ -201,14 +165,7 @@ int run_sweep(const SweepOptions& o, std::string* out_dir) {
           const auto timer = runner_stages.time("sequence frames kept");
           keep_sequence(out, "", *p, *measured, session, references, o.keep_estimates);
         }
-        {
-          const auto timer = runner_stages.time("results SQLite");
-          store.add(row);
-        }
-        {
-          const auto timer = runner_stages.time("results CSV + JSON");
-          folder.add(row);
-        }
+        recorder.record(row, &runner_stages);  // stamped with the run; SQLite, then the files
         ++finished;
       };
       {
@@ -222,29 +179,28 @@ int run_sweep(const SweepOptions& o, std::string* out_dir) {
     lane.drain();
     session.set_timed_frames_guard(nullptr, nullptr);
   }
-  std::signal(SIGINT, previous == SIG_ERR ? SIG_DFL : previous);
+  interrupts.reset();  // the handler it replaced is back
   // The breakdown of this invocation (a resumed sweep reports the part it ran), on stderr and in
   // the run's context.
   StageTimes stages = session.stages();
   stages.add_all(runner_stages);
   const double wall_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count();
-  context.stages_ms = stages.to_json();
-  context.stages_ms["wall"] = wall_ms;
-  folder.set_context(context);
-  folder.write();
-  store.add_run(context);
-  write_record(out, spec.name, o.spec_path, context, folder.rows(), kept);
+  recorder.context().stages_ms = stages.to_json();
+  recorder.context().stages_ms["wall"] = wall_ms;
+  recorder.write_files();
+  recorder.register_run();
+  write_record(out, spec.name, o.spec_path, recorder.context(), recorder.rows(), kept);
   if (out_dir) *out_dir = out;
   std::fprintf(stderr, "sweep %s: time by stage\n%s", spec.name.c_str(),
                stages.table(wall_ms).c_str());
-  if (g_interrupted && finished < pending.size()) {
+  if (interrupt_requested() && finished < pending.size()) {
     std::fprintf(stderr, "sweep %s: interrupted after %zu of %zu points; rerun with --resume\n",
                  spec.name.c_str(), finished, pending.size());
     return 130;
   }
-  std::printf("%s", console_table(folder.rows(), {"run_name", "rmse", "rmse_excess", "ssim",
-                                                  "true_rmse", "time_ms_median"})
+  std::printf("%s", console_table(recorder.rows(), {"run_name", "rmse", "rmse_excess", "ssim",
+                                                    "true_rmse", "time_ms_median"})
                         .c_str());
   return 0;
 }

@@ -1,8 +1,6 @@
 #include "harness/tune/tune_runner.h"
 
-#include <atomic>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -11,8 +9,8 @@
 #include "base/errors.h"
 #include "base/json_reader.h"
 #include "harness/evaluation/progress.h"
-#include "harness/results/output_lock.h"
 #include "harness/results/results_store.h"
+#include "harness/results/run_recorder.h"
 #include "harness/tune/tune_budget.h"
 #include "harness/tune/tune_plot.h"
 #include "harness/tune/tune_search.h"
@@ -23,13 +21,6 @@ namespace aoeval {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::atomic<bool> g_interrupted{false};
-
-extern "C" void on_tune_sigint(int) {
-  g_interrupted = true;
-  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the process at once
-}
 
 // Pools a re-timed row's repetitions with the first measurement's: the row keeps every sample.
 ResultRow pooled(const ResultRow& first, ResultRow again) {
@@ -109,13 +100,10 @@ nlohmann::json point_json(const TuneSpec& spec, const Trial& t, const TrialRecor
 int run_tune(const TuneOptions& o) {
   const TuneSpec spec = load_tune_spec(o.spec_path, o.lookup);
   const std::string out = o.out_dir.empty() ? "out/" + spec.name : o.out_dir;
-  // The sweep's order (sweep_runner.cpp): database, folder lock, leftovers of killed writes,
+  // The recorder's order (run_recorder.h): database, folder lock, leftovers of killed writes,
   // results.json with the run id before any row reaches the database, then each row to SQLite
   // first and to the files after.
-  check_output_folder(out);  // a bad --out fails before the database is created
-  SqliteStore store(o.database);
-  OutputFolderLock lock(out);
-  remove_stale_temporaries(out);
+  RunRecorder recorder(out, o.database, "tune " + spec.name, FolderAccess::exclusive);
   const fs::path tune_json = fs::path(out) / "tune.json";
   if (fs::exists(tune_json)) {
     const nlohmann::json previous = parse_json_file(tune_json.string());
@@ -125,26 +113,13 @@ int run_tune(const TuneOptions& o) {
   } else if (fs::exists(fs::path(out) / "results.json")) {
     throw InputError(out + ": already holds results that are not a tune's; choose another --out");
   }
-  RunContext context = make_run_context("tune " + spec.name);
-  context.output_dir = fs::absolute(out).lexically_normal().string();
-  ResultsFolder folder(out, context);
-  folder.load_existing();
-  if (const auto& existing = folder.existing_context()) {
-    context.run_id = existing->run_id;  // one tune is one run however often it was interrupted
-    context.started = existing->started;
-    folder.set_context(context);
-  }
-  {
-    std::map<std::string, bool> in_database;
-    for (const ResultRow& r : store.rows_of_run(context.run_id)) {
-      in_database[r.run_name] = true;
-      folder.merge(r);  // committed to SQLite, killed before the files were rewritten
-    }
-    for (const ResultRow& r : folder.rows())
-      if (!in_database.count(r.run_name)) store.add(r);
-  }
-  folder.write();
-  store.add_run(context);
+  recorder.context().output_dir = fs::absolute(out).lexically_normal().string();
+  // A tune always continues the one in its folder: one tune is one run however often it was
+  // interrupted.
+  recorder.resume();
+  recorder.write_files();
+  recorder.register_run();
+  const RunContext& context = recorder.context();
   write_text(tune_json.string(), nlohmann::json{{"name", spec.name},
                                                 {"status", "running"},
                                                 {"run_id", context.run_id},
@@ -153,7 +128,7 @@ int run_tune(const TuneOptions& o) {
                                      "\n");
 
   std::map<std::string, ResultRow> stored;
-  for (const ResultRow& r : folder.rows()) stored[r.run_name] = r;
+  for (const ResultRow& r : recorder.rows()) stored[r.run_name] = r;
   EvaluationSession session(spec.sweep.reference, spec.sweep.timing);
   std::unique_ptr<EvaluationSession> retime_session;  // 2 x repetitions, made on first need
   const int repetitions = spec.sweep.timing.repetitions;
@@ -164,12 +139,7 @@ int run_tune(const TuneOptions& o) {
   size_t computed = 0, reused = 0, retimed = 0;
 
   auto store_row = [&](ResultRow row) {
-    row.run_id = context.run_id;
-    row.machine = context.machine;
-    if (row.device.empty()) row.device = context.device;
-    row.git_commit = context.git_commit;
-    store.add(row);
-    folder.add(row);
+    row = recorder.record(std::move(row));  // stamped with the run; SQLite, then the files
     stored[row.run_name] = row;
     return row;
   };
@@ -195,7 +165,7 @@ int run_tune(const TuneOptions& o) {
         ++reused;
         continue;
       }
-      if (g_interrupted) throw SearchStopped{};
+      if (interrupt_requested()) throw SearchStopped{};
       rows.push_back(store_row(measure_and_score(session, p)));
       ++computed;
     }
@@ -222,7 +192,7 @@ int run_tune(const TuneOptions& o) {
         for (size_t v = 0; v < rows.size(); ++v) {
           // Re-timed before an interruption.
           if (rows[v].repetitions > first_samples(rows[v], repetitions)) continue;
-          if (g_interrupted) throw SearchStopped{};
+          if (interrupt_requested()) throw SearchStopped{};
           // A sequence point runs its frames once more (one sample a frame); a still view
           // 2 x repetitions more frames.
           rows[v] = store_row(pooled(rows[v], measure_and_score(*retime_session, points[v])));
@@ -249,8 +219,6 @@ int run_tune(const TuneOptions& o) {
     return outcome;
   };
 
-  g_interrupted = false;
-  auto previous = std::signal(SIGINT, on_tune_sigint);
   SearchSettings settings;
   settings.algorithm = spec.algorithm;
   settings.evaluations = spec.evaluations;
@@ -258,11 +226,13 @@ int run_tune(const TuneOptions& o) {
   settings.budget_ms = spec.budget_ms;
   SearchResult result;
   try {
+    // SIGINT stops the search between two points (the evaluate callback asks); the handler it
+    // replaced is back before tune.json is written, whichever way the search ends.
+    const InterruptScope interrupts;
     result = search(space, settings, evaluate);
   } catch (const std::exception& e) {
     // A tune that fails says so in tune.json instead of staying "running"; its rows are kept, and
     // the same command resumes from them once the cause is fixed.
-    std::signal(SIGINT, previous == SIG_ERR ? SIG_DFL : previous);
     write_text(tune_json.string(), nlohmann::json{{"name", spec.name},
                                                   {"status", "failed"},
                                                   {"error", e.what()},
@@ -271,11 +241,7 @@ int run_tune(const TuneOptions& o) {
                                            .dump(1) +
                                        "\n");
     throw;
-  } catch (...) {
-    std::signal(SIGINT, previous == SIG_ERR ? SIG_DFL : previous);
-    throw;
   }
-  std::signal(SIGINT, previous == SIG_ERR ? SIG_DFL : previous);
 
   // tune.json: written whole, atomically, at the end (and as "interrupted" when stopped).
   nlohmann::json trials = nlohmann::json::array();
