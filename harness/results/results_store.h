@@ -114,7 +114,7 @@ class SqliteStore {
   SqliteStore(const SqliteStore&) = delete;
   SqliteStore& operator=(const SqliteStore&) = delete;
 
-  void add_run(const RunContext& context);  // a run_id already present is left as it is
+  void add_run(const RunContext& context);  // replaces a run already present
   // One transaction. A row with the same run_id and run_name is replaced, so storing a row twice
   // (a sweep killed between its SQLite commit and its file write, then resumed) keeps one.
   void add(const ResultRow& row);
