@@ -131,6 +131,19 @@ TEST(SuiteCli, RunWritesAReportThatLinksEveryKeptFile) {
   }
   aoeval::SqliteStore store(db);
   EXPECT_EQ(store.rows_of_run(run_id).size(), 5u);
+  // The finished context (its time by stage, the page's included, measured after the page was
+  // written) is in both results.json files and the history, recorded by the run's recorder.
+  const auto run_json =
+      nlohmann::json::parse(slurp(fs::path(out) / "runs" / run_id / "results.json"));
+  for (const nlohmann::json& context : {json["context"], run_json["context"]}) {
+    EXPECT_TRUE(context["stages_ms"].contains("report (page, plots)")) << context;
+    EXPECT_GT(context["stages_ms"].value("wall", 0.0), 0.0) << context;
+  }
+  EXPECT_EQ(run_json["rows"].size(), 5u);
+  const auto runs = store.runs();
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].run_id, run_id);
+  EXPECT_TRUE(runs[0].stages_ms.contains("report (page, plots)")) << runs[0].stages_ms;
 
   // A second run keeps the first one's images and adds its rows to the history.
   const Result again = run(d, "run --suite " + suite + " --out " + out + " --db " + db);

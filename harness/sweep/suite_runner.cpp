@@ -223,11 +223,11 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
   std::string command = "run " + suite.name;
   for (const auto& s : o.sets) command += " --set " + s;
   if (!o.shard.empty()) command += " --shard " + o.shard;
-  RunRecorder recorder(out, o.database, command, FolderAccess::exclusive);
-  recorder.context().output_dir = fs::weakly_canonical(fs::absolute(out)).string();
-  const RunContext& context = recorder.context();
+  auto recorder = std::make_unique<RunRecorder>(out, o.database, command, FolderAccess::exclusive);
+  recorder->context().output_dir = fs::weakly_canonical(fs::absolute(out)).string();
+  const RunContext& context = recorder->context();
   const std::string run_dir = "runs/" + context.run_id;
-  recorder.register_run();
+  recorder->register_run();
 
   std::set<std::string> scenes, estimators;
   for (const auto& p : points) {
@@ -290,7 +290,7 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
         SuiteReportEntry entry =
             finish_point(*sp_ptr, *measured, *session_ptr, images, out, run_dir, result.stages);
         skipped += entry.row.status != "ok";
-        entry.row = recorder.record(std::move(entry.row), &result.stages);
+        entry.row = recorder->record(std::move(entry.row), &result.stages);
         report.entries.push_back(std::move(entry));
       };
       {
@@ -308,7 +308,7 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
   {
     const auto timer = result.stages.time("results CSV + JSON");
     write_text((fs::path(out) / run_dir / "results.json").string(),
-               results_json(recorder.rows(), context));
+               results_json(recorder->rows(), context));
   }
 
   // The G-buffer gallery needs a session holding the scenes: every suite point used one.
@@ -323,17 +323,18 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
   report.context = context;
   report.wall_s = seconds_since(t_start);
   result.skipped = skipped;
+  result.recorder = std::move(recorder);
   return result;
 }
 
-void record_run_context(const SuiteRun& run, const RunContext& context) {
-  ResultsFolder folder(run.out_dir, context);
-  folder.load_existing();
-  folder.set_context(context);
-  folder.write();
-  write_text((fs::path(run.out_dir) / "runs" / context.run_id / "results.json").string(),
-             results_json(folder.rows(), context));
-  SqliteStore(run.database).add_run(context);
+void record_run_context(SuiteRun& run, const nlohmann::json& stages_ms) {
+  RunRecorder& recorder = *run.recorder;
+  recorder.context().stages_ms = stages_ms;
+  recorder.write_files();
+  write_text((fs::path(run.out_dir) / "runs" / recorder.context().run_id / "results.json").string(),
+             results_json(recorder.rows(), recorder.context()));
+  recorder.register_run();
+  run.recorder.reset();  // the lock goes with it
 }
 
 }  // namespace aoeval

@@ -10,10 +10,13 @@
 // Earlier runs' folders under runs/ are kept, so a dashboard can compare against a baseline.
 #pragma once
 
+#include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "base/default_paths.h"
+#include "harness/results/run_recorder.h"
 #include "harness/results/stage_times.h"
 #include "harness/results/suite_record.h"
 
@@ -39,14 +42,18 @@ struct SuiteRun {
   size_t skipped = 0;                 // rows whose status is not "ok"
   StageTimes stages;                  // where the runner's time went (the page's is added later)
   std::string database;               // the SQLite store the rows went to
+  // The run's bookkeeping, still holding the folder's lock while the caller writes the pages;
+  // record_run_context() finishes it and lets the folder go.
+  std::unique_ptr<RunRecorder> recorder;
 };
 
 // Runs every point, stores the rows (results.csv/json, SQLite) and keeps the images; writes no
 // page.
 SuiteRun run_suite(const SuiteRunOptions& options);
 
-// Stores the run's finished context (its "stages_ms" breakdown, set by the caller once the page is
-// written) in <out>/results.json, <out>/runs/<run_id>/results.json and the SQLite store.
-void record_run_context(const SuiteRun& run, const RunContext& context);
+// Stores the run's finished context, with the "stages_ms" breakdown the caller measured once the
+// page was written, in <out>/results.json, <out>/runs/<run_id>/results.json and the SQLite store,
+// through the run's recorder, then releases the folder's lock.
+void record_run_context(SuiteRun& run, const nlohmann::json& stages_ms);
 
 }  // namespace aoeval
