@@ -50,11 +50,13 @@ enum class Spacing { linear, log };
 // The ParamSpec rows of each type, every field in ParamSpec's order. A number's default, range,
 // spacing and unit ("" for none) are written at the call; a boolean or a choice has no range,
 // spacing or unit (0, 0, linear, ""), and only a choice has choices.
-inline ParamSpec real_param(std::string name, double default_value, double min, double max,
-                            Spacing spacing, std::string unit, std::string meaning) {
+// A number row: what real_param and int_param write, apart from the type and the default's.
+inline ParamSpec number_param(ParamType type, std::string name, nlohmann::json default_value,
+                              double min, double max, Spacing spacing, std::string unit,
+                              std::string meaning) {
   return {.name = std::move(name),
-          .type = ParamType::real,
-          .default_value = default_value,
+          .type = type,
+          .default_value = std::move(default_value),
           .min = min,
           .max = max,
           .log_scale = spacing == Spacing::log,
@@ -62,17 +64,15 @@ inline ParamSpec real_param(std::string name, double default_value, double min, 
           .meaning = std::move(meaning),
           .choices = {}};
 }
+inline ParamSpec real_param(std::string name, double default_value, double min, double max,
+                            Spacing spacing, std::string unit, std::string meaning) {
+  return number_param(ParamType::real, std::move(name), default_value, min, max, spacing,
+                      std::move(unit), std::move(meaning));
+}
 inline ParamSpec int_param(std::string name, int64_t default_value, double min, double max,
                            Spacing spacing, std::string unit, std::string meaning) {
-  return {.name = std::move(name),
-          .type = ParamType::integer,
-          .default_value = default_value,
-          .min = min,
-          .max = max,
-          .log_scale = spacing == Spacing::log,
-          .unit = std::move(unit),
-          .meaning = std::move(meaning),
-          .choices = {}};
+  return number_param(ParamType::integer, std::move(name), default_value, min, max, spacing,
+                      std::move(unit), std::move(meaning));
 }
 inline ParamSpec bool_param(std::string name, bool default_value, std::string meaning) {
   return {.name = std::move(name),
