@@ -36,14 +36,14 @@ void RunRecorder::resume() {
     context_.started = existing->started;
   }
   folder_.set_context(context_);
-  std::set<std::string> in_files, in_database;
-  for (const ResultRow& r : folder_.rows()) in_files.insert(r.run_name);
+  std::set<std::string> in_database;
   for (const ResultRow& r : store_.rows_of_run(context_.run_id)) {
     in_database.insert(r.run_name);
     folder_.merge(r);  // committed to SQLite, killed before the files were rewritten
   }
+  // What the folder now holds beyond SQLite can only have come from the files.
   for (const ResultRow& r : folder_.rows())
-    if (!in_database.count(r.run_name) && in_files.count(r.run_name)) store_.add(r);
+    if (!in_database.count(r.run_name)) store_.add(r);
 }
 
 void RunRecorder::write_files() {
