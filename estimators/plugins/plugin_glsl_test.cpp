@@ -563,7 +563,7 @@ TEST(GlslPlugin, AShaderPastItsTimeoutIsSkippedAndTheNextRunsOnANewDevice) {
         << e.what();
   }
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  EXPECT_LT(s, 10.0) << "the time-out (1 s), compilation and the upload";
+  EXPECT_LT(s, 20.0) << "the time-out (1 s), compilation and the upload";
   const std::string next =
       glsl_plugin("after-timeout", "[]", "  imageStore(aoeval_out, p, vec4(0.25));");
   const EstimateResult r = run_plugin(next, v);

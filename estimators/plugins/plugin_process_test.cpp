@@ -218,7 +218,9 @@ TEST(ProcessPlugin, ATimeOutKillsTheWholeProcessGroupInTime) {
   const std::string reason = failure_of(dir);
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   expect_reason(reason, {"timed out after 1 s (process group killed): still thinking"});
-  EXPECT_LT(s, 2.0) << "the time-out (1 s) plus a second";
+  // The plug-in would run 30 s; the bound sits far from both that and the 1 s time-out so that a
+  // loaded machine (python and shell start-up under CI) does not fail a time-out that worked.
+  EXPECT_LT(s, 10.0) << "the time-out (1 s) and start-up, well short of the 30 s sleep";
   EXPECT_FALSE(process_with_argument_exists(marker)) << "a child survived";
 }
 

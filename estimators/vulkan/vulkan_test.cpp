@@ -143,9 +143,13 @@ TEST(VulkanLayer, TimestampsArePositiveAndMonotone) {
 
 // A pass's timestamps bracket its work even after a raster pass has run in the same context:
 // lavapipe once wrote a compute pass's begin timestamp after the dispatch there (PassTimer's
-// write_timestamp says why), so a 30 ms pass measured 0.01 ms. The pass's GPU span must hold most
-// of the submit's CPU wall time, which it does unless a timestamp lands late; the work (a 2048^2
-// dispatch, milliseconds on lavapipe) dwarfs the submit's overhead (a tenth of a millisecond).
+// write_timestamp says why), so a 30 ms pass measured 0.01 ms: a GPU span of a thousandth of the
+// submit's CPU wall time, in every frame. Correct timestamps give a span that holds most of the
+// wall time (the work, a 2048^2 dispatch of milliseconds on lavapipe, dwarfs the submit's tenth of
+// a millisecond of overhead), but on a loaded machine any one frame's wall clock can stretch (the
+// first submit also pays for paging the image in: CI once saw 8.4 ms of fill in an 18.2 ms submit).
+// So the test asks the best of five frames to hold half its wall time, which the bug cannot reach
+// and a preempted frame does not spoil, and every frame's span to fit inside its wall time.
 TEST(VulkanLayer, TimestampsBracketAComputePassAfterARasterPass) {
   REQUIRE_CONTEXT(vk);
   if (!vk->timestamps_supported()) GTEST_SKIP() << vk->device_name() << " has no timestamps";
@@ -155,7 +159,8 @@ TEST(VulkanLayer, TimestampsBracketAComputePassAfterARasterPass) {
   const int w = 2048, h = 2048;
   ImageFill fill(*vk, w, h);
   PassTimer timer(*vk);
-  for (int frame = 0; frame < 3; ++frame) {
+  double best_ratio = 0.0;
+  for (int frame = 0; frame < 5; ++frame) {
     const auto start = std::chrono::steady_clock::now();
     vk->submit([&](VkCommandBuffer cmd) {
       timer.reset(cmd);
@@ -168,11 +173,12 @@ TEST(VulkanLayer, TimestampsBracketAComputePassAfterARasterPass) {
     const double gpu_ms = timer.read().at("fill_ms");
     std::printf("frame %d on %s: fill %.3f ms by timestamps, submit %.3f ms by the CPU clock\n",
                 frame, vk->device_name().c_str(), gpu_ms, wall_ms);
-    // On a real GPU this dispatch takes microseconds and the submit's overhead dominates the wall.
-    if (vk->properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) {
-      EXPECT_GE(gpu_ms, 0.5 * wall_ms) << "frame " << frame;
-    }
     EXPECT_LE(gpu_ms, wall_ms) << "frame " << frame;
+    best_ratio = std::max(best_ratio, gpu_ms / wall_ms);
+  }
+  // On a real GPU this dispatch takes microseconds and the submit's overhead dominates the wall.
+  if (vk->properties().deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) {
+    EXPECT_GE(best_ratio, 0.5) << "no frame's timestamps held half of its submit's wall time";
   }
 }
 
