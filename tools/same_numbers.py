@@ -41,14 +41,16 @@ for name in sorted(set(rb) & set(ra)):
             if bad < 20: print(f'  DIFF {name} {k}: {b[k]!r} -> {a[k]!r}')
 print(f'  {compared} values compared; columns only after: {sorted(only_a)}; only before: {sorted(only_b)}')
 # figures CSVs
-fb, fa = f'{before}/figures', f'{after}/figures'
-csvs = sorted(os.path.relpath(os.path.join(d, f), fb) for d, _, fs in os.walk(fb) for f in fs if f.endswith('.csv'))
-csvs_a = sorted(os.path.relpath(os.path.join(d, f), fa) for d, _, fs in os.walk(fa) for f in fs if f.endswith('.csv'))
+def csv_files(root):
+    return sorted(os.path.relpath(os.path.join(d, f), root) for d, _, names in os.walk(root)
+                  for f in names if f.endswith('.csv'))
+figures_b, figures_a = f'{before}/figures', f'{after}/figures'
+csvs, csvs_a = csv_files(figures_b), csv_files(figures_a)
 print(f'figures: {len(csvs)} CSVs before, {len(csvs_a)} after; only after: {sorted(set(csvs_a) - set(csvs))}; only before: {sorted(set(csvs) - set(csvs_a))}')
 nval = 0; fbad = 0
 for rel in csvs:
     if rel not in csvs_a: continue
-    B = list(csv.DictReader(open(os.path.join(fb, rel)))); A = list(csv.DictReader(open(os.path.join(fa, rel))))
+    B = list(csv.DictReader(open(os.path.join(figures_b, rel)))); A = list(csv.DictReader(open(os.path.join(figures_a, rel))))
     if len(A) != len(B):
         print(f'  ROWS {rel}: {len(B)} -> {len(A)}'); fbad += 1; continue
     for i, (x, y) in enumerate(zip(B, A)):
@@ -75,6 +77,6 @@ for path in sorted(glob.glob(f'{before}/quick/**/*.exr', recursive=True)):
         exr_bad += 1
         print(f'  EXR {rel}: {"no twin" if not twin else "differs"}')
 print(f'EXRs: {exr_n} compared with idiff -fail 0, {exr_bad} differ')
-print('SAME' if bad == 0 and fbad == 0 and exr_bad == 0 else
-      f'DIFFERENT: {bad} suite values, {fbad} figure values, {exr_bad} EXRs')
-sys.exit(0 if bad == 0 and fbad == 0 and exr_bad == 0 else 1)
+all_same = bad == 0 and fbad == 0 and exr_bad == 0
+print('SAME' if all_same else f'DIFFERENT: {bad} suite values, {fbad} figure values, {exr_bad} EXRs')
+sys.exit(0 if all_same else 1)

@@ -37,6 +37,13 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// The run's own copy of its rows, <out>/runs/<run_id>/results.json, beside the folder's
+// results.json that accumulates every run's rows.
+void write_run_results(const std::string& out, const RunRecorder& recorder) {
+  write_text((fs::path(out) / "runs" / recorder.context().run_id / "results.json").string(),
+             results_json(recorder.rows(), recorder.context()));
+}
+
 std::string resolution(int w, int h) {
   return std::to_string(w) + "x" + std::to_string(h);
 }
@@ -307,8 +314,7 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
   }
   {
     const auto timer = result.stages.time("results CSV + JSON");
-    write_text((fs::path(out) / run_dir / "results.json").string(),
-               results_json(recorder->rows(), context));
+    write_run_results(out, *recorder);
   }
 
   // The G-buffer gallery needs a session holding the scenes: every suite point used one.
@@ -331,8 +337,7 @@ void record_run_context(SuiteRun& run, const nlohmann::json& stages_ms) {
   RunRecorder& recorder = *run.recorder;
   recorder.context().stages_ms = stages_ms;
   recorder.write_files();
-  write_text((fs::path(run.out_dir) / "runs" / recorder.context().run_id / "results.json").string(),
-             results_json(recorder.rows(), recorder.context()));
+  write_run_results(run.out_dir, recorder);
   recorder.register_run();
   run.recorder.reset();  // the lock goes with it
 }
