@@ -45,9 +45,11 @@ void add_dashboard_command(CLI::App& app) {
     const Dashboard d = build_dashboard(o);
     for (const auto& line : console_lines(d)) std::printf("%s\n", line.c_str());
     std::printf(
-        "dashboard: %d regressed, %d warnings, %d improved, %d unchanged, %d not compared, "
-        "%d changed",
-        d.regressed, d.warnings, d.improved, d.unchanged, d.not_compared, d.changed);
+        "dashboard: %d regressed, %d warnings, %d improved (%d both regressed and improved), "
+        "%d unchanged, %d not compared, %d changed",
+        d.regressed, d.warnings, d.improved, d.both, d.unchanged, d.not_compared, d.changed);
+    for (const auto& [key, counts] : d.by_key)
+      std::printf("; %s %d regressed %d improved", key.c_str(), counts.first, counts.second);
     if (d.history_searched) std::printf(", %zu steps in %zu runs", d.steps.size(), d.history_size);
     if (d.before_run) {
       std::printf(" (%s against baseline %s)\n", d.after_run.run_id.c_str(),

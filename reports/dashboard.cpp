@@ -45,22 +45,14 @@ std::string loose_key(const ResultRow& r) {
          std::to_string(r.height);
 }
 
-// "Ns: 16 -> 8, R: 0.2 -> 0.4" for the parameters whose values differ.
-std::string params_change(const nlohmann::json& before, const nlohmann::json& after) {
+// What changed in the code between the two rows: aoeval's version and the git commit.
+std::string code_change(const ResultRow& before, const ResultRow& after) {
   std::string out;
-  auto add = [&](const std::string& key, const std::string& b, const std::string& a) {
-    if (!out.empty()) out += ", ";
-    out += key + ": " + b + " -> " + a;
-  };
-  for (const auto& [key, value] : after.items()) {
-    if (!before.contains(key)) {
-      add(key, "(none)", value.dump());
-    } else if (before[key] != value) {
-      add(key, before[key].dump(), value.dump());
-    }
-  }
-  for (const auto& [key, value] : before.items())
-    if (!after.contains(key)) add(key, value.dump(), "(none)");
+  if (before.aoeval_version != after.aoeval_version)
+    out = "aoeval " + before.aoeval_version + " -> " + after.aoeval_version;
+  if (before.git_commit != after.git_commit)
+    out += (out.empty() ? "" : ", ") + std::string("commit ") + before.git_commit.substr(0, 12) +
+           " -> " + after.git_commit.substr(0, 12);
   return out;
 }
 
@@ -90,6 +82,10 @@ RowReport report_for(const ResultRow* before, const ResultRow* after) {
   rep.run_name = r.run_name;
   if (before) rep.before = *before;
   if (after) rep.after = *after;
+  if (before && after) {
+    rep.params_change = params_change(before->params, after->params);
+    rep.code_change = code_change(*before, *after);
+  }
   return rep;
 }
 
@@ -118,9 +114,7 @@ std::vector<RowReport> pair_rows(const std::vector<ResultRow>& before,
     auto it = before_left.find(key);
     if (it != before_left.end() && it->second.size() == rows.size()) {
       for (size_t k = 0; k < rows.size(); ++k) {
-        RowReport rep = report_for(it->second[k], rows[k]);
-        rep.params_change = params_change(it->second[k]->params, rows[k]->params);
-        out.push_back(rep);
+        out.push_back(report_for(it->second[k], rows[k]));
       }
       before_left.erase(it);
     } else {
@@ -267,6 +261,16 @@ Dashboard build_dashboard(const DashboardOptions& o) {
                    : rep.verdict == Verdict::unchanged ? &d.unchanged
                                                        : &d.not_compared;
     ++*counter;
+    bool improved = false;
+    for (const Check& c : rep.checks) {
+      if (c.verdict == Verdict::regressed) ++d.by_key[c.figure].first;
+      if (c.verdict == Verdict::improved) ++d.by_key[c.figure].second;
+      improved = improved || c.verdict == Verdict::improved;
+    }
+    if (improved && rep.verdict != Verdict::improved) {
+      ++d.improved;  // a key improved beside one that regressed (or warned): counted as both
+      ++d.both;
+    }
   }
 
   // History: the runs of the same command up to the new one, the newest history_runs of them.
@@ -289,6 +293,26 @@ Dashboard build_dashboard(const DashboardOptions& o) {
   d.page = (fs::path(o.out_dir) / "index.html").string();
   write_text(d.page, dashboard_html(d));
   return d;
+}
+
+std::string params_change(const nlohmann::json& before, const nlohmann::json& after) {
+  std::string out;
+  auto add = [&](const std::string& key, const std::string& b, const std::string& a) {
+    if (!out.empty()) out += ", ";
+    out += key + " " + b + " -> " + a;
+  };
+  if (!before.is_object() || !after.is_object()) return out;
+  for (const auto& [key, value] : after.items()) {
+    if (key == "derived") continue;
+    if (!before.contains(key)) {
+      add(key, "(none)", format_param_value(value));
+    } else if (before[key] != value) {
+      add(key, format_param_value(before[key]), format_param_value(value));
+    }
+  }
+  for (const auto& [key, value] : before.items())
+    if (key != "derived" && !after.contains(key)) add(key, format_param_value(value), "(none)");
+  return out;
 }
 
 std::string params_text(const nlohmann::json& params, const std::string& run_name,
@@ -326,15 +350,25 @@ std::vector<std::string> console_lines(const Dashboard& d) {
                        : rep.verdict == Verdict::warning ? "WARNING "
                                                          : "IMPROVED ";
     std::string line = word + row_name(rep);
-    for (const auto& c : rep.checks) {
-      const bool bad = c.verdict == Verdict::regressed || c.verdict == Verdict::warning;
-      if (rep.verdict == Verdict::improved ? c.verdict != Verdict::improved : !bad) continue;
-      char numbers[160];
-      std::snprintf(numbers, sizeof numbers, " %s %.4g -> %.4g (threshold %.3g);", c.figure.c_str(),
-                    c.before, c.after, c.threshold);
-      line += c.figure == "status" ? " " + c.detail + ";" : std::string(numbers);
+    auto add_checks = [&](bool want_improved) {
+      for (const auto& c : rep.checks) {
+        const bool bad = c.verdict == Verdict::regressed || c.verdict == Verdict::warning;
+        if (want_improved ? c.verdict != Verdict::improved : !bad) continue;
+        char numbers[200];
+        std::snprintf(numbers, sizeof numbers, " %s %.4g -> %.4g (threshold %.3g);",
+                      c.figure.c_str(), c.before, c.after, c.threshold);
+        line += c.figure == "status" ? " " + c.detail + ";" : std::string(numbers);
+      }
+    };
+    add_checks(rep.verdict == Verdict::improved);
+    if (rep.verdict != Verdict::improved &&
+        std::any_of(rep.checks.begin(), rep.checks.end(),
+                    [](const Check& c) { return c.verdict == Verdict::improved; })) {
+      line += " also IMPROVED:";
+      add_checks(true);
     }
-    if (!rep.params_change.empty()) line += " parameters changed: " + rep.params_change;
+    if (!rep.params_change.empty()) line += " parameters changed: " + rep.params_change + ";";
+    if (!rep.code_change.empty()) line += " code changed: " + rep.code_change + ";";
     if (line.back() == ';') line.pop_back();
     out.push_back(line);
   }

@@ -7,15 +7,23 @@
 // Rows are matched by run_name (estimator/params/scene/view/res). Rows left over on both sides
 // are then paired within each (estimator, scene, view, resolution) in the order the runs stored
 // them, when as many are left on each side (a suite runs its points in a fixed order): a run made
-// with a changed parameter (`aoeval run --set E:K=V`) is still compared with its baseline, and
-// the page names the parameters that changed. Rows still unpaired are new (no baseline) or
-// missing (see Thresholds::missing_fails).
+// with a changed parameter (`aoeval run --set E:K=V`) is still compared with its baseline. A run
+// name holds only the parameters the sweep or suite set explicitly, so a changed default (a
+// plug-in manifest's) keeps the name and the pair. Every pair names the parameters whose
+// effective values differ, defaults included ("alpha 0.1 -> 0.41"), and the code that changed
+// (aoeval version, git commit). Rows still unpaired are new (no baseline) or missing (see
+// Thresholds::missing_fails).
+//
+// Every key the metric table flags for the dashboard is judged (regression.h), so a row can have
+// a key that regressed and another that improved: it counts in both (Dashboard::both) and its
+// REGRESSED line says "also IMPROVED: ...".
 //
 // Changes (CONTRACT §12, image_change.h): every compared row's two estimate images give its
 // mean_shift and changed_pixels; a row beyond change_mean_shift (and its noise) is CHANGED, a
 // verdict apart from regressed/improved: it fails the run only under "change_action": "fail".
 // History (--history N, dashboard_history.cpp): the last N runs of the suite or sweep, each row's
-// rmse_excess, mean AO and median time as series, and their steps (change_points.h).
+// rmse_excess, every other flagged key it carries (the sequence keys), mean AO and median time as
+// series, and their steps (change_points.h).
 #pragma once
 
 #include <map>
@@ -52,7 +60,8 @@ struct DashboardOptions {
 struct RowReport {
   std::string estimator, scene, view, resolution;
   std::string run_name;       // the new row's (the baseline's when missing)
-  std::string params_change;  // "Ns: 16 -> 8" when paired by (estimator, scene, view, res)
+  std::string params_change;  // "Ns 16 -> 8, alpha 0.1 -> 0.41": effective values that differ
+  std::string code_change;    // "aoeval 0.1.0 -> 0.2.0, commit 0123abcd4567 -> 89ab..."; "" same
   std::optional<ResultRow> before, after;  // either may be absent, not both
   std::vector<Check> checks;
   Verdict verdict = Verdict::not_compared;
@@ -70,7 +79,7 @@ struct RowReport {
 struct SeriesStep {
   std::string series;  // the row's run name
   std::string estimator, scene;
-  std::string figure;  // "rmse_excess", "mean", "time_ms_median"
+  std::string figure;  // "rmse_excess" (or another flagged key), "mean", "time_ms_median"
   RunContext run;      // the first run of the new level
   double before = 0.0, after = 0.0, p = 0.0;
 };
@@ -87,7 +96,11 @@ struct Dashboard {
   std::string config_source;
   std::vector<RowReport> rows;  // failures first, then warnings, improvements, the rest
   std::vector<GroupCharts> groups;
-  int regressed = 0, warnings = 0, improved = 0, unchanged = 0, not_compared = 0;
+  // Rows by verdict; a row with a regressed key and an improved one counts in regressed and in
+  // improved, and in both.
+  int regressed = 0, warnings = 0, improved = 0, unchanged = 0, not_compared = 0, both = 0;
+  // Per judged key (Check::figure): rows where it regressed and where it improved.
+  std::map<std::string, std::pair<int, int>> by_key;
   int changed = 0, changes_failing = 0;  // CHANGED rows; those whose change_action is "fail"
   bool history_searched = false;         // --history was given
   size_t history_size = 0;               // runs in the history searched
@@ -111,6 +124,9 @@ Dashboard build_dashboard(const DashboardOptions& options);
 std::vector<std::string> console_lines(const Dashboard& d);
 // True when the dashboard's exit status is 1: a regression, or a change under change_action fail.
 bool dashboard_fails(const Dashboard& d);
+// "Ns 16 -> 8, alpha 0.1 -> 0.41": the keys whose values differ ("(none)" where one side lacks
+// it), "derived" left out; "" when none differ.
+std::string params_change(const nlohmann::json& before, const nlohmann::json& after);
 // "k=v,k=v": `params` ("derived" left out), those differing from `defaults` (or, without defaults,
 // those named in `run_name`) first, each group in key order; "-" when there are none.
 std::string params_text(const nlohmann::json& params, const std::string& run_name,

@@ -4,6 +4,9 @@
 //   rmse_excess      tolerance: max(rmse_excess_relative x level, rmse_excess_absolute,
 //                    rmse_excess_sigmas x the reference-noise sigma of regression.h), the sigma
 //                    0 when every run scored against the same reference (it then cancels)
+//   other keys       every other key the metric table flags for the dashboard that the newest row
+//                    carries (the sequence keys): the same with the key's MetricRule and
+//                    metric_noise_sigma (regression.h)
 //   mean             mean AO of the estimate image; tolerance change_mean_shift (the same row and
 //                    seed repeat bit for bit, so anything beyond it moved)
 //   time_ms_median   permutation test at time_alpha with the magnitude floor time_relative, over
@@ -46,8 +49,8 @@ double history_mean_ao(Dashboard& d, const RunContext& run, const ResultRow& row
   return mean;
 }
 
-double rmse_excess_of(const ResultRow& r) {
-  const auto it = r.metrics.find("rmse_excess");
+double metric_of(const ResultRow& r, const std::string& key) {
+  const auto it = r.metrics.find(key);
   return it != r.metrics.end() && it->is_number() ? it->get<double>() : std::nan("");
 }
 
@@ -58,8 +61,13 @@ void find_steps(Dashboard& d, const std::vector<RunRows>& history, const Regress
     if (!rep.after || rep.after->status != "ok") continue;
     const ResultRow& newest = *rep.after;
     const Thresholds t = config.thresholds(rep.estimator, rep.scene);
-    for (const char* figure : {"rmse_excess", "mean", "time_ms_median"}) {
-      const std::string f = figure;
+    std::vector<std::string> figures = {"rmse_excess"};
+    for (const std::string& key : rule_metric_keys())
+      if (std::isfinite(metric_of(newest, key))) figures.push_back(key);
+    figures.push_back("mean");
+    figures.push_back("time_ms_median");
+    for (const std::string& f : figures) {
+      const bool rule_key = f != "rmse_excess" && f != "mean" && f != "time_ms_median";
       std::vector<double> values;
       std::vector<size_t> runs;  // history index of each value
       bool one_reference = true;
@@ -69,9 +77,13 @@ void find_steps(Dashboard& d, const std::vector<RunRows>& history, const Regress
         if (!r) continue;
         double v = std::nan("");
         if (f == "rmse_excess") {
-          v = rmse_excess_of(*r);
+          v = metric_of(*r, f);
           one_reference = one_reference && same_reference(*r, newest);
           if (const auto s = accuracy_sample(*r)) sigma = std::max(sigma, rmse_excess_sigma(*s));
+        } else if (rule_key) {
+          v = metric_of(*r, f);
+          one_reference = one_reference && same_reference(*r, newest);
+          sigma = std::max(sigma, metric_noise_sigma(f, *r));
         } else if (f == "mean") {
           v = history_mean_ao(d, history[i].first, *r);
         } else if (machine_class(*r) == machine_class(newest) && r->time_ms_median > 0.0) {
@@ -87,6 +99,11 @@ void find_steps(Dashboard& d, const std::vector<RunRows>& history, const Regress
         // Two independent references: the difference's sigma is sqrt(2) times one row's.
         o.absolute = std::max(t.rmse_excess_absolute,
                               one_reference ? 0.0 : t.rmse_excess_sigmas * std::sqrt(2.0) * sigma);
+      } else if (rule_key) {
+        const MetricRule rule = t.rule(f);
+        o.relative = rule.relative;
+        o.absolute =
+            std::max(rule.absolute, one_reference ? 0.0 : rule.sigmas * std::sqrt(2.0) * sigma);
       } else if (f == "mean") {
         o.absolute = t.change_mean_shift;
       } else {

@@ -128,5 +128,36 @@ TEST(DashboardHistory, EightRunsSteppingAtTheFifthGiveOneStepPerAffectedSeries) 
   EXPECT_NE(testutil::slurp(d.page).find("id=\"steps\""), std::string::npos);
 }
 
+// A sequence key steps: steady_rmse_excess 0.020 -> 0.032 from the fifth of eight runs, nothing
+// else moves; exactly one step, in that key, at r5.
+TEST(DashboardHistory, AStepInASequenceKeyIsFoundAtItsRun) {
+  History h("sequence_history");
+  for (int i = 1; i <= 8; ++i) {
+    FakeRow f;
+    f.estimator = "my-temporal";
+    f.params = {{"R", 0.5}};
+    f.more_metrics = {{"seq_frames", 16},
+                      {"seq_rmse_excess", 0.03},
+                      {"steady_rmse_excess", i >= 5 ? 0.032 : 0.020},
+                      {"temporal_rmse_excess", 0.0129},
+                      {"converge_frames", 4}};
+    h.add_rows("r" + std::to_string(i), "2024-01-0" + std::to_string(i) + "T00:00:00Z", {f},
+               "sweep seq");
+  }
+  DashboardOptions o = h.options();
+  o.history_steps = 8;
+  const Dashboard d = build_dashboard(o);
+  ASSERT_EQ(d.steps.size(), 1u);
+  EXPECT_EQ(d.steps[0].figure, "steady_rmse_excess");
+  EXPECT_EQ(d.steps[0].run.run_id, "r5");
+  std::vector<std::string> step_lines;
+  for (const auto& line : console_lines(d))
+    if (line.rfind("STEP ", 0) == 0) step_lines.push_back(line);
+  ASSERT_EQ(step_lines.size(), 1u);
+  EXPECT_EQ(step_lines[0],
+            "STEP my-temporal/R:0.5/scene:bunny/view:main/24x16 at run r5 (0123456789ab): "
+            "steady_rmse_excess 0.0200 -> 0.0320");
+}
+
 }  // namespace
 }  // namespace aoeval

@@ -206,13 +206,23 @@ std::string dashboard_html(const Dashboard& d) {
                : std::string("No regression")) +
        "</h1>\n";
   h += "<p>" + std::to_string(d.regressed) + " regressed, " + std::to_string(d.warnings) +
-       " warnings, " + std::to_string(d.improved) + " improved, " + std::to_string(d.unchanged) +
-       " unchanged, " + std::to_string(d.not_compared) + " not compared; <a href=\"#changed\">" +
-       std::to_string(d.changed) + " changed</a>" +
+       " warnings, " + std::to_string(d.improved) + " improved" +
+       (d.both > 0 ? " (" + std::to_string(d.both) + " of them regressed in another key)"
+                   : std::string()) +
+       ", " + std::to_string(d.unchanged) + " unchanged, " + std::to_string(d.not_compared) +
+       " not compared; <a href=\"#changed\">" + std::to_string(d.changed) + " changed</a>" +
        (d.history_searched ? "; <a href=\"#steps\">" + std::to_string(d.steps.size()) +
                                  " steps</a> over " + std::to_string(d.history_size) + " runs"
                            : std::string()) +
        "</p>\n";
+  // Per judged key: how many rows regressed and improved in it.
+  if (!d.by_key.empty()) {
+    std::string keys;
+    for (const auto& [key, counts] : d.by_key)
+      keys += (keys.empty() ? "" : "; ") + key + ": " + std::to_string(counts.first) +
+              " regressed, " + std::to_string(counts.second) + " improved";
+    h += "<p>by key: " + html_escape(keys) + "</p>\n";
+  }
   // Timing that could not be judged is said once at the top, with the reason on each row.
   int untimed = 0;
   for (const auto& rep : d.rows)
@@ -236,8 +246,9 @@ std::string dashboard_html(const Dashboard& d) {
   for (const auto& rep : d.rows) {
     std::string what = rep.note;
     for (const auto& c : rep.checks)
-      if (c.verdict == rep.verdict && rep.verdict != Verdict::unchanged)
-        what += (what.empty() ? "" : "; ") + c.figure;
+      if ((c.verdict == rep.verdict && rep.verdict != Verdict::unchanged) ||
+          (c.verdict == Verdict::improved && rep.verdict == Verdict::regressed))
+        what += (what.empty() ? "" : "; ") + c.figure + " " + to_string(c.verdict);
     if (!rep.params_change.empty()) what += (what.empty() ? "" : "; ") + rep.params_change;
     if (rep.changed) what += (what.empty() ? "" : "; ") + change_phrase(*rep.change);
     h += "<tr class=\"" + css_class(rep.verdict) + "\"><td><a href=\"#" + anchors[&rep] + "\">" +
@@ -275,6 +286,8 @@ std::string dashboard_html(const Dashboard& d) {
            html_escape(rep->run_name) + "</code></p>\n";
       if (!rep->params_change.empty())
         h += "<p>parameters changed: <code>" + html_escape(rep->params_change) + "</code></p>\n";
+      if (!rep->code_change.empty())
+        h += "<p>code changed: <code>" + html_escape(rep->code_change) + "</code></p>\n";
       if (!rep->note.empty()) h += "<p class=\"note\">" + html_escape(rep->note) + "</p>\n";
       if (!rep->checks.empty()) h += checks_table(*rep);
       h += change_line(*rep);

@@ -137,9 +137,85 @@ TEST(Dashboard, ParameterChangeIsPairedByEstimatorSceneViewResolution) {
   const Dashboard d = build_dashboard(h.options());
   ASSERT_EQ(d.rows.size(), 1u);
   EXPECT_EQ(d.rows.front().verdict, Verdict::regressed);
-  EXPECT_EQ(d.rows.front().params_change, "N: (none) -> 8");
+  EXPECT_EQ(d.rows.front().params_change, "N (none) -> 8");
   EXPECT_FALSE(d.rows.front().image_note.empty());  // no estimate kept: said, not hidden
-  EXPECT_NE(console_lines(d).front().find("parameters changed: N: (none) -> 8"), std::string::npos);
+  EXPECT_NE(console_lines(d).front().find("parameters changed: N (none) -> 8"), std::string::npos);
+}
+
+// A sequence row (CONTRACT §10 keys) of a plug-in whose manifest default alpha moved 0.1 -> 0.41:
+// the run name (explicit parameters only) is unchanged, so the rows pair by name.
+testutil::FakeRow sequence_row(double alpha, double temporal, double steady) {
+  testutil::FakeRow f;
+  f.estimator = "my-temporal";
+  f.defaults = {{"alpha", alpha}, {"radius", 0.5}};
+  f.more_metrics = {{"seq_frames", 16},
+                    {"seq_rmse_excess", 0.03},
+                    {"steady_rmse_excess", steady},
+                    {"temporal_rmse", temporal + 0.001},
+                    {"temporal_rmse_excess", temporal},
+                    {"converge_frames", 4},
+                    {"disocclusion_rmse_excess", 0.06}};
+  return f;
+}
+
+// Must-show 1: only temporal_rmse_excess worsens, 0.0129 -> 0.0411 (3.2x); the row is
+// REGRESSED on that key alone, and the line names the changed default with both values.
+TEST(Dashboard, OnlyFlickerWorsenedThreeTimesIsRegressedNamingTheKeyAndTheChangedDefault) {
+  History h("flicker");
+  h.add_rows("r1", "2024-01-01T00:00:00Z", {sequence_row(0.1, 0.0129, 0.025)});
+  h.add_rows("r2", "2024-01-02T00:00:00Z", {sequence_row(0.41, 0.0411, 0.025)});
+  const Dashboard d = build_dashboard(h.options());
+  EXPECT_EQ(d.regressed, 1);
+  EXPECT_EQ(d.improved, 0);
+  ASSERT_EQ(d.rows.size(), 1u);
+  const RowReport& rep = d.rows.front();
+  EXPECT_EQ(rep.verdict, Verdict::regressed);
+  EXPECT_EQ(rep.run_name, "my-temporal/scene:bunny/view:main/24x16");
+  for (const Check& c : rep.checks)
+    EXPECT_EQ(c.verdict == Verdict::regressed, c.figure == "temporal_rmse_excess")
+        << c.figure << ": " << c.detail;
+  EXPECT_EQ(rep.params_change, "alpha 0.1 -> 0.41");
+  ASSERT_EQ(d.by_key.count("temporal_rmse_excess"), 1u);
+  EXPECT_EQ(d.by_key.at("temporal_rmse_excess").first, 1);
+  const auto lines = console_lines(d);
+  ASSERT_FALSE(lines.empty());
+  EXPECT_EQ(lines[0],
+            "REGRESSED my-temporal alpha=0.41,radius=0.5 scene bunny view main 24x16: "
+            "temporal_rmse_excess 0.0129 -> 0.0411 (threshold 0.00129); parameters changed: alpha "
+            "0.1 -> 0.41")
+      << lines[0];
+
+  // Its threshold in the config, like any other key: a 500 % allowance passes it.
+  const fs::path config = h.dir / "loose.json";
+  std::ofstream(config) << R"({"defaults": {"temporal_rmse_excess_relative": 5}})";
+  DashboardOptions o = h.options();
+  o.config_path = config.string();
+  EXPECT_EQ(build_dashboard(o).regressed, 0);
+  std::ofstream(config) << R"({"defaults": {"temporal_rmse_excess_relatve": 5}})";
+  EXPECT_THROW(build_dashboard(o), InputError);
+}
+
+// A row whose flicker regressed while its steady error improved is both, says so, and counts in
+// both; the aoeval version that changed is named.
+TEST(Dashboard, ARowThatRegressedAndImprovedCountsAsBoth) {
+  History h("both");
+  h.add_rows("r1", "2024-01-01T00:00:00Z", {sequence_row(0.1, 0.0129, 0.025)});
+  testutil::FakeRow newer = sequence_row(0.1, 0.0411, 0.012);
+  newer.aoeval_version = "0.2.0";
+  h.add_rows("r2", "2024-01-02T00:00:00Z", {newer});
+  const Dashboard d = build_dashboard(h.options());
+  EXPECT_EQ(d.regressed, 1);
+  EXPECT_EQ(d.improved, 1);
+  EXPECT_EQ(d.both, 1);
+  EXPECT_EQ(d.by_key.at("steady_rmse_excess").second, 1);
+  const auto lines = console_lines(d);
+  ASSERT_FALSE(lines.empty());
+  EXPECT_NE(lines[0].find("temporal_rmse_excess 0.0129 -> 0.0411"), std::string::npos) << lines[0];
+  EXPECT_NE(lines[0].find("also IMPROVED: steady_rmse_excess 0.025 -> 0.012"), std::string::npos)
+      << lines[0];
+  EXPECT_NE(lines[0].find("code changed: aoeval 0.1.0 -> 0.2.0"), std::string::npos) << lines[0];
+  EXPECT_NE(slurp(d.page).find("1 regressed, 0 warnings, 1 improved (1 of them regressed"),
+            std::string::npos);
 }
 
 TEST(Dashboard, FirstRunHasNoBaselineAndBadInputIsAnInputError) {

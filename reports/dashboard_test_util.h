@@ -47,6 +47,10 @@ struct FakeRow {
   nlohmann::json params = nlohmann::json::object();  // each one named in the run name
   double rmse_excess = 0.05, bias = 0.0, base = 0.5, scale = 1.0;
   double time_ms = 1.0;  // the median; the repetitions scatter 2 % around it
+  // Effective parameters left out of the run name (defaults, not set by the suite).
+  nlohmann::json defaults = nlohmann::json::object();
+  nlohmann::json more_metrics = nlohmann::json::object();  // e.g. the sequence keys
+  std::string aoeval_version = "0.1.0";
 };
 
 struct History {
@@ -80,12 +84,16 @@ struct History {
       r.run_name = f.estimator;
       for (const auto& [k, v] : f.params.items()) r.run_name += "/" + k + ":" + v.dump();
       r.run_name += "/scene:bunny/view:main/24x16";
+      for (const auto& [k, v] : f.defaults.items()) r.params[k] = v;
+      r.git_commit = commit;
+      r.aoeval_version = f.aoeval_version;
       r.device = "cpu";
       r.reference = {{"spp", 64}, {"sampler", "sobol"}, {"seed", 1}};
       r.metrics = {{"rmse_excess", f.rmse_excess},
                    {"ref_stderr_rms", 0.01},
                    {"bias", f.bias},
                    {"pixels", kW * kH - 16}};
+      r.metrics.update(f.more_metrics);
       r.time_ms_samples = {f.time_ms, f.time_ms * 1.01, f.time_ms * 0.99, f.time_ms * 1.02,
                            f.time_ms};
       r.time_ms_median = f.time_ms;

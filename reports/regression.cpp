@@ -34,10 +34,21 @@
 // An estimator's own randomness across seeds enters the bias check only, as compare_rows'
 // shift_sigma, measured from the two estimate images (image_change.h); rmse_excess does not model
 // it (deterministic estimators repeat bit for bit, CONTRACT "same seed, same bits").
+// Sequence keys (CONTRACT §10). seq_rmse_excess^2 is the mean over F frames of each frame's
+// rmse_excess^2, each frame scored against its own reference (independent noise per frame), so
+// its square is an average of F estimates of the kind above over N pixels each: the same formula
+// with N -> N F (steady_rmse_excess: the last F/2 frames, N F/2). temporal_rmse_excess^2 removes
+// mean(stderr_k^2 + stderr_{k-1}^2) ~= 2 s^2 from temporal_rmse^2 over the F - 1 frame pairs: the
+// formula with s -> sqrt(2) s and N -> N (F - 1) (neighbouring pairs share a frame, so this is
+// optimistic by up to sqrt(2), which the relative threshold covers). N is the last frame's
+// `pixels`, F is `seq_frames`. disocclusion_rmse_excess pools a pixel count the row does not
+// carry, and frame counts are integers: they have no sigma, only their relative and absolute
+// floors.
 #include "reports/regression.h"
 
 #include "base/summary.h"
 #include "harness/results/machine_class.h"
+#include "harness/results/metric_table.h"
 
 #include <algorithm>
 #include <cmath>
@@ -86,6 +97,54 @@ Check threshold_check(const std::string& figure, double before, double after, do
 }
 
 }  // namespace
+
+std::map<std::string, MetricRule> default_metric_rules() {
+  // The rms errors over frames: as rmse_excess (5 % and its sigma) with the floor of one frame's
+  // round-off. Flicker and disocclusion are smaller numbers measured over fewer samples: 10 %.
+  // Frame counts: two frames or a quarter, whichever is more (one frame is their resolution).
+  // lag_rmse_excess and settle_frames are named so that they have rules once the metric table
+  // flags them; a key a row lacks is never judged.
+  return {{"seq_rmse_excess", {.relative = 0.05, .sigmas = 3.0, .absolute = 1e-4}},
+          {"steady_rmse_excess", {.relative = 0.05, .sigmas = 3.0, .absolute = 1e-4}},
+          {"temporal_rmse_excess", {.relative = 0.10, .sigmas = 3.0, .absolute = 2e-4}},
+          {"disocclusion_rmse_excess", {.relative = 0.10, .sigmas = 3.0, .absolute = 0.002}},
+          {"lag_rmse_excess", {.relative = 0.10, .sigmas = 3.0, .absolute = 0.002}},
+          {"converge_frames", {.relative = 0.25, .sigmas = 3.0, .absolute = 2.0}},
+          {"settle_frames", {.relative = 0.25, .sigmas = 3.0, .absolute = 2.0}}};
+}
+
+MetricRule Thresholds::rule(const std::string& key) const {
+  const auto it = metrics.find(key);
+  return it == metrics.end() ? MetricRule{} : it->second;
+}
+
+std::vector<std::string> rule_metric_keys() {
+  std::vector<std::string> keys;
+  for (const std::string& k : dashboard_metric_keys())
+    if (k != "rmse_excess" && k != "bias" && k != "bent_angle_excess") keys.push_back(k);
+  return keys;
+}
+
+double metric_noise_sigma(const std::string& key, const ResultRow& row) {
+  const auto sample = accuracy_sample(row);
+  bool ok = true;
+  const double value = metric(row.metrics, key.c_str(), &ok);
+  const double frames = metric(row.metrics, "seq_frames", &ok);
+  if (!sample || !ok || frames < 1.0) return 0.0;
+  AccuracySample s = *sample;
+  s.rmse_excess = value;
+  if (key == "seq_rmse_excess") {
+    s.pixels *= frames;
+  } else if (key == "steady_rmse_excess") {
+    s.pixels *= std::max(1.0, std::floor(frames / 2.0));
+  } else if (key == "temporal_rmse_excess" && frames >= 2.0) {
+    s.pixels *= frames - 1.0;
+    s.ref_stderr_rms *= std::sqrt(2.0);
+  } else {
+    return 0.0;
+  }
+  return rmse_excess_sigma(s);
+}
 
 std::optional<AccuracySample> accuracy_sample(const ResultRow& row) {
   bool ok = true;
@@ -200,6 +259,26 @@ std::vector<Check> compare_rows(const ResultRow& before, const ResultRow& after,
                                        sigma, t.bent_absolute,
                                        "reference bent-normal noise, independent references"));
     }
+  }
+
+  // Every other key the metric table flags (the sequence keys), where both rows carry it.
+  for (const std::string& key : rule_metric_keys()) {
+    bool ok = true;
+    const double b = metric(before.metrics, key.c_str(), &ok),
+                 a = metric(after.metrics, key.c_str(), &ok);
+    if (!ok) continue;
+    const MetricRule rule = t.rule(key);
+    const double sigma =
+        std::hypot(metric_noise_sigma(key, before), metric_noise_sigma(key, after));
+    // Higher-is-better keys are judged on their negatives and reported as they are.
+    const double sign = find_metric(key)->better == Better::higher ? -1.0 : 1.0;
+    Check c =
+        threshold_check(key, sign * b, sign * a, rule.relative, rule.sigmas, sigma, rule.absolute,
+                        sigma > 0.0 ? "reference noise over the sequence's frames"
+                                    : "no noise model: relative and absolute floors");
+    c.before = b;
+    c.after = a;
+    checks.push_back(c);
   }
 
   Check time;

@@ -9,10 +9,17 @@
 //   bent      bent_angle_excess (rows with bent normals) rises by more than max(relative *
 //             baseline, sigmas * sigma, absolute), sigma from the reference bent normal's noise;
 //   timing    a one-sided Mann-Whitney rank test over the timed repetitions says "slower" at level
-//             alpha AND the median time rose by more than `relative`.
+//             alpha AND the median time rose by more than `relative`;
+//   others    every other key the metric table flags for the dashboard (the CONTRACT §10 sequence
+//             keys: seq_rmse_excess, steady_rmse_excess, temporal_rmse_excess, converge_frames,
+//             disocclusion_rmse_excess, and any key flagged later) worsens, in the key's direction,
+//             by more than max(relative * baseline, sigmas * sigma, absolute) of its MetricRule;
+//             sigma from metric_noise_sigma() (0 where the key has no noise model). A key absent
+//             from either row (a still view, a column an older run lacks) is not judged.
 // Every function here is pure: rows and numbers in, verdicts out (reports/dashboard.* does I/O).
 #pragma once
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,6 +28,14 @@
 #include "harness/results/result_row.h"
 
 namespace aoeval {
+
+// The thresholds of one tracked key beyond rmse_excess, |bias| and bent_angle_excess: a change
+// counts when it exceeds max(relative * |baseline|, sigmas * sigma, absolute).
+struct MetricRule {
+  double relative = 0.10, sigmas = 3.0, absolute = 0.002;
+};
+// The built-in rules of the sequence keys (regression.cpp says why each), by key.
+std::map<std::string, MetricRule> default_metric_rules();
 
 // Thresholds of one (estimator, scene); reports/regression_config.h reads them from JSON.
 struct Thresholds {
@@ -46,7 +61,15 @@ struct Thresholds {
   // `"change_action": "fail"` makes a change exit 1 like a regression (default "warn").
   double change_mean_shift = 0.005;
   bool change_fails = false;
+  // The other tracked keys (config keys "<key>_relative", "<key>_sigmas", "<key>_absolute"); a
+  // flagged key without an entry takes MetricRule's defaults.
+  std::map<std::string, MetricRule> metrics = default_metric_rules();
+  MetricRule rule(const std::string& key) const;
 };
+
+// The metric-table keys the dashboard judges through a MetricRule: every key flagged `dashboard`
+// except rmse_excess, bias and bent_angle_excess (their own fields above), in column order.
+std::vector<std::string> rule_metric_keys();
 
 // ---------------------------------------------------------------- accuracy noise
 
@@ -79,6 +102,12 @@ double rmse_excess_sigma(const AccuracySample& s);
 // bent_angle_excess, s = bent_ref_stderr, N = bent_pixels (derivation in regression.cpp);
 // 0 when a row lacks them.
 double bent_excess_sigma(double excess, double ref_stderr, double pixels);
+
+// sigma of one row's value of a rule key from the reference's noise alone (derivation in
+// regression.cpp): the sequence rms keys through rmse_excess_sigma with the pixels of every frame
+// they pool; 0 for keys without a noise model (counts of frames, disocclusion_rmse_excess whose
+// pixel count the row does not carry).
+double metric_noise_sigma(const std::string& key, const ResultRow& row);
 
 // True when both rows were scored against the same reference image: same scene, view,
 // resolution, AO definition, reference settings (spp, sampler, seed), pixel count and a

@@ -9,6 +9,31 @@ namespace aoeval {
 
 namespace {
 
+// The rule of a "<key>_relative" / "_sigmas" / "_absolute" config key, for the tracked keys of
+// Thresholds::metrics; nullptr when `name` is not one.
+double* rule_field(const std::string& name, Thresholds& t) {
+  for (const std::string& key : rule_metric_keys()) {
+    if (name.size() <= key.size() + 1 || name.compare(0, key.size() + 1, key + "_") != 0) continue;
+    const std::string part = name.substr(key.size() + 1);
+    auto it = t.metrics.find(key);
+    if (it == t.metrics.end()) it = t.metrics.emplace(key, MetricRule{}).first;
+    if (part == "relative") return &it->second.relative;
+    if (part == "sigmas") return &it->second.sigmas;
+    if (part == "absolute") return &it->second.absolute;
+  }
+  return nullptr;
+}
+
+std::string known_keys() {
+  std::string known =
+      "rmse_excess_relative, rmse_excess_sigmas, rmse_excess_absolute, bias_relative, "
+      "bias_sigmas, bias_absolute, bent_relative, bent_sigmas, bent_absolute, time_relative, "
+      "time_alpha, change_mean_shift, change_action, missing";
+  for (const std::string& key : rule_metric_keys())
+    known += ", " + key + "_relative, " + key + "_sigmas, " + key + "_absolute";
+  return known;
+}
+
 // Overlays the keys of `j` onto `t`; `where` names the file and the object for error messages.
 void apply(const nlohmann::json& j, Thresholds& t, const std::string& where) {
   if (!j.is_object()) throw InputError(where + ": expected an object of thresholds");
@@ -38,14 +63,8 @@ void apply(const nlohmann::json& j, Thresholds& t, const std::string& where) {
                     : key == "time_relative"        ? &t.time_relative
                     : key == "time_alpha"           ? &t.time_alpha
                     : key == "change_mean_shift"    ? &t.change_mean_shift
-                                                    : nullptr;
-    if (!field) {
-      throw InputError(at +
-                       ": unknown key (known: rmse_excess_relative, rmse_excess_sigmas, "
-                       "rmse_excess_absolute, bias_relative, bias_sigmas, bias_absolute, "
-                       "bent_relative, bent_sigmas, bent_absolute, time_relative, time_alpha, "
-                       "change_mean_shift, change_action, missing)");
-    }
+                                                    : rule_field(key, t);
+    if (!field) throw InputError(at + ": unknown key (known: " + known_keys() + ")");
     if (!value.is_number() || value.get<double>() < 0.0)
       throw InputError(at + ": expected a number >= 0");
     if (key == "time_alpha" && (value.get<double>() <= 0.0 || value.get<double>() >= 1.0))

@@ -6,7 +6,9 @@
 //    "comment":    "free text"}
 // Keys: rmse_excess_relative, rmse_excess_sigmas, rmse_excess_absolute, bias_relative,
 // bias_sigmas, bias_absolute, bent_relative, bent_sigmas, bent_absolute, time_relative, time_alpha,
-// change_mean_shift (numbers >= 0; alpha in (0, 1)), missing and change_action ("fail" or "warn").
+// change_mean_shift (numbers >= 0; alpha in (0, 1)), missing and change_action ("fail" or "warn"),
+// and for every other key the metric table flags for the dashboard (the sequence keys, e.g.
+// temporal_rmse_excess) "<key>_relative", "<key>_sigmas" and "<key>_absolute" (Thresholds::rule).
 // For a row of estimator E on scene S the built-in defaults (regression.h) are overlaid by
 // "defaults", then scenes[S], then estimators[E] (the estimator is the more specific). Unknown keys
 // anywhere are errors (InputError naming the file and the key): a misspelt threshold would

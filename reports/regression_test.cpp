@@ -252,12 +252,94 @@ TEST(CompareRows, ChecksTheMetricTablesDashboardKeys) {
   r.metrics["bent_angle_excess"] = 2.0;
   r.metrics["bent_ref_stderr"] = 0.5;
   r.metrics["bent_pixels"] = 100;
+  for (const std::string& key : metric_keys_of(MetricFamily::sequence)) r.metrics[key] = 1.0;
   std::set<std::string> judged;
   for (const Check& c : compare_rows(r, r, Thresholds{}, 0.0))
     if (c.figure != "time_ms_median" && c.figure != "status")
       judged.insert(c.figure == "|bias|" ? "bias" : c.figure);
   const auto keys = dashboard_metric_keys();
   EXPECT_EQ(judged, std::set<std::string>(keys.begin(), keys.end()));
+}
+
+// The sequence keys (CONTRACT §10) are judged with their own rules where both rows carry them;
+// a still row (no sequence keys) and a key one side lacks are not judged.
+TEST(CompareRows, SequenceKeysAreJudgedWhereBothRowsCarryThem) {
+  const Thresholds t;
+  auto judged = [](const std::vector<Check>& checks, const std::string& figure) {
+    return std::any_of(checks.begin(), checks.end(),
+                       [&](const Check& c) { return c.figure == figure; });
+  };
+  const ResultRow still = row(0.05, 0.01, kTimes);
+  EXPECT_FALSE(judged(compare_rows(still, still, t, 0.0), "temporal_rmse_excess"));
+  ResultRow before = still, after = still;
+  for (ResultRow* r : {&before, &after})
+    r->metrics.update({{"seq_frames", 16},
+                       {"seq_rmse_excess", 0.03},
+                       {"steady_rmse_excess", 0.025},
+                       {"temporal_rmse_excess", 0.0129},
+                       {"converge_frames", 4},
+                       {"disocclusion_rmse_excess", 0.06}});
+  EXPECT_EQ(worst(compare_rows(before, after, t, 0.0)), Verdict::unchanged);
+  after.metrics["temporal_rmse_excess"] = 0.0411;  // 3.2x the flicker
+  const auto checks = compare_rows(before, after, t, 0.0);
+  for (const Check& c : checks)
+    EXPECT_EQ(c.verdict == Verdict::regressed, c.figure == "temporal_rmse_excess") << c.figure;
+  // converge_frames: 4 -> 6 is within max(25 %, 2 frames); 4 -> 7 is not.
+  after = before;
+  after.metrics["converge_frames"] = 6;
+  EXPECT_EQ(check(compare_rows(before, after, t, 0.0), "converge_frames").verdict,
+            Verdict::unchanged);
+  after.metrics["converge_frames"] = 7;
+  EXPECT_EQ(check(compare_rows(before, after, t, 0.0), "converge_frames").verdict,
+            Verdict::regressed);
+  // A key one row lacks (an older run's column): not judged, not an error.
+  after.metrics.erase("disocclusion_rmse_excess");
+  EXPECT_FALSE(judged(compare_rows(before, after, t, 0.0), "disocclusion_rmse_excess"));
+  // Thresholds from the config like any other key.
+  const RegressionConfig c = RegressionConfig::parse(
+      {{"defaults", {{"converge_frames_absolute", 4}, {"temporal_rmse_excess_relative", 0.5}}}},
+      "t.json");
+  EXPECT_EQ(c.thresholds("e", "s").rule("converge_frames").absolute, 4.0);
+  EXPECT_EQ(c.thresholds("e", "s").rule("temporal_rmse_excess").relative, 0.5);
+  EXPECT_EQ(c.thresholds("e", "s").rule("temporal_rmse_excess").absolute, 2e-4);
+  EXPECT_EQ(
+      check(compare_rows(before, after, c.thresholds("e", "s"), 0.0), "converge_frames").verdict,
+      Verdict::unchanged);
+  EXPECT_THROW(RegressionConfig::parse({{"defaults", {{"seq_frames_relative", 1}}}}, "t.json"),
+               InputError);  // seq_frames is a length, not judged
+}
+
+// seq_rmse_excess pools F frames of N pixels, each frame against its own reference: its spread
+// over 1500 draws matches metric_noise_sigma (rmse_excess_sigma with N F pixels) within four
+// standard errors of a standard deviation (8 %).
+TEST(AccuracyNoise, SequenceSigmaMatchesSimulation) {
+  const int pixels = 500, frames = 8, draws = 1500;
+  const double s = 0.02;
+  std::mt19937_64 rng{11};
+  std::normal_distribution<double> noise(0.0, s);
+  std::vector<double> d(static_cast<size_t>(pixels) * frames);
+  for (size_t i = 0; i < d.size(); ++i) d[i] = 0.03 * std::sin(0.37 * static_cast<double>(i));
+  std::vector<double> values;
+  for (int k = 0; k < draws; ++k) {
+    double sum = 0.0;
+    for (int f = 0; f < frames; ++f) {
+      double sq = 0.0;
+      for (int i = 0; i < pixels; ++i) {
+        const double e = d[static_cast<size_t>(f) * pixels + i] - noise(rng);
+        sq += e * e;
+      }
+      sum += std::max(0.0, sq / pixels - s * s);  // one frame's rmse_excess^2
+    }
+    values.push_back(std::sqrt(sum / frames));
+  }
+  double mean = 0.0, var = 0.0;
+  for (double v : values) mean += v / draws;
+  for (double v : values) var += (v - mean) * (v - mean) / (draws - 1);
+  ResultRow r = row(0.0, 0.0, kTimes);
+  r.metrics = {{"rmse_excess", mean}, {"ref_stderr_rms", s},     {"bias", 0.0},
+               {"pixels", pixels},    {"seq_rmse_excess", mean}, {"seq_frames", frames}};
+  const double sigma = metric_noise_sigma("seq_rmse_excess", r);
+  EXPECT_NEAR(std::sqrt(var), sigma, 4.0 * sigma / std::sqrt(2.0 * draws)) << "mean " << mean;
 }
 
 TEST(CompareRows, NoiseWidensTheThreshold) {

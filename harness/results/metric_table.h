@@ -32,6 +32,8 @@ struct MetricDef {
   // AO (the "true_" column).
   bool report_matched = false, report_true = false;
   // Judged by the dashboard (CONTRACT §12): a REGRESSED/IMPROVED check and a history series.
+  // reports/regression.h judges every flagged key (its thresholds: Thresholds::rule); a flagged
+  // key a row lacks (a still view's sequence keys) is not judged on that row.
   bool dashboard = false;
   std::string meaning;  // one line, with its unit
 };
