@@ -25,6 +25,8 @@ const std::vector<VkDescriptorType> kGlslBindings = {
     VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,  // 8 aoeval_motion
     VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,  // 9 aoeval_disoccluded
     VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,  // 10 aoeval_history
+    // Version 3: the plug-in's own state between frames (CONTRACT §10's history, widened).
+    VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,  // 11 aoeval_state
 };
 
 namespace {
@@ -32,7 +34,7 @@ namespace {
 constexpr float kNearPlane = 0.01f;  // of the reversed-Z projection, scene units
 
 const char* kFixedPreamble =
-    R"(// ---- aoeval GLSL plug-in ABI, version 2 (aoeval estimators abi) ----
+    R"(// ---- aoeval GLSL plug-in ABI, version 3 (aoeval estimators abi) ----
 // Every image is width x height unless noted; pixel (i, j) has its centre at (i + 0.5, j + 0.5), row
 // 0 at the top. Eye space: right-handed, x right, y up, the camera looking down -z.
 layout(set = 0, binding = 0, r32f) uniform readonly image2D aoeval_depth;       // linear depth Z = -z_eye > 0; 0 where not covered
@@ -46,6 +48,11 @@ layout(set = 0, binding = 6, rgba32f) uniform readonly image2D aoeval_noise;    
 layout(set = 0, binding = 8, rgba32f) uniform readonly image2D aoeval_motion;   // xy: motion.X/Y in pixels, this pixel's surface point was at its centre - xy in the previous frame; zw: 0; 0 where not covered
 layout(set = 0, binding = 9, r32f) uniform readonly image2D aoeval_disoccluded; // 1 where this pixel's point was not visible in the previous frame (off screen, hidden, another object), else 0
 layout(set = 0, binding = 10, r32f) uniform readonly image2D aoeval_history;    // this plug-in's own final output (the last pass's aoeval_out, as written) of the previous frame
+// Version 3. Four floats per pixel that are the plug-in's own (a history length, moments, an
+// object id): aoeval never reads, checks or clamps them; every pass may read and write them, and
+// each frame starts with what the previous frame's last pass left (zeros at frame 0, on a still
+// view and after a frame that did not run; a repeated frame starts from the same values again).
+layout(set = 0, binding = 11, rgba32f) uniform image2D aoeval_state;
 struct AoevalParams {
 )";
 
@@ -145,13 +152,23 @@ std::string glsl_abi_text() {
          "aoeval_motion.xy is the G-buffer's motion.X/Y in pixels (the pixel's surface point was\n"
          "at its centre - xy in frame k-1); aoeval_disoccluded is 1 where that point was not\n"
          "visible in frame k-1; aoeval_history is the plug-in's own final output of frame k-1\n"
-         "(the last pass's aoeval_out as written, before aoeval clamps it to [0, 1]), to be read\n"
-         "at the pixel (a static camera) or at its centre - motion (reprojection, bilinear reads\n"
-         "your own). All three are zero on a still view and at frame 0, and history is zero again\n"
-         "after a frame past timeout_s (a new device). The seed rule: frame k runs with seed + k\n"
+         "(the last pass's aoeval_out as written), to be read at the pixel (a static camera) or\n"
+         "at its centre - motion (reprojection, bilinear reads your own). That output is the AO:\n"
+         "on covered pixels it must be in [0, 1] (a value outside skips the row), so it cannot\n"
+         "carry anything else. All three are zero on a still view and at frame 0, and history is\n"
+         "zero again after a frame past timeout_s (a new device). The seed rule: frame k runs\n"
+         "with seed + k\n"
          "(aoeval.params.seed, aoeval.pass.z and the noise tile; seed when the run says\n"
          "\"seed_per_frame\": false), so a per-pixel noise rotation changes every frame by "
          "itself.\n\n"
+         "The plug-in's own state (ABI version 3): aoeval_state, four floats per pixel (rgba32f)\n"
+         "that aoeval keeps between frames and never reads, range-checks or clamps: a history\n"
+         "length, moments, an object id, whatever the plug-in needs beside its AO (the range\n"
+         "check applies to the AO output only). Every pass may read and write it; frame k starts\n"
+         "with what frame k-1's last pass left in it; zeros at frame 0, on a still view and after\n"
+         "a frame that did not run on this device; a repeated frame k (timed repetitions) starts\n"
+         "from frame k-1's values again, so repetitions agree. It is not reprojected: read it at\n"
+         "centre - motion yourself, as aoeval_history.\n\n"
          "#version 450\n" +
          glsl_abi_preamble({});
 }

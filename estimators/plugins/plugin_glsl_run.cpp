@@ -133,6 +133,7 @@ class GlslEstimator : public Estimator {
     // aoeval_history: frame k - 1's final output, still in its ping image; zero on a still view,
     // at frame 0, and when frame k - 1 did not run on this device (a time-out gave a new one).
     // A second run of frame k keeps its history (frame k - 1's), so repeated runs agree.
+    // aoeval_state follows the same rule (zeros, frame k - 1's, or frame k - 1's again).
     const History history = still_ || index == 0       ? History::clear
                             : last_frame_ == index - 1 ? History::copy
                             : last_frame_ == index     ? History::keep
@@ -154,17 +155,26 @@ class GlslEstimator : public Estimator {
       d.timer.reset(cmd);
       const VkClearColorValue zero{};
       VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-      if (history == History::copy) {
+      auto copy_image = [&](const vk::Image2D& from, const vk::Image2D& to) {
         VkImageCopy copy{};
         copy.srcSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
         copy.dstSubresource = copy.srcSubresource;
-        copy.extent = {static_cast<uint32_t>(d.history.width()),
-                       static_cast<uint32_t>(d.history.height()), 1};
-        vkCmdCopyImage(cmd, d.ping[last].handle(), VK_IMAGE_LAYOUT_GENERAL, d.history.handle(),
+        copy.extent = {static_cast<uint32_t>(to.width()), static_cast<uint32_t>(to.height()), 1};
+        vkCmdCopyImage(cmd, from.handle(), VK_IMAGE_LAYOUT_GENERAL, to.handle(),
                        VK_IMAGE_LAYOUT_GENERAL, 1, &copy);
+      };
+      // aoeval_state: `state` is what the passes read and write; `state_saved` holds what frame
+      // k - 1 left, so that a repeated frame k starts from it again.
+      if (history == History::copy) {
+        copy_image(d.ping[last], d.history);
+        copy_image(d.state, d.state_saved);
         vk::pass_barrier(cmd);
-      } else if (history == History::clear) {
-        vkCmdClearColorImage(cmd, d.history.handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
+      } else if (history == History::keep) {
+        copy_image(d.state_saved, d.state);
+        vk::pass_barrier(cmd);
+      } else {
+        for (const vk::Image2D* image : {&d.history, &d.state, &d.state_saved})
+          vkCmdClearColorImage(cmd, image->handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
       }
       // A frame's passes start from zeros, whatever the last frame left.
       for (const vk::Image2D* image : {&d.ping[0], &d.ping[1], &d.bent})
@@ -193,9 +203,9 @@ class GlslEstimator : public Estimator {
       // The same checks and range rule as a process plug-in's output (plugin_process.h).
       const float v = r.ao[k];
       if (!std::isfinite(v) || v < -kAoRangeSlack || v > 1.0f + kAoRangeSlack) {
-        char where[64];
-        std::snprintf(where, sizeof(where), " at covered pixel (%zu, %zu)",
-                      k % static_cast<size_t>(g.width), k / static_cast<size_t>(g.width));
+        char where[96];
+        std::snprintf(where, sizeof(where), " at covered pixel (%zu, %zu) of frame %d",
+                      k % static_cast<size_t>(g.width), k / static_cast<size_t>(g.width), index);
         throw EstimatorUnavailable("plug-in " + manifest_.name + ": AO " +
                                    (std::isfinite(v) ? "= " + format_param_value(v) +
                                                            std::string(where) + " is outside [0, 1]"
@@ -224,6 +234,7 @@ class GlslEstimator : public Estimator {
   struct Device {
     vk::Context& vk;
     vk::Image2D depth, normal, position, ping[2], bent, noise, motion, disoccluded, history;
+    vk::Image2D state, state_saved;    // aoeval_state, and frame k - 1's copy of it
     std::vector<vk::Buffer> uniforms;  // one per pass
     vk::PassTimer timer;
     std::vector<std::unique_ptr<vk::ComputePipeline>> pipelines;
@@ -240,6 +251,8 @@ class GlslEstimator : public Estimator {
       motion = vk::Image2D(vk, w, h, VK_FORMAT_R32G32B32A32_SFLOAT);
       disoccluded = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
       history = vk::Image2D(vk, w, h, VK_FORMAT_R32_SFLOAT);
+      state = vk::Image2D(vk, w, h, VK_FORMAT_R32G32B32A32_SFLOAT);
+      state_saved = vk::Image2D(vk, w, h, VK_FORMAT_R32G32B32A32_SFLOAT);
     }
 
     // The frame's G-buffer in eye space, its motion and disocclusion (zeros on a still view).
@@ -298,7 +311,7 @@ class GlslEstimator : public Estimator {
       const vk::Image2D& prev = d.ping[(i + 1) % 2];
       d.sets.push_back(
           pipeline->make_set({d.depth, d.normal, d.position, prev, out, d.bent, d.noise,
-                              d.uniforms[i], d.motion, d.disoccluded, d.history}));
+                              d.uniforms[i], d.motion, d.disoccluded, d.history, d.state}));
       d.pipelines.push_back(std::move(pipeline));
     }
   }

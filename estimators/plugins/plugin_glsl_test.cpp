@@ -13,6 +13,7 @@
 #include "base/errors.h"
 #include "estimators/plugins/plugin_test_util.h"
 #include "estimators/registry.h"
+#include "estimators/temporal/temporal_stage.h"
 #include "estimators/vulkan/vk_context.h"
 #include "scenes/corpus.h"
 
@@ -87,12 +88,13 @@ TEST(GlslPlugin, SpirvIsCachedByContent) {
 
 TEST(GlslPlugin, TheAbiTextDeclaresEveryBindingAndTheParametersInOrder) {
   const std::string text = glsl_abi_text();
-  for (int b = 0; b <= 10; ++b)
+  for (int b = 0; b <= 11; ++b)
     EXPECT_NE(text.find("binding = " + std::to_string(b)), std::string::npos) << b;
   const std::vector<ParamSpec> params = {real_param("zeta", 0.5, 0, 1, Spacing::linear, "", "m"),
                                          bool_param("alpha", true, "m"),
                                          choice_param("mode", "b", {"a", "b"}, "m")};
-  for (const char* name : {"aoeval_motion", "aoeval_disoccluded", "aoeval_history", "int frame;"})
+  for (const char* name :
+       {"aoeval_motion", "aoeval_disoccluded", "aoeval_history", "aoeval_state", "int frame;"})
     EXPECT_NE(text.find(name), std::string::npos) << name;
   const std::string preamble = glsl_abi_preamble(params);
   EXPECT_LT(preamble.find("float zeta;"), preamble.find("bool alpha;"));
@@ -302,6 +304,77 @@ TEST(GlslPlugin, HistoryIsThePreviousFramesFinalOutput) {
   for (int i = 0; i < 3; ++i) EXPECT_FLOAT_EQ(e->run(still).ao[px], 0.125f) << "still run " << i;
 }
 
+// aoeval_state (ABI version 3): a plug-in keeps its history length L there, unclamped (L reaches
+// 12, far outside [0, 1]), and blends alpha = 1 / (L + 1) of each frame's raw value with its
+// history: the shared temporal stage's running mean (temporal_stage.h step 4, alpha_min 0, no
+// clamp) on a static sequence, frame for frame, and the plain mean of the raw values so far.
+// The raw value is an integer hash of (pixel, frame) in 1/256 steps, the same bits on both sides.
+// The plug-in computes in float and the stage in double rounded to float each frame: they agree
+// to float round-off (a few ulps), not bit for bit. A repeated frame starts from frame k - 1's
+// state again, so it repeats its output exactly.
+float raw_value(uint32_t x, uint32_t y, uint32_t frame) {
+  uint32_t h = (x * 73856093u) ^ (y * 19349663u) ^ (frame * 83492791u);
+  h ^= h >> 13;
+  h *= 0x5bd1e995u;
+  h ^= h >> 15;
+  return static_cast<float>(h & 255u) / 256.0f;
+}
+
+TEST(GlslPlugin, StateKeepsAHistoryLengthForTheStagesRunningMean) {
+  REQUIRE_VULKAN();
+  use_private_cache();
+  const std::string dir = glsl_plugin(
+      "running-mean", "[]",
+      "  uint h = (uint(p.x) * 73856093u) ^ (uint(p.y) * 19349663u) ^ (uint(aoeval.frame) * "
+      "83492791u);\n"
+      "  h ^= h >> 13; h *= 0x5bd1e995u; h ^= h >> 15;\n"
+      "  const float x = float(h & 255u) / 256.0;\n"
+      "  const float L = imageLoad(aoeval_state, p).x;  // frames accumulated here so far\n"
+      "  const float alpha = 1.0 / (L + 1.0);\n"
+      "  const float ao = alpha * x + (1.0 - alpha) * imageLoad(aoeval_history, p).r;\n"
+      "  imageStore(aoeval_state, p, vec4(L + 1.0, 0.0, 0.0, 0.0));\n"
+      "  imageStore(aoeval_out, p, vec4(ao));");
+  const TestView v = grazing_floor(16, 12);
+  const EstimatorInfo info = plugin_estimator(read_plugin_manifest(dir));
+  auto e = info.create(default_params(info));
+  TemporalSettings stage_settings;
+  stage_settings.history_limit = 1000;  // never reached: a pure running mean
+  stage_settings.alpha_min = 0.0;
+  TemporalAccumulator stage(stage_settings);
+  const int frames = 12;
+  std::vector<double> sum(v.gbuffer.pixel_count(), 0.0);
+  double worst_stage = 0.0, worst_mean = 0.0;
+  size_t compared = 0;
+  for (int k = 0; k < frames; ++k) {
+    const FrameInfo f{.index = k, .count = frames, .fps = 30.0};
+    const EstimateContext context{v.scene, *v.embree, v.gbuffer, &f};
+    e->prepare(context);
+    const std::vector<float> ao = e->run(context).ao;
+    EXPECT_EQ(e->run(context).ao, ao) << "a repeated frame " << k << " starts from the same state";
+    std::vector<float> raw(v.gbuffer.pixel_count());
+    for (int y = 0; y < v.gbuffer.height; ++y)
+      for (int x = 0; x < v.gbuffer.width; ++x)
+        raw[v.gbuffer.index(x, y)] =
+            raw_value(static_cast<uint32_t>(x), static_cast<uint32_t>(y), static_cast<uint32_t>(k));
+    stage.accumulate(v.gbuffer, raw);
+    for (size_t i = 0; i < raw.size(); ++i) {
+      if (!v.gbuffer.covered(i)) continue;
+      sum[i] += raw[i];
+      ASSERT_EQ(stage.history_length()[i], static_cast<float>(k + 1));
+      worst_stage = std::max(worst_stage, std::abs(double(ao[i]) - double(stage.value()[i])));
+      worst_mean = std::max(worst_mean, std::abs(double(ao[i]) - sum[i] / (k + 1)));
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 100u);
+  EXPECT_LE(worst_stage, 1e-6) << "the plug-in against the temporal stage";
+  EXPECT_LE(worst_mean, 1e-6) << "the plug-in against the mean of the raw values";
+  std::printf(
+      "aoeval_state running mean over %d frames, %zu pixel-frames: max |plug-in - stage| "
+      "= %.3g, max |plug-in - mean| = %.3g\n",
+      frames, compared, worst_stage, worst_mean);
+}
+
 TEST(GlslPlugin, OutOfRangeOutputIsRejected) {
   REQUIRE_VULKAN();
   const std::string dir = glsl_plugin("two-ish", "[]", "  imageStore(aoeval_out, p, vec4(2.0));");
@@ -311,6 +384,8 @@ TEST(GlslPlugin, OutOfRangeOutputIsRejected) {
     ADD_FAILURE() << "accepted 2";
   } catch (const EstimatorUnavailable& e) {
     EXPECT_NE(std::string(e.what()).find("AO = 2 at covered pixel"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(") of frame 0 is outside [0, 1]"), std::string::npos)
+        << e.what();  // which frame, for a sequence
   }
 }
 

@@ -431,6 +431,8 @@ class ProcessEstimator : public Estimator {
     EstimateResult r;
     if (reason.empty()) reason = read_process_output(ao, context.gbuffer, manifest_.bent, r);
     for (const std::string& f : {ao, ao + ".timing.json"}) fs::remove(f, ec);
+    if (!reason.empty() && context.frame)  // a sequence: which frame (run once per frame)
+      reason += " (frame " + std::to_string(context.frame->index) + ")";
     if (!reason.empty()) {
       const std::string last = last_line_of(err);
       throw EstimatorUnavailable("plug-in " + manifest_.name + " " + reason +
