@@ -16,6 +16,7 @@
 #include "drawing/error_maps.h"
 #include "drawing/plot.h"
 #include "harness/results/results_store.h"
+#include "reports/apng.h"
 #include "reports/html.h"
 #include "reports/suite_report_leaderboard.h"
 #include "reports/suite_report_mosaics.h"
@@ -122,40 +123,38 @@ float draw_strip(const fs::path& out, const nlohmann::json& kept, const std::vec
   return scale;
 }
 
-// reference | estimate of every kept frame as an animated GIF at the sequence's fps: GIF because
-// OpenImageIO writes it (no new package) and every browser plays it in an <img> without a script;
-// its 256-entry palette holds the 8-bit grey panels exactly (README "AO over time" has sizes).
-void write_video(const fs::path& out, const nlohmann::json& kept, double fps, const fs::path& gif) {
-  std::vector<OIIO::ImageBuf> frames;
+// reference | estimate of every kept frame as an animated PNG at the sequence's fps (reports/
+// apng.h: lossless, so it plays the panels' exact 8-bit greys, in an <img> without a script). It
+// was an animated GIF through OpenImageIO, which garbled it twice: every frame of a GIF or APNG
+// has the first frame's size, but a panel is as wide as its title when the title is the wider
+// ("reference, frame 10" outgrows "reference, frame 0" on a small view), so later frames were
+// read at the wrong width and sheared into diagonal stripes; and its palette kept 27 colours of
+// a frame, moving greys by up to 23 levels. Each frame is now pasted onto one canvas of the
+// largest frame's size.
+void write_video(const fs::path& out, const nlohmann::json& kept, double fps,
+                 const fs::path& video) {
+  std::vector<OIIO::ImageBuf> panels;
+  int width = 0, height = 0;
   for (const auto& k : kept) {
     const FramePair f = read_pair(out, k);
     const int w = f.ref.width, h = f.ref.height;
-    frames.push_back(stack(
+    panels.push_back(stack(
         {ao_image(w, h, f.ref.ao.data(), f.mask, "reference, frame " + std::to_string(f.frame)),
          ao_image(w, h, f.est.ao.data(), f.mask, "estimate")},
         true));
+    width = std::max(width, panels.back().spec().width);
+    height = std::max(height, panels.back().spec().height);
   }
-  const std::string temp = temporary_path_for(gif.string());
-  auto writer = OIIO::ImageOutput::create(temp);
-  if (!writer) throw std::runtime_error(gif.string() + ": OpenImageIO cannot write GIF");
-  OIIO::ImageSpec spec = frames.front().spec();
-  const int rate[2] = {static_cast<int>(std::lround(fps > 0.0 ? fps : 10.0)), 1};
-  spec.attribute("FramesPerSecond", OIIO::TypeRational, rate);
-  spec.attribute("oiio:Movie", 1);
-  spec.attribute("gif:LoopCount", 0);  // loop for ever
-  const std::vector<OIIO::ImageSpec> specs(frames.size(), spec);
-  bool ok = writer->open(temp, static_cast<int>(specs.size()), specs.data());
-  for (size_t i = 0; ok && i < frames.size(); ++i) {
-    if (i > 0) ok = writer->open(temp, spec, OIIO::ImageOutput::AppendSubimage);
-    ok = ok && writer->write_image(OIIO::TypeDesc::UINT8, frames[i].localpixels());
+  std::vector<OIIO::ImageBuf> frames;
+  for (const OIIO::ImageBuf& panel : panels) {
+    OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:ColorSpace",
+                   "sRGB");  // an sRGB chunk: browsers show the values as they are
+    frames.emplace_back(spec);
+    OIIO::ImageBufAlgo::fill(frames.back(), {kCanvas[0], kCanvas[1], kCanvas[2]});
+    OIIO::ImageBufAlgo::paste(frames.back(), 0, 0, 0, 0, panel);
   }
-  ok = writer->close() && ok;
-  if (!ok) {
-    std::error_code ec;
-    fs::remove(temp, ec);
-    throw std::runtime_error(gif.string() + ": " + writer->geterror());
-  }
-  commit_temporary(temp, gif.string());
+  write_apng(frames, fps, video.string());
 }
 
 // rmse_excess by frame (steady_rmse_excess dashed over the frames it averages) | by frames since
@@ -264,7 +263,7 @@ std::string sequence_sections(const std::string& out_dir, const SuiteReport& rep
       }
       const std::vector<size_t> pick =
           strip_frames(kept, m.value("disoccluded_pixels", nlohmann::json::array()));
-      const std::string strip = (dir / "strip.png").string(), video = (dir / "video.gif").string();
+      const std::string strip = (dir / "strip.png").string(), video = (dir / "video.png").string();
       if (!up_to_date(out / strip, sources)) draw_strip(out, kept, pick, out / strip);
       if (!up_to_date(out / video, sources))
         write_video(out, kept, m.value("fps", 0.0), out / video);
@@ -285,7 +284,7 @@ std::string sequence_sections(const std::string& out_dir, const SuiteReport& rep
         << "<figure><img class=\"video\" src=\"" << html_escape(video)
         << "\" loading=\"lazy\" alt=\"" << html_escape(r.run_name)
         << ": video\"><figcaption>Reference | estimate, every kept "
-        << "frame at " << value_of(m, "fps") << " frames per second (animated GIF).</figcaption>"
+        << "frame at " << value_of(m, "fps") << " frames per second (animated PNG).</figcaption>"
         << "</figure>\n";
     }
     const std::string chart = (dir / "rmse_excess.png").string();

@@ -3,9 +3,9 @@
 // reference EXRs): the §10 keys; a strip of frames (reference | estimate | |error|, one row each
 // for the first frame, the frame with most disoccluded pixels and the last, one error scale for
 // all three) inside the viewer (CONTRACT §11) over every kept frame, with its frame slider and
-// play; a video of the estimate beside the reference (an animated GIF: it plays in an <img>
-// without scripts); and rmse_excess by frame and by frames since disocclusion (matplotlib).
-// Internal to reports/suite_report.
+// play; a video of the estimate beside the reference (an animated PNG, reports/apng.h: it plays
+// in an <img> without scripts); and rmse_excess by frame and by frames since disocclusion
+// (matplotlib). Internal to reports/suite_report.
 #pragma once
 
 #include <string>

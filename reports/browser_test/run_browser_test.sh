@@ -161,3 +161,16 @@ NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --interact -1 \
 /usr/bin/python3 "$here/exr_samples.py" suite-b/gbuffers/index.html 100 gbuffer-samples.json
 NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --interact -1 \
   --screenshots "$build/test-artifacts" --samples gbuffer-samples.json suite-b/gbuffers/index.html
+# The sequence video plays what it holds (CONTRACT §10): chromium's own APNG decoder draws its first
+# and last frames (by index, through ImageDecoder: no waiting on time) and the reference and
+# estimate panels equal the kept EXRs' 8-bit greys within 2 levels. Twelve frames, so that the
+# frame titles change width ("frame 9" -> "frame 11"), which once sheared every later frame.
+sed -e 's/"frames": 6/"frames": 12/' -e 's/"frame": 5/"frame": 11/g' slide.json >slide12.json
+cat >video.json <<JSON
+{"name": "video", "scenes": ["$work/slide12.json"], "views": ["slide"], "res": [40, 30],
+ "reference": {"spp": 8, "sampler": "sobol"}, "timing": {"warmup": 0, "repetitions": 1},
+ "runs": [{"estimator": "raytraced", "fixed": {"rays": 2}}]}
+JSON
+expect_status 0 "$aoeval" sweep video.json --out video --db video.sqlite
+/usr/bin/python3 "$here/video_frames.py" video video-frames.json
+NODE_PATH="$modules/node_modules" node "$here/check_video.js" video-frames.json
