@@ -42,7 +42,18 @@ std::string read_file(const fs::path& p) {
   return os.str();
 }
 
-// Every registered figure whose caption is in the folder, in registry order.
+// The verdict a caption states (caption_text's "Verdict: NAME (rule)." line), "not produced" for
+// a figure that failed, "" when the caption has neither.
+std::string verdict_in(const std::string& caption) {
+  const std::string key = "\nVerdict: ";
+  const size_t at = caption.find(key);
+  if (at == std::string::npos)
+    return caption.find("\nNot produced: ") != std::string::npos ? "not produced" : "";
+  const size_t from = at + key.size();
+  return caption.substr(from, caption.find_first_of("(\n", from) - from - 1);
+}
+
+// Every registered figure whose caption is in the folder, in registry order, with its verdict.
 void write_index(const std::string& out_dir) {
   std::ostringstream os;
   os << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>aoeval figures</title>\n"
@@ -53,9 +64,12 @@ void write_index(const std::string& out_dir) {
   std::vector<const Figure*> present;
   for (const auto& f : figure_registry())
     if (fs::exists(fs::path(out_dir) / (f.name + ".txt"))) present.push_back(&f);
-  for (const auto* f : present)
-    os << "<li><a href=\"#" << f->name << "\">" << f->name << "</a> — " << html_escape(f->source)
-       << "</li>\n";
+  for (const auto* f : present) {
+    const std::string verdict = verdict_in(read_file(fs::path(out_dir) / (f->name + ".txt")));
+    os << "<li><a href=\"#" << f->name << "\">" << f->name << "</a> — "
+       << (verdict.empty() ? "" : "<b class=\"verdict\">" + html_escape(verdict) + "</b> — ")
+       << html_escape(f->source) << "</li>\n";
+  }
   os << "</ul>\n";
   for (const auto* f : present) {
     const fs::path dir(out_dir);

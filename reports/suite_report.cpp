@@ -134,7 +134,8 @@ void summary(std::ostringstream& h, const SuiteReport& r, const std::vector<std:
                                        : ". One class: the times compare across nodes."));
   }
   row("Embree", html_escape(r.context.embree_version));
-  row("wall time", num(r.wall_s, "%.1f") + " s (before the report)");
+  row("wall time", r.wall_s > 0.0 ? num(r.wall_s, "%.1f") + " s (before the report)"
+                                  : std::string("not recorded"));
   row("files", link("results.csv", "results.csv") + " " + link("results.json", "results.json") +
                    " " + link(r.gbuffer_gallery, "G-buffer gallery"));
   h << "</table>\n";

@@ -56,6 +56,10 @@ TEST(FiguresCli, QuickFigureWritesPngCsvCaptionAndIndex) {
   EXPECT_NE(caption.find("\nVerdict: " + verdict + " ("), std::string::npos) << caption;
   const std::string index = slurp(out / "index.html");
   EXPECT_NE(index.find("mendez-fig6.png"), std::string::npos);
+  // The index states each figure's verdict beside its name.
+  EXPECT_NE(index.find(">mendez-fig6</a> — <b class=\"verdict\">" + verdict + "</b>"),
+            std::string::npos)
+      << index;
   EXPECT_NE(r.out.find("mendez-fig6"), std::string::npos);
   EXPECT_EQ(r.err.find('\x1b'), std::string::npos);  // stderr is not a terminal: no bar
 }

@@ -176,12 +176,12 @@ FigureResult gtao_thickness(FigureContext& ctx) {
 
 std::vector<Figure> engine_figures() {
   return {
-      {"half-resolution", "ours (issue 32: three.js and other engines' half-resolution AO)",
+      {"half-resolution", "ours (three.js and other engines' half-resolution AO)",
        "Half-resolution screen-space AO with a depth-aware (joint bilateral) upsample costs a "
        "quarter of the AO work and keeps interior pixels as accurate as full resolution; its "
        "error concentrates at depth discontinuities (the block artefacts engines report).",
        half_resolution},
-      {"gtao-thickness", "ours (issue 32: XeGTAO's hard-coded thickness, Filament's thin geometry)",
+      {"gtao-thickness", "ours (XeGTAO's hard-coded thickness, Filament's thin geometry)",
        "GTAO's thin-occluder heuristic (Jimenez et al. 2016, thickness) makes thin occluders "
        "(fences, legs, wires) more accurate, and one default serves thin and thick scenes alike.",
        gtao_thickness},

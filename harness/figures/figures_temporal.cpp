@@ -326,13 +326,12 @@ std::vector<Figure> temporal_figures() {
        "GTAO with one slice per pixel per frame and 6 temporal rotations, accumulated by temporal "
        "reprojection, gives the quality of 6 slices per frame at the cost of one.",
        gtao_temporal},
-      {"rtao-convergence",
-       "ours (issue 31: SVGF-style real-time ray-traced AO, Schied et al. 2017)",
+      {"rtao-convergence", "ours (SVGF-style real-time ray-traced AO, Schied et al. 2017)",
        "One ray per pixel per frame, accumulated over time with a per-frame advancing sequence and "
        "denoised with a-trous passes, soon beats many rays per frame without accumulation, and "
        "settles within a few frames after a disocclusion.",
        rtao_convergence},
-      {"temporal-equal-time", "ours (issue 31: the equal-time comparison over sequences)",
+      {"temporal-equal-time", "ours (the equal-time comparison over sequences)",
        "At equal time per frame, which estimator wins depends on the question: the lowest steady "
        "error, the least flicker and the fastest recovery after a disocclusion need not be one "
        "estimator.",

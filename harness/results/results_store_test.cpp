@@ -515,6 +515,21 @@ TEST(Tables, MarkdownAndConsole) {
   EXPECT_EQ(l[3], "raytraced|x      0.5        12346");
 }
 
+// A skipped row prints its name and its reason (it once printed as a blank line).
+TEST(Tables, ConsoleNamesASkippedRow) {
+  std::vector<ResultRow> rows = {make_row("hbao", {{"R", 0.2}}, "bunny", 0.0123456)};
+  ResultRow skipped;
+  skipped.estimator = "my-ssao";
+  skipped.run_name = "my-ssao/scene:bunny/view:main/64x48";
+  skipped.status = "skipped: exit 3: out of memory";
+  rows.push_back(skipped);
+  const std::string console = console_table(rows, {"run_name", "rmse"});
+  EXPECT_NE(console.find("\nmy-ssao/scene:bunny/view:main/64x48  skipped: exit 3: out of memory\n"),
+            std::string::npos)
+      << console;
+  EXPECT_EQ(console.find("\n\n"), std::string::npos) << console;
+}
+
 }  // namespace
 }  // namespace aoeval
 

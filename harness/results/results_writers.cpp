@@ -268,7 +268,15 @@ std::string console_table(const std::vector<ResultRow>& rows,
   std::vector<std::string> rule;
   for (size_t w : width) rule.emplace_back(w, '-');
   out += format_line(rule);
-  for (const auto& line : t.cells) out += format_line(line);
+  for (size_t r = 0; r < rows.size(); ++r) {
+    // A skipped row has no metrics: its name and why, not a line of blanks.
+    if (rows[r].status != "ok") {
+      out += (rows[r].run_name.empty() ? rows[r].estimator : rows[r].run_name) + "  " +
+             rows[r].status + "\n";
+      continue;
+    }
+    out += format_line(t.cells[r]);
+  }
   return out;
 }
 
