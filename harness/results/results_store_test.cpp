@@ -228,7 +228,7 @@ TEST(ResultRow, FlatKeysAreTheColumns) {
   // The bent-normal columns (bent_metrics.h) stay blank for an estimator without bent normals, and
   // the sequence columns (scoring/temporal.h) for a still view.
   const std::vector<std::string> blank = {
-      "bent_",           "seq_",          "steady_rmse",      "temporal_rmse",
+      "bent_",           "seq_",          "steady_rmse",       "temporal_rmse",
       "converge_frames", "settle_frames", "disocclusion_rmse", "lag_rmse"};
   for (const auto& c : result_columns({r})) {
     bool is_blank = false;
