@@ -171,9 +171,9 @@ TEST(CompareSequence, ReproducesTheKeysASequenceSweepStored) {
   ASSERT_EQ(r.code, 0) << r.err;
   const auto keys = nlohmann::json::parse(r.out);
   EXPECT_GT(row["disocclusion_rmse_excess"].get<double>(), 0.0) << "the box uncovers floor";
-  for (const char* k :
-       {"seq_frames", "seq_rmse_excess", "steady_rmse_excess", "temporal_rmse",
-        "temporal_rmse_excess", "converge_frames", "settle_frames", "disocclusion_rmse_excess"}) {
+  for (const char* k : {"seq_frames", "seq_rmse_excess", "steady_rmse_excess", "temporal_rmse",
+                        "temporal_rmse_excess", "converge_frames", "settle_frames",
+                        "disocclusion_rmse_excess", "lag_rmse_excess"}) {
     SCOPED_TRACE(k);
     if (row[k].is_null()) {
       EXPECT_TRUE(keys[k].is_null());

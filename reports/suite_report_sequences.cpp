@@ -192,10 +192,23 @@ PlotSpec chart_of(const nlohmann::json& manifest, const ResultRow& row) {
       ages.x.push_back(a["age"].get<double>());
       ages.y.push_back(a["rmse_excess"].get<double>());
     }
+  PlotSeries still;  // settle_frames' pool: trajectories whose truth holds still, ages 0..12
+  still.label = "trajectories whose truth holds still (settle_frames)";
+  still.marker = "s";
+  still.dashed = true;
+  for (const auto& a : manifest.value("settle_excess_by_age", nlohmann::json::array()))
+    if (a["rmse_excess"].is_number()) {
+      still.x.push_back(a["age"].get<double>());
+      still.y.push_back(a["rmse_excess"].get<double>());
+    }
   if (ages.x.empty())
     by_age.notes.push_back("no pixel was disoccluded");
   else
     by_age.series.push_back(ages);
+  if (!still.x.empty()) {
+    if (!by_age.series.empty()) by_age.series.front().label = "every pixel of that age";
+    by_age.series.push_back(still);
+  }
   PlotSpec spec;
   spec.title = row.run_name;
   spec.width_in = 10.0;

@@ -187,7 +187,9 @@ EstimatorInfo hbao_split_cpu_estimator() {
   info.params = hbao_param_specs();
   info.definition_doc = kHbaoDefinitionDoc;
   info.definition = [](const ParamSet& p) { return hbao_definition(hbao_settings_of(p)); };
-  info.create = [](const ParamSet& p) { return std::make_unique<HbaoCpuEstimator>(p); };
+  info.create = [](const ParamSet& p) {
+    return hbao_over_time(std::make_unique<HbaoCpuEstimator>(p), hbao_settings_of(p));
+  };
   info.keeps_state = true;  // draws frame k's random texture itself (HbaoSettings::frame)
   return info;
 }

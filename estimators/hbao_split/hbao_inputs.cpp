@@ -8,6 +8,7 @@
 #include "base/errors.h"
 #include "estimators/hbao_split/hbao_split.h"
 #include "estimators/screen_space/half_res.h"
+#include "estimators/temporal/temporal_estimator.h"
 #include "scenes/random.h"
 
 namespace aoeval {
@@ -25,8 +26,20 @@ const char* const kHbaoDefinitionDoc =
     "distance r < R counts 1 - r/R, §3.5), none when off; only what the depth buffer shows within "
     "R of P' can occlude";
 
+// The temporal stage's defaults for hbao-split (temporal_stage.h): its per-frame noise is the
+// random texture's rotation after the 5x5 blur, small beside gtao's one slice, so a history of 16
+// frames averages it; no clamp (like gtao's, a 3x3 clamp of a blurred frame holds the noise in).
+TemporalDefaults hbao_temporal_defaults() {
+  return {.history_limit = 16,
+          .alpha_min = 0.0,
+          .clamp = false,
+          .gamma = 1.0,
+          .clamp_sigma_min = 0.1,
+          .clamp_radius = 1};
+}
+
 std::vector<ParamSpec> hbao_param_specs() {
-  return {
+  std::vector<ParamSpec> params = {
       real_param("R", 0.3, 1e-4, 1e4, Spacing::log, "scene units",
                  "radius of influence: horizon and normal rays stop at distance R (§3.1, §3.6; "
                  "Fig. 6, 11)"),
@@ -55,7 +68,15 @@ std::vector<ParamSpec> hbao_param_specs() {
           "seed", 7, 0, 1e15, Spacing::linear, "",
           "seed of the random texture (§4.1.2); frame k of a sequence draws it from seed + k"),
       resolution_param(),
+      bool_param("temporal", false,
+                 "accumulate the frames of a sequence (each with the random texture of seed + k) "
+                 "with the shared temporal stage (estimators/temporal/): reprojection, "
+                 "disocclusion reset, exponential history; false = each frame its own estimate. "
+                 "A still view is frame 0 either way"),
   };
+  // The stage's own parameters, read only when temporal is on (temporal_stage.h).
+  for (ParamSpec& p : temporal_params(hbao_temporal_defaults())) params.push_back(std::move(p));
+  return params;
 }
 
 HbaoSettings hbao_settings_of(const ParamSet& p) {
@@ -71,7 +92,15 @@ HbaoSettings hbao_settings_of(const ParamSet& p) {
   s.blur = p.boolean("blur");
   s.seed = static_cast<uint64_t>(p.integer("seed"));
   s.half_res = half_resolution(p);
+  s.temporal = p.boolean("temporal");
+  s.temporal_stage = temporal_settings(p);
   return s;
+}
+
+std::unique_ptr<Estimator> hbao_over_time(std::unique_ptr<Estimator> twin,
+                                          const HbaoSettings& settings) {
+  if (!settings.temporal) return twin;
+  return with_temporal_stage(std::move(twin), settings.temporal_stage);
 }
 
 AoDefinition hbao_definition(const HbaoSettings& s) {

@@ -16,11 +16,13 @@
 #include <cstdint>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "estimators/estimator.h"
 #include "estimators/screen_space/frame.h"
+#include "estimators/temporal/temporal_stage.h"
 
 namespace aoeval {
 namespace hbao_glsl {
@@ -44,6 +46,8 @@ struct HbaoSettings {
   bool blur;
   uint64_t seed;
   bool half_res;  // resolution = half (screen_space/half_res.h)
+  bool temporal;  // accumulate a sequence's frames with the shared temporal stage
+  TemporalSettings temporal_stage;
   // Not a parameter: the sequence frame whose random texture this is, the seed rule's k
   // (FrameInfo::seed_offset; 0 for a still view and when the run keeps one seed): the texture of
   // frame k is drawn from seed + k, so the per-pixel rotation advances every frame.
@@ -59,6 +63,10 @@ inline nlohmann::json frame_derived(const HbaoSettings&, bool /*still*/) {
 // The parameter table shared by both twins (hbao-split adds `gbuffer`).
 std::vector<ParamSpec> hbao_param_specs();
 HbaoSettings hbao_settings_of(const ParamSet& params);
+// The twin as it runs a sequence: itself, or wrapped in the temporal stage when `temporal` is on
+// (temporal_estimator.h; the stage's output at frame 0 and at a still view is the twin's own).
+std::unique_ptr<Estimator> hbao_over_time(std::unique_ptr<Estimator> twin,
+                                          const HbaoSettings& settings);
 // Cosine weighting, dmax = R, linear falloff with attenuation, none without.
 AoDefinition hbao_definition(const HbaoSettings& settings);
 extern const char* const kHbaoPaper;

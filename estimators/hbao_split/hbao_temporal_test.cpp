@@ -48,6 +48,27 @@ TEST(HbaoSplitTemporal, StillFrameUnchanged) {
   EXPECT_EQ(run_static_frames("hbao-split-cpu", {}, view, 1).front(), plain);
 }
 
+// `temporal` (declared once in hbao_param_specs with the stage's fragment) runs the frames through
+// the shared temporal stage: over a still camera (no motion, nothing disoccluded) with alpha_min 0
+// and a 16-frame history, frame k is the running mean of the plain frames 0..k (seed + k each), and
+// frame 0 is the plain estimate bit for bit. The mean of 6 rotated textures is smoother than one.
+TEST(HbaoSplitTemporal, TheTemporalStageAveragesTheRotatedFrames) {
+  const TestView view = crease(64, 48);
+  const auto plain = run_static_frames("hbao-split-cpu", {{"seed", 5}}, view, 6);
+  const auto accumulated =
+      run_static_frames("hbao-split-cpu", {{"seed", 5}, {"temporal", true}}, view, 6);
+  EXPECT_EQ(accumulated[0], plain[0]);
+  for (int k = 1; k < 6; ++k)
+    for (size_t p = 0; p < view.gbuffer.pixel_count(); ++p) {
+      if (!view.gbuffer.covered(p)) continue;
+      double mean = 0.0;
+      for (int j = 0; j <= k; ++j) mean += plain[j][p] / (k + 1.0);
+      ASSERT_NEAR(accumulated[k][p], mean, 1e-5) << "frame " << k << ", pixel " << p;
+    }
+  EXPECT_EQ(find_estimator("hbao-split-cpu").find_param("temporal")->default_value, false);
+  EXPECT_EQ(find_estimator("hbao-split").find_param("history_read")->default_value, "catmull-rom");
+}
+
 // The twins at frame k > 0 read the same random texture (seed + k) and agree as on the still frame
 // (hbao_split_test.cpp's 1e-3).
 TEST(HbaoSplitTemporal, TwinsAgreeAtFrameK) {

@@ -230,8 +230,9 @@ EstimatorInfo hbao_split_estimator() {
   info.definition_doc = kHbaoDefinitionDoc;
   info.definition = [](const ParamSet& p) { return hbao_definition(hbao_settings_of(p)); };
   info.create = [](const ParamSet& p) {
-    return std::make_unique<FrameDeviceEstimator<HbaoDevice, HbaoSettings>>(
-        hbao_settings_of(p), rasterises_frame(p), hbao_frame_result);
+    return hbao_over_time(std::make_unique<FrameDeviceEstimator<HbaoDevice, HbaoSettings>>(
+                              hbao_settings_of(p), rasterises_frame(p), hbao_frame_result),
+                          hbao_settings_of(p));
   };
   info.keeps_state = true;  // draws frame k's random texture itself (HbaoSettings::frame)
   return info;

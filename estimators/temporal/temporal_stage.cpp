@@ -12,6 +12,13 @@ namespace aoeval {
 
 std::vector<ParamSpec> temporal_params(const TemporalDefaults& d) {
   return {
+      choice_param("history_read",
+                   d.history_read == HistoryRead::catmull_rom ? "catmull-rom" : "bilinear",
+                   {"catmull-rom", "bilinear"},
+                   "temporal stage: how the history is resampled at the reprojected position: "
+                   "the 4x4 Catmull-Rom spline (Keys 1981; TAA's bicubic history read, Karis "
+                   "2014), bilinear where a tap is invalid, or bilinear everywhere (blurs under "
+                   "motion)"),
       int_param("history_limit", d.history_limit, 1, 4096, Spacing::log, "frames",
                 "temporal stage: the longest history a pixel keeps; the blend factor is never "
                 "below 1/(history_limit+1) (Schied et al. 2017 §4.1, history length)"),
@@ -31,17 +38,33 @@ std::vector<ParamSpec> temporal_params(const TemporalDefaults& d) {
       int_param("clamp_radius", d.clamp_radius, 0, 16, Spacing::linear, "pixels",
                 "temporal stage: the clamp's neighbourhood is (2 clamp_radius + 1)^2 pixels of "
                 "the current frame (1 = the 3x3 of TAA)"),
+      real_param("antilag", d.antilag, 0.0, 100.0, Spacing::linear, "standard errors",
+                 "temporal stage: anti-lag threshold: where this frame's window mean differs "
+                 "from the history's by more than antilag sigma/sqrt(n) + antilag_min, the "
+                 "history is shortened by (threshold/difference)^2 (A-SVGF's temporal gradient, "
+                 "Schied et al. 2018; NRD REBLUR anti-lag); 0 = off"),
+      real_param("antilag_min", d.antilag_min, 0.0, 1.0, Spacing::linear, "AO",
+                 "temporal stage: the smallest anti-lag threshold, so that a flat, noiseless "
+                 "window does not shorten the history for a rounding"),
+      int_param("antilag_radius", d.antilag_radius, 0, 16, Spacing::linear, "pixels",
+                "temporal stage: the anti-lag window is (2 antilag_radius + 1)^2 pixels (its mean "
+                "low-passes the noise the comparison must ignore)"),
   };
 }
 
 TemporalSettings temporal_settings(const ParamSet& p) {
   TemporalSettings s;
+  s.history_read =
+      p.choice("history_read") == "catmull-rom" ? HistoryRead::catmull_rom : HistoryRead::bilinear;
   s.history_limit = static_cast<int>(p.integer("history_limit"));
   s.alpha_min = p.real("alpha_min");
   s.clamp = p.boolean("clamp");
   s.gamma = p.real("gamma");
   s.clamp_sigma_min = p.real("clamp_sigma_min");
   s.clamp_radius = static_cast<int>(p.integer("clamp_radius"));
+  s.antilag = p.real("antilag");
+  s.antilag_min = p.real("antilag_min");
+  s.antilag_radius = static_cast<int>(p.integer("antilag_radius"));
   return s;
 }
 
@@ -54,6 +77,7 @@ void TemporalAccumulator::reset() {
   prev_length_.clear();
   prev_object_.clear();
   prev_covered_.clear();
+  prev_box_.clear();
 }
 
 void TemporalAccumulator::replace_history(const std::vector<float>& history) {
@@ -85,6 +109,87 @@ Range clamp_range(const GBuffer& g, const std::vector<float>& x, int i, int j,
   return {mean - half, mean + half};
 }
 
+// Window means and variances over the covered pixels of every (2 r + 1)^2 window, by summed-area
+// tables (double): mean[p] and var[p] (population), n[p] the covered count (0: none).
+struct BoxStats {
+  std::vector<float> mean, var, n;
+};
+BoxStats box_stats(const std::vector<float>& x, const std::vector<uint8_t>& covered, int w, int h,
+                   int r) {
+  const size_t stride = static_cast<size_t>(w) + 1;
+  std::vector<double> s1(stride * (h + 1), 0.0), s2(s1.size(), 0.0), sn(s1.size(), 0.0);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      const size_t p = static_cast<size_t>(j) * w + i, t = (j + 1) * stride + i + 1;
+      const double c = covered[p] ? 1.0 : 0.0, v = covered[p] ? x[p] : 0.0;
+      s1[t] = v + s1[t - 1] + s1[t - stride] - s1[t - stride - 1];
+      s2[t] = v * v + s2[t - 1] + s2[t - stride] - s2[t - stride - 1];
+      sn[t] = c + sn[t - 1] + sn[t - stride] - sn[t - stride - 1];
+    }
+  BoxStats b;
+  const size_t n = static_cast<size_t>(w) * h;
+  b.mean.assign(n, 0.0f);
+  b.var.assign(n, 0.0f);
+  b.n.assign(n, 0.0f);
+  for_each_pixel(w, h, [&](int i, int j) {
+    const int a0 = std::max(0, i - r), a1 = std::min(w, i + r + 1);
+    const int b0 = std::max(0, j - r), b1 = std::min(h, j + r + 1);
+    auto rect = [&](const std::vector<double>& t) {
+      return t[b1 * stride + a1] - t[b0 * stride + a1] - t[b1 * stride + a0] + t[b0 * stride + a0];
+    };
+    const double cnt = rect(sn);
+    const size_t p = static_cast<size_t>(j) * w + i;
+    if (cnt < 0.5) return;
+    const double mean = rect(s1) / cnt;
+    b.mean[p] = static_cast<float>(mean);
+    b.var[p] = static_cast<float>(std::max(0.0, rect(s2) / cnt - mean * mean));
+    b.n[p] = static_cast<float>(cnt);
+  });
+  return b;
+}
+
+// The Catmull-Rom weights of the four taps at offsets -1, 0, 1, 2 from the texel at or left of a
+// position t in [0, 1) past it (Keys 1981 with a = -1/2): they sum to 1, and t = 0 gives (0, 1, 0,
+// 0), so an integer offset reads the texel exactly.
+void catmull_rom_weights(double t, double w[4]) {
+  const double t2 = t * t, t3 = t2 * t;
+  w[0] = 0.5 * (-t3 + 2.0 * t2 - t);
+  w[1] = 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0);
+  w[2] = 0.5 * (-3.0 * t3 + 4.0 * t2 + t);
+  w[3] = 0.5 * (t3 - t2);
+}
+
+// The Catmull-Rom read of `image` at the continuous position (x, y) (pixel centres at i + 0.5), or
+// false when a tap with a non-zero weight is off screen or not valid (the caller reads bilinearly
+// then). The result is kept within the range of the 2x2 texels around the position.
+template <class Valid>
+bool catmull_rom_read(const std::vector<float>& image, double x, double y, int w, int h,
+                      const Valid& valid, double* out) {
+  const double fx = x - 0.5, fy = y - 0.5;
+  const double x0 = std::floor(fx), y0 = std::floor(fy);
+  double wx[4], wy[4];
+  catmull_rom_weights(fx - x0, wx);
+  catmull_rom_weights(fy - y0, wy);
+  const int a0 = static_cast<int>(x0) - 1, b0 = static_cast<int>(y0) - 1;
+  double sum = 0.0, lo = 1e300, hi = -1e300;
+  for (int dy = 0; dy < 4; ++dy) {
+    if (wy[dy] == 0.0) continue;
+    const int b = b0 + dy;
+    for (int dx = 0; dx < 4; ++dx) {
+      if (wx[dx] == 0.0) continue;
+      const int a = a0 + dx;
+      if (a < 0 || b < 0 || a >= w || b >= h) return false;
+      const int t = b * w + a;
+      if (!valid(t)) return false;
+      const double v = image[t];
+      sum += wx[dx] * wy[dy] * v;
+      if ((dx == 1 || dx == 2) && (dy == 1 || dy == 2)) lo = std::min(lo, v), hi = std::max(hi, v);
+    }
+  }
+  *out = std::clamp(sum, lo, hi);
+  return true;
+}
+
 }  // namespace
 
 void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>& current) {
@@ -103,6 +208,11 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
   length_.assign(n, 0.0f);
   reset_.assign(n, 0);
   const TemporalSettings& s = settings_;
+  std::vector<uint8_t> covered(n, 0);
+  for (size_t p = 0; p < n; ++p) covered[p] = g.covered(p);
+  BoxStats box;
+  if (s.antilag > 0.0) box = box_stats(current, covered, g.width, g.height, s.antilag_radius);
+  const bool antilag = s.antilag > 0.0 && prev_box_.size() == n;
   for_each_pixel(g.width, g.height, [&](int i, int j) {
     const size_t p = g.index(i, j);
     if (!g.covered(p)) return;
@@ -118,9 +228,9 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
     // Reverse reprojection (step 1) and the bilinear read over valid texels (step 2).
     const double mx = moving ? g.motion[p].x : 0.0, my = moving ? g.motion[p].y : 0.0;
     const float object = g.object_id[p];
-    const BilinearTaps taps =
-        bilinear_taps(i + 0.5 - mx, j + 0.5 - my, g.width, g.height,
-                      [&](int t) { return prev_covered_[t] != 0 && prev_object_[t] == object; });
+    const auto valid = [&](int t) { return prev_covered_[t] != 0 && prev_object_[t] == object; };
+    const double qx = i + 0.5 - mx, qy = j + 0.5 - my;
+    const BilinearTaps taps = bilinear_taps(qx, qy, g.width, g.height, valid);
     if (taps.taps == 0) return start_afresh();
     double h = 0.0, m1 = 0.0, m2 = 0.0, len = 0.0;
     for (int t = 0; t < taps.taps; ++t) {
@@ -130,6 +240,19 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
       m1 += w * prev_moment1_[q];
       m2 += w * prev_moment2_[q];
       len += w * prev_length_[q];
+    }
+    double sharp = 0.0;
+    if (s.history_read == HistoryRead::catmull_rom &&
+        catmull_rom_read(history_, qx, qy, g.width, g.height, valid, &sharp))
+      h = sharp;
+    // Anti-lag (step 5b): the window means of this frame and of the raw history at q.
+    if (antilag) {
+      double hbar = 0.0;
+      for (int t = 0; t < taps.taps; ++t)
+        hbar += taps.weight[t] / taps.total * prev_box_[taps.index[t]];
+      const double d = std::abs(box.mean[p] - hbar);
+      const double tau = s.antilag * std::sqrt(box.var[p] / box.n[p]) + s.antilag_min;
+      if (d > tau) len *= (tau / d) * (tau / d);
     }
     // Neighbourhood clamp of the history (step 5).
     if (s.clamp) {
@@ -148,8 +271,10 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
   prev_moment2_ = moment2_;
   prev_length_ = length_;
   prev_object_ = g.object_id;
-  prev_covered_.assign(n, 0);
-  for (size_t p = 0; p < n; ++p) prev_covered_[p] = g.covered(p);
+  prev_covered_ = std::move(covered);
+  prev_box_.clear();
+  if (s.antilag > 0.0)
+    prev_box_ = box_stats(moment1_, prev_covered_, g.width, g.height, s.antilag_radius).mean;
 }
 
 }  // namespace aoeval

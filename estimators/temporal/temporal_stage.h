@@ -6,9 +6,16 @@
 //  1. Reprojection (reverse, as in TAA and Schied et al. 2017 §4.1): the point at pixel p was at
 //     q = p - motion(p) in frame k - 1 (the G-buffer's motion: the offset in pixels from where the
 //     point was in frame k - 1 to where it is now, CONTRACT §10; pixel centres at i + 0.5).
-//  2. Bilinear history read (scenes/bilinear_taps.h) at q over the valid history texels only: a
-//     texel of frame k - 1 is valid when it was covered and on the same object as p; the weights
-//     are renormalised over the valid ones. At an integer offset the read is exact.
+//  2. History read at q over the valid history texels only: a texel of frame k - 1 is valid when
+//     it was covered and on the same object as p. `history_read` = catmull-rom (the default of
+//     the built-in estimators) reads the value's history with the 4x4 Catmull-Rom spline (Keys
+//     1981, a = -1/2; the bicubic history read of shipped TAA, Karis 2014 "High quality temporal
+//     supersampling"), which a sub-pixel offset does not low-pass as a bilinear read does, so a
+//     history carried over many frames of motion stays sharp; the result is kept within the range
+//     of the 2x2 texels around q (no ringing, no value outside [0, 1]). Where any of the 16 taps
+//     is invalid or off screen, and for the moments and the history length, the read is bilinear
+//     (scenes/bilinear_taps.h) with the weights renormalised over the valid taps. At an integer
+//     offset both reads are exact.
 //  3. Disocclusion reset: where the G-buffer says `disoccluded` (the point was not visible in frame
 //     k - 1), where no tap is valid, at the first frame and after reset(), the pixel starts afresh:
 //     its value and moments are this frame's, its history length 1.
@@ -25,6 +32,17 @@
 //     clamp_sigma_min), mu and sigma the mean and standard deviation of this frame's raw values
 //     over the covered pixels of the (2 clamp_radius + 1)^2 window around p (3x3 by default, as in
 //     TAA). It bounds how long a stale history (a moved occluder) can last.
+//  5b. Anti-lag (history confidence; the idea of A-SVGF's temporal gradient, Schied et al. 2018,
+//     and of NRD REBLUR's anti-lag, on a low-passed signal): the mean of this frame's raw input
+//     over the covered pixels of the (2 antilag_radius + 1)^2 window around p, xbar, is compared
+//     with the same window's mean of the raw history (the first moment of frame k - 1) read at q,
+//     hbar (bilinear over valid texels). Both are equally low-passed, so the spatial structure
+//     cancels and what is left is the change of the truth plus noise. With sigma the standard
+//     deviation of the raw input in the window, n its pixel count, and tau = antilag sigma /
+//     sqrt(n) + antilag_min, a difference d = |xbar - hbar| > tau scales the history length
+//     read at q by (tau / d)^2: a shadow that moved under a surface still in view shortens the
+//     history there (the history fades faster) instead of lagging for history_limit frames.
+//     antilag = 0 turns it off.
 //  6. Moments for SVGF (Schied et al. 2017 §4.2): the first two moments of the raw input,
 //     m1 = E[x] and m2 = E[x^2], accumulated with the same alpha but never clamped (they describe
 //     the samples, not the history's value); variance = max(0, m2 - m1^2).
@@ -43,29 +61,40 @@
 
 namespace aoeval {
 
+enum class HistoryRead { bilinear, catmull_rom };
+
 struct TemporalSettings {
+  HistoryRead history_read = HistoryRead::bilinear;  // how the value's history is resampled
   int history_limit = 0;         // the longest history a pixel keeps, frames (>= 1)
   double alpha_min = 0.0;        // the smallest blend factor of the current frame, [0, 1]
   bool clamp = false;            // clamp the reprojected history to the neighbourhood's range
   double gamma = 0.0;            // half-width of that range, in standard deviations
   double clamp_sigma_min = 0.0;  // the smallest half-width, AO units
   int clamp_radius = 0;          // the window is (2 clamp_radius + 1)^2 pixels
+  double antilag = 0.0;          // anti-lag threshold, standard errors of the window mean (0: off)
+  double antilag_min = 0.0;      // the smallest anti-lag threshold, AO units
+  int antilag_radius = 0;        // the anti-lag window is (2 antilag_radius + 1)^2 pixels
 };
 
 // The defaults an estimator gives the fragment's parameters. The reference design's own are
 // TemporalDefaults{}: a 3x3 TAA clamp with gamma 1 (Salvi 2016), the D3D12 sample's minimum
 // smoothing factor 0.03, and a 32-frame cap (so alpha >= max(0.03, 1/33)).
 struct TemporalDefaults {
+  HistoryRead history_read = HistoryRead::catmull_rom;
   int history_limit = 32;
   double alpha_min = 0.03;
   bool clamp = true;
   double gamma = 1.0;
   double clamp_sigma_min = 0.0;
   int clamp_radius = 1;
+  double antilag = 0.0;
+  double antilag_min = 0.02;
+  int antilag_radius = 2;
 };
 
-// The stage's parameters, in this order: history_limit, alpha_min, clamp, gamma,
-// clamp_sigma_min, clamp_radius (names, ranges, units and meanings written here once).
+// The stage's parameters, in this order: history_read, history_limit, alpha_min, clamp, gamma,
+// clamp_sigma_min, clamp_radius, antilag, antilag_min, antilag_radius (names, ranges, units and
+// meanings written here once).
 std::vector<ParamSpec> temporal_params(const TemporalDefaults& defaults = {});
 // Reads the fragment's parameters from an estimator's resolved set.
 TemporalSettings temporal_settings(const ParamSet& params);
@@ -105,6 +134,7 @@ class TemporalAccumulator {
   // Frame k - 1, read by frame k.
   std::vector<float> history_, prev_moment1_, prev_moment2_, prev_length_, prev_object_;
   std::vector<uint8_t> prev_covered_;
+  std::vector<float> prev_box_;  // the window means of frame k - 1's raw first moment (anti-lag)
 };
 
 }  // namespace aoeval

@@ -81,8 +81,9 @@ struct Measurement {
   // its last frame's estimate, and `frames` are the rows of its frames.csv.
   bool scored = false;
   std::vector<nlohmann::json> frames;
-  std::vector<KeptFrame> kept_frames;        // kept_sequence_frames(), in order
-  std::map<int, double> rmse_excess_by_age;  // TemporalScorer::rmse_excess_by_age(), matched
+  std::vector<KeptFrame> kept_frames;          // kept_sequence_frames(), in order
+  std::map<int, double> settle_excess_by_age;  // TemporalScorer::settle_excess_by_age(), matched
+  std::map<int, double> rmse_excess_by_age;    // TemporalScorer::rmse_excess_by_age(), matched
 };
 
 // Thread-safety: measure() on one thread may run while score() of an earlier measurement runs on

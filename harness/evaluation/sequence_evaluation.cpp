@@ -228,6 +228,7 @@ void EvaluationSession::measure_sequence(Measurement& m, bool seed_per_frame) {
     return;
   }
   m.rmse_excess_by_age = matched_scores.rmse_excess_by_age();
+  m.settle_excess_by_age = matched_scores.settle_excess_by_age();
   row.metrics.update(matched_scores.scores());
   row.true_metrics.update(true_scores.scores());
   row.set_times(times);

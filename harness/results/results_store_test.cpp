@@ -228,8 +228,8 @@ TEST(ResultRow, FlatKeysAreTheColumns) {
   // The bent-normal columns (bent_metrics.h) stay blank for an estimator without bent normals, and
   // the sequence columns (scoring/temporal.h) for a still view.
   const std::vector<std::string> blank = {
-      "bent_",           "seq_",          "steady_rmse",      "temporal_rmse",
-      "converge_frames", "settle_frames", "disocclusion_rmse"};
+      "bent_",           "seq_",          "steady_rmse",       "temporal_rmse",
+      "converge_frames", "settle_frames", "disocclusion_rmse", "lag_rmse"};
   for (const auto& c : result_columns({r})) {
     bool is_blank = false;
     for (const auto& b : blank) is_blank = is_blank || c.find(b) != std::string::npos;

@@ -30,7 +30,12 @@ double TemporalScorer::add_frame(const TemporalFrame& f) {
   }
   const size_t n = static_cast<size_t>(width_) * height_;
   Sums frame;
-  std::vector<int> age(n, -1);
+  std::vector<int> age(n, -1), run(n, 0);
+  Kept now;
+  now.ref.assign(f.ref, f.ref + n);
+  now.var.assign(n, 0.0f);
+  now.err.assign(n, 0.0);
+  now.prev.assign(n, -1);
   for (int j = 0; j < height_; ++j)
     for (int i = 0; i < width_; ++i) {
       const size_t p = static_cast<size_t>(j) * width_ + i;
@@ -38,20 +43,33 @@ double TemporalScorer::add_frame(const TemporalFrame& f) {
       const double err = static_cast<double>(f.est[p]) - f.ref[p];
       const double var =
           f.ref_stderr ? static_cast<double>(f.ref_stderr[p]) * f.ref_stderr[p] : 0.0;
+      now.err[p] = err;
+      now.var[p] = static_cast<float>(var);
       frame.n += 1.0;
       frame.err2 += err * err;
       frame.noise += var;
-      if (k == 0) continue;
+      const bool disoccluded = f.disoccluded && f.disoccluded[p] > 0.5f;
+      if (k == 0) {
+        run[p] = 1;
+        continue;
+      }
       const double mx = f.motion ? f.motion[2 * p] : 0.0, my = f.motion ? f.motion[2 * p + 1] : 0.0;
       const double qx = i + 0.5 - mx, qy = j + 0.5 - my;
-      if (f.disoccluded && f.disoccluded[p] > 0.5f) {
+      if (disoccluded) {
         age[p] = 0;
       } else {
+        // The trajectory's step back: the nearest pixel of frame k - 1 (its sample positions are
+        // the pixel centres shifted by its jitter).
         const auto a = static_cast<int>(std::floor(qx - f.prev_jitter_x)),
                    b = static_cast<int>(std::floor(qy - f.prev_jitter_y));
         if (a >= 0 && b >= 0 && a < width_ && b < height_) {
-          const int before = prev_age_[static_cast<size_t>(b) * width_ + a];
+          const int q = b * width_ + a;
+          now.prev[p] = q;
+          const int before = prev_age_[q];
           age[p] = before >= 0 ? before + 1 : -1;
+          run[p] = prev_run_[q] + 1;
+        } else {
+          run[p] = 1;
         }
         const BilinearTaps taps =
             bilinear_taps(qx, qy, width_, height_, [&](int t) { return prev_compared_[t] != 0; });
@@ -79,6 +97,9 @@ double TemporalScorer::add_frame(const TemporalFrame& f) {
   if (frame.n == 0.0)
     throw InputError("sequence frame " + std::to_string(k) +
                      ": no pixel is covered in both images");
+  kept_.push_back(std::move(now));
+  if (static_cast<int>(kept_.size()) > kSettleAge + 1) kept_.erase(kept_.begin());
+  follow_trajectories(age, run);
   frame_excess_.push_back(frame.excess());
   prev_est_.assign(f.est, f.est + n);
   prev_ref_.assign(f.ref, f.ref + n);
@@ -87,7 +108,55 @@ double TemporalScorer::add_frame(const TemporalFrame& f) {
     for (size_t p = 0; p < n; ++p) prev_var_[p] = f.ref_stderr[p] * f.ref_stderr[p];
   prev_compared_.assign(f.compared, f.compared + n);
   prev_age_ = std::move(age);
+  prev_run_ = std::move(run);
   return frame_excess_.back();
+}
+
+void TemporalScorer::follow_trajectories(const std::vector<int>& age, const std::vector<int>& run) {
+  const int last = static_cast<int>(kept_.size()) - 1;  // this frame
+  const Kept& now = kept_[last];
+  int at[kSettleAge + 1];
+  for (size_t p = 0; p < age.size(); ++p) {
+    const bool settles = age[p] == kSettleAge, lags = run[p] >= kLagFrames + 1;
+    if (!settles && !lags) continue;
+    // Trace the trajectory back: at[g] is its pixel in the frame `last - (depth - g)`. Every pixel
+    // on the way was compared (an age or a run is only carried through compared pixels).
+    const int depth = settles ? kSettleAge : kLagFrames;
+    at[depth] = static_cast<int>(p);
+    for (int g = depth; g > 0; --g) at[g - 1] = kept_[last - (depth - g)].prev[at[g]];
+    if (lags) {
+      const Kept& then = kept_[last - kLagFrames];
+      const int q = at[depth - kLagFrames];
+      const double change = std::abs(static_cast<double>(now.ref[p]) - then.ref[q]);
+      if (change > 0.05 + 3.0 * std::sqrt(static_cast<double>(now.var[p]) + then.var[q])) {
+        lag_.n += 1.0;
+        lag_.err2 += now.err[p] * now.err[p];
+        lag_.noise += now.var[p];
+      }
+    }
+    if (!settles) continue;
+    bool still = true;
+    for (int g = 0; g < kSettleAge && still; ++g) {
+      const Kept& then = kept_[last - (kSettleAge - g)];
+      const double change = std::abs(static_cast<double>(now.ref[p]) - then.ref[at[g]]);
+      still = change <= 0.02 + 3.0 * std::sqrt(static_cast<double>(now.var[p]) + then.var[at[g]]);
+    }
+    if (!still) continue;
+    for (int g = 0; g <= kSettleAge; ++g) {
+      const Kept& then = kept_[last - (kSettleAge - g)];
+      const double e = then.err[at[g]];
+      settle_[g].n += 1.0;
+      settle_[g].err2 += e * e;
+      settle_[g].noise += then.var[at[g]];
+    }
+  }
+}
+
+std::map<int, double> TemporalScorer::settle_excess_by_age() const {
+  std::map<int, double> out;
+  if (settle_[0].n > 0.0)
+    for (int g = 0; g <= kSettleAge; ++g) out[g] = settle_[g].excess();
+  return out;
 }
 
 std::map<int, double> TemporalScorer::rmse_excess_by_age() const {
@@ -116,21 +185,23 @@ nlohmann::json TemporalScorer::scores(const std::string& prefix) const {
   for (int k = frames - 1; k >= 0 && frame_excess_[k] <= 1.1 * steady; --k) converge = k;
   out[prefix + "converge_frames"] = converge;
   nlohmann::json settle = nullptr;
-  for (const auto& [age, sums] : by_age_)
-    if (sums.excess() <= 1.1 * steady) {
-      settle = age;
-      break;
-    }
+  if (settle_[0].n > 0.0) {
+    Sums pooled;
+    for (int g = 9; g <= kSettleAge; ++g) pooled.add(settle_[g]);
+    settle = 9;
+    for (int g = 0; g <= 8; ++g)
+      if (settle_[g].excess() <= 1.1 * pooled.excess()) {
+        settle = g;
+        break;
+      }
+  }
   out[prefix + "settle_frames"] = settle;
   Sums recent;
   for (const auto& [age, sums] : by_age_)
-    if (age <= 3) {
-      recent.n += sums.n;
-      recent.err2 += sums.err2;
-      recent.noise += sums.noise;
-    }
+    if (age <= 3) recent.add(sums);
   out[prefix + "disocclusion_rmse_excess"] =
       recent.n > 0.0 ? nlohmann::json(recent.excess()) : nullptr;
+  out[prefix + "lag_rmse_excess"] = lag_.n > 0.0 ? nlohmann::json(lag_.excess()) : nullptr;
   return out;
 }
 

@@ -13,13 +13,25 @@
 //                             bilinear read of ref_{k-1} (= stderr_{k-1}(p - m)^2 at a pixel
 //                             centre): the flicker the estimate adds beyond the reference's noise
 //   converge_frames           the first frame k with r_j <= 1.1 steady_rmse_excess for every j >= k
-//   settle_frames             pixels grouped by their age, the frames since they were last
-//                             disoccluded (0 in the frame that disoccludes them, then carried
-//                             along the motion from the nearest pixel of frame k - 1, plus one):
-//                             the first age whose group's rmse_excess is <= 1.1 steady_rmse_excess;
-//                             null when no pixel was disoccluded (or no age group gets there)
+//   settle_frames             over trajectories (below) that stay visible from age 0 through
+//                             age 12 and whose reference stays within 0.02 + 3 sqrt(se_g^2 +
+//                             se_12^2) of its age-12 value at every age g (the truth holds still):
+//                             the smallest age g in 0..8 whose rmse_excess over those trajectories
+//                             at age g is <= 1.1 x the rmse_excess of the same trajectories pooled
+//                             over ages 9..12, and 9 if none; null when no trajectory qualifies
 //   disocclusion_rmse_excess  rmse_excess over the pixels of age 0..3 (disoccluded within the last
 //                             4 frames); null when there are none
+//   lag_rmse_excess           rmse_excess over the pixels of frames k >= 4 whose point was
+//                             visible (compared, not disoccluded) in every frame k - 4 .. k and
+//                             whose reference changed along the trajectory from frame k - 4 to k by
+//                             more than 0.05 + 3 sqrt(se_k^2 + se_{k-4}^2): the truth moved under a
+//                             surface that stayed in view (where a history lags); null when none
+// Trajectories (CONTRACT §10): a pixel of frame k follows its point back to the nearest pixel of
+// frame k - 1 at p - motion (floor of the position less frame k - 1's jitter); its age is the
+// frames since it was last disoccluded (0 in the frame that disoccludes it; frame 0's pixels and
+// those whose chain leaves the image or the compared pixels have none). A trajectory is named by
+// its last pixel and traced back through the kept frames, so the same point of an earlier frame may
+// belong to several trajectories (magnification), each counted once.
 // Keys that have no value (temporal_* of a single frame) are null. Sums are in double, pixels in
 // row order, so results do not depend on threads.
 #pragma once
@@ -54,16 +66,38 @@ class TemporalScorer {
   const std::vector<double>& frame_rmse_excess() const { return frame_excess_; }
   // rmse_excess by age since disocclusion (0, 1, 2, ...), for the report's chart.
   std::map<int, double> rmse_excess_by_age() const;
+  // rmse_excess by age 0..12 over the trajectories settle_frames pools (empty when none).
+  std::map<int, double> settle_excess_by_age() const;
+
+  static constexpr int kSettleAge = 12;  // trajectories followed from age 0 through this age
+  static constexpr int kLagFrames = 4;   // lag_rmse_excess looks back this many frames
 
  private:
   struct Sums {
     double n = 0.0, err2 = 0.0, noise = 0.0;
     double excess() const;
+    void add(const Sums& o) {
+      n += o.n;
+      err2 += o.err2;
+      noise += o.noise;
+    }
   };
+  // Adds this frame's trajectories that reach age kSettleAge or a visible run of kLagFrames + 1.
+  void follow_trajectories(const std::vector<int>& age, const std::vector<int>& run);
   int width_ = 0, height_ = 0;
   std::vector<double> frame_excess_;
   Sums temporal_;
   std::map<int, Sums> by_age_;
+  Sums settle_[kSettleAge + 1];  // by age, over the qualifying trajectories
+  Sums lag_;
+  // One kept frame, for tracing trajectories back.
+  struct Kept {
+    std::vector<float> ref, var;
+    std::vector<double> err;
+    std::vector<int> prev;  // the nearest pixel of the frame before (-1: none, not compared)
+  };
+  std::vector<Kept> kept_;     // the last kSettleAge + 1 frames, oldest first
+  std::vector<int> prev_run_;  // frames the point has stayed visible, not disoccluded, up to k - 1
   // Frame k - 1, kept for the next frame's reads.
   std::vector<float> prev_est_, prev_ref_, prev_var_;
   std::vector<uint8_t> prev_compared_;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <random>
 
 namespace aoeval {
@@ -90,7 +91,182 @@ TEST(TemporalScores, MotionReadsThePreviousFrameBilinearlyAndDisocclusionAges) {
   EXPECT_NEAR(j["temporal_rmse"].get<double>(), expected, 1e-6);
   // Disoccluded pixels exist: ages are tracked and the recent-disocclusion error is exact (0).
   EXPECT_NEAR(j["disocclusion_rmse_excess"].get<double>(), 0.0, 1e-7);
-  EXPECT_EQ(j["settle_frames"], 0);
+  // 4 frames: no trajectory is followed from its disocclusion through age 12, so settle_frames
+  // has nothing to pool (CONTRACT §10: blank when no trajectory qualifies).
+  EXPECT_TRUE(j["settle_frames"].is_null());
+}
+
+// A pattern translating right by one pixel a frame (a camera panning over a still floor): column 0
+// is disoccluded every frame, and the point at pixel i of frame k entered at frame k - i, so its
+// age is i (frame 0's points have none). The estimate's error is a function of the point's age:
+// settle_frames is read off the trajectories that the scorer follows through the motion.
+struct Pan {
+  int w = 16, h = 256, frames = 20;
+  float ref_of(int i, int j, int k) const {
+    return 0.3f + 0.02f * ((i - k + 1000) % 7) + 0.001f * j;
+  }
+};
+
+double run_pan(const Pan& pan, const std::function<float(int age, int i, int j, int k)>& err,
+               nlohmann::json* out = nullptr) {
+  TemporalScorer s;
+  for (int k = 0; k < pan.frames; ++k) {
+    Frame f = frame_of(pan.w * pan.h, 0.0f, 0.0f, 0.0f);
+    f.motion.assign(2 * pan.w * pan.h, 0.0f);
+    f.disoccluded.assign(pan.w * pan.h, 0.0f);
+    for (int j = 0; j < pan.h; ++j)
+      for (int i = 0; i < pan.w; ++i) {
+        const int p = j * pan.w + i;
+        const int age = k - i >= 1 ? i : -1;  // entered at frame k - i; frame 0's points: none
+        f.ref[p] = pan.ref_of(i, j, k);
+        f.est[p] = f.ref[p] + err(age, i, j, k);
+        if (k > 0) f.motion[2 * p] = 1.0f;
+        if (k > 0 && i == 0) f.disoccluded[p] = 1.0f;
+      }
+    s.add_frame(f.view(pan.w, pan.h));
+  }
+  if (out) *out = s.scores();
+  const auto j = s.scores();
+  return j["settle_frames"].is_null() ? -1.0 : j["settle_frames"].get<double>();
+}
+
+TEST(TemporalScores, SettleIsZeroWithoutHistoryOnAPan) {
+  // constant: a fixed value whatever the age; raytraced: independent noise every frame (its own
+  // seed, about 1 ray's spread and 4 rays'). None keeps history, so each settles at age 0.
+  const Pan pan;
+  EXPECT_EQ(run_pan(pan, [&](int, int i, int j, int k) { return 0.7f - pan.ref_of(i, j, k); }), 0);
+  for (const float spread : {0.25f, 0.125f}) {
+    std::mt19937 rng(7);
+    std::normal_distribution<float> noise(0.0f, spread);
+    EXPECT_EQ(run_pan(pan, [&](int, int, int, int) { return noise(rng); }), 0) << spread;
+  }
+}
+
+TEST(TemporalScores, SettleFollowsTheTrajectoriesThroughMotion) {
+  // The error is 0.4 for ages 0..2 and 0.1 from age 3 on (signs alternating by row so nothing
+  // cancels): settle_frames = 3 exactly. Frame 0's points (age -1) carry a large error that must
+  // not reach any trajectory; were the scorer to follow pixels instead of points, ages would mix.
+  const Pan pan;
+  nlohmann::json j;
+  run_pan(
+      pan,
+      [](int age, int, int row, int) {
+        const float sign = row % 2 ? 1.0f : -1.0f;
+        return sign * (age < 0 ? 0.9f : age < 3 ? 0.4f : 0.1f);
+      },
+      &j);
+  EXPECT_EQ(j["settle_frames"], 3);
+  // By age: 0.4 at ages 0..2, 0.1 after.
+  // (The error at age 8 and over 9..12 is 0.1: never settling would read 9.)
+  nlohmann::json never;
+  run_pan(
+      pan,
+      [](int age, int, int row, int) { return (row % 2 ? 1.0f : -1.0f) * (age < 9 ? 0.4f : 0.1f); },
+      &never);
+  EXPECT_EQ(never["settle_frames"], 9);
+}
+
+TEST(TemporalScores, SettleSkipsTrajectoriesWhoseTruthMoves) {
+  // The reference darkens along every trajectory by 0.1 over 12 frames (a shadow arriving): no
+  // trajectory has a truth that holds still, so settle_frames is blank.
+  Pan pan;
+  TemporalScorer s;
+  for (int k = 0; k < pan.frames; ++k) {
+    Frame f = frame_of(pan.w * pan.h, 0.5f, 0.5f, 0.0f);
+    f.motion.assign(2 * pan.w * pan.h, 1.0f);
+    f.disoccluded.assign(pan.w * pan.h, 0.0f);
+    for (int p = 0; p < pan.w * pan.h; ++p) {
+      f.ref[p] = 0.8f - 0.01f * k;
+      f.motion[2 * p + 1] = 0.0f;
+      if (k > 0 && p % pan.w == 0) f.disoccluded[p] = 1.0f;
+    }
+    s.add_frame(f.view(pan.w, pan.h));
+  }
+  EXPECT_TRUE(s.scores()["settle_frames"].is_null());
+  EXPECT_TRUE(s.settle_excess_by_age().empty());
+}
+
+TEST(TemporalScores, LagIsTheErrorWhereTheTruthMovedUnderAStillSurface) {
+  // A still camera over a floor; a shadow's edge sweeps right one pixel a frame: ref = 0.4 left of
+  // column k, 0.8 elsewhere. The estimate is an exponential history of the truth (alpha 0.5), so it
+  // lags behind the edge. lag_rmse_excess counts frame k's pixels whose truth changed since k - 4
+  // by more than 0.05 + 3 sqrt(se^2 + se^2): columns k - 4 .. k - 1; the rest (including a still
+  // region with a large constant error) must not count.
+  const int w = 24, h = 4, frames = 16;
+  const float se = 0.01f;
+  TemporalScorer s;
+  std::vector<float> est(w * h, 0.8f);
+  double err2 = 0.0, noise = 0.0, n = 0.0;
+  for (int k = 0; k < frames; ++k) {
+    Frame f = frame_of(w * h, 0.0f, 0.0f, se);
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i) {
+        const int p = j * w + i;
+        f.ref[p] = i < k ? 0.4f : 0.8f;
+        est[p] = k == 0 ? f.ref[p] : 0.5f * f.ref[p] + 0.5f * est[p];
+        f.est[p] = est[p] + (j == 0 ? 0.3f : 0.0f) * (i >= k);  // row 0's still part is wrong
+        const float before = i < k - 4 ? 0.4f : 0.8f;
+        if (k >= 4 && std::abs(f.ref[p] - before) > 0.05 + 3.0 * std::sqrt(2.0) * se) {
+          const double e = static_cast<double>(f.est[p]) - f.ref[p];
+          err2 += e * e;
+          noise += static_cast<double>(se) * se;
+          n += 1.0;
+        }
+      }
+    s.add_frame(f.view(w, h));
+  }
+  ASSERT_GT(n, 0.0);
+  const double expected = std::sqrt((err2 - noise) / n);
+  EXPECT_GT(expected, 0.05);
+  EXPECT_NEAR(s.scores()["lag_rmse_excess"].get<double>(), expected, 1e-9);
+  EXPECT_TRUE(s.scores()["settle_frames"].is_null()) << "nothing was disoccluded";
+}
+
+TEST(TemporalScores, LagFollowsTheSurfaceAndIsBlankOverAStillScene) {
+  // A camera panning over a floor (motion -1: the floor point under pixel i of frame k is x = i +
+  // k; the entering column at the right is disoccluded) while a shadow's edge sweeps over the floor
+  // at two points a frame (shadowed: x < 2k, so on screen i < k). Along a trajectory the truth
+  // changed between k - 4 and k where 2k - 8 <= x < 2k; a scorer that compared pixels instead of
+  // points would take columns k - 4 .. k - 1 only. The estimate has caught up (0.4) left of column
+  // k - 4: the followed set mixes errors 0 and 0.4, the wrong one sees 0.4 only.
+  const int w = 24, h = 4, frames = 16;
+  const float se = 0.01f;
+  TemporalScorer s;
+  double err2 = 0.0, noise = 0.0, n = 0.0;
+  for (int k = 0; k < frames; ++k) {
+    Frame f = frame_of(w * h, 0.0f, 0.0f, se);
+    f.motion.assign(2 * w * h, 0.0f);
+    f.disoccluded.assign(w * h, 0.0f);
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i) {
+        const int p = j * w + i, x = i + k;
+        f.ref[p] = x < 2 * k ? 0.4f : 0.8f;
+        f.est[p] = i < k - 4 ? 0.4f : 0.8f;
+        if (k > 0) f.motion[2 * p] = -1.0f;
+        if (k > 0 && i == w - 1) f.disoccluded[p] = 1.0f;
+        if (k >= 4 && (x < 2 * k) != (x < 2 * k - 8)) {
+          const double e = static_cast<double>(f.est[p]) - f.ref[p];
+          err2 += e * e;
+          noise += static_cast<double>(se) * se;
+          n += 1.0;
+        }
+      }
+    s.add_frame(f.view(w, h));
+  }
+  const double expected = std::sqrt((err2 - noise) / n);
+  EXPECT_LT(expected, 0.35) << "the followed set mixes caught-up pixels in";
+  EXPECT_NEAR(s.scores()["lag_rmse_excess"].get<double>(), expected, 1e-9);
+
+  // A still camera over a still (noisy) scene: no truth moved, the key is blank.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> jitter(-0.02f, 0.02f);
+  TemporalScorer still;
+  for (int k = 0; k < frames; ++k) {
+    Frame f = frame_of(w * h, 0.5f, 0.6f, 0.01f);
+    for (float& r : f.ref) r += jitter(rng);
+    still.add_frame(f.view(w, h));
+  }
+  EXPECT_TRUE(still.scores()["lag_rmse_excess"].is_null());
 }
 
 TEST(TemporalScores, RejectsAFrameOfAnotherSize) {

@@ -51,6 +51,12 @@ void keep_sequence(const std::string& out, const std::string& base, const SweepP
         {{"age", age},
          {"rmse_excess", std::isfinite(excess) ? nlohmann::json(excess) : nlohmann::json()}});
   manifest["rmse_excess_by_age"] = by_age;
+  nlohmann::json settle = nlohmann::json::array();  // settle_frames' trajectories, ages 0..12
+  for (const auto& [age, excess] : m.settle_excess_by_age)
+    settle.push_back(
+        {{"age", age},
+         {"rmse_excess", std::isfinite(excess) ? nlohmann::json(excess) : nlohmann::json()}});
+  manifest["settle_excess_by_age"] = settle;
   write_text((fs::path(out) / dir_rel / "sequence.json").string(), manifest.dump(1) + "\n");
   write_text((fs::path(out) / dir_rel / "frames.csv").string(), frames_csv(m.frames));
 }

@@ -39,10 +39,10 @@ int first_samples(const ResultRow& row, int repetitions) {
 }
 
 // A row's value of the objective `key`. psnr is null where the images are identical: as good as
-// psnr gets. A sequence score is null where it has no value: settle_frames when no age group got
-// within 1.1 x the steady error, which counts as the sequence's length (it had not settled when the
-// sequence ended); otherwise (nothing disoccluded, a single frame) the objective is undefined for
-// that row and the tune stops with the reason.
+// psnr gets. A sequence score is null where it has no value (settle_frames when no trajectory
+// qualifies, lag_rmse_excess when the truth moved nowhere in view, disocclusion_rmse_excess when
+// nothing was disoccluded, temporal_* of a single frame): the objective is undefined for that row
+// and the tune stops with the reason.
 double objective_of(const ResultRow& r, const nlohmann::json& m, const std::string& key,
                     const std::string& objective, const std::string& where) {
   const auto it = m.find(key);
@@ -51,13 +51,17 @@ double objective_of(const ResultRow& r, const nlohmann::json& m, const std::stri
                      (key.rfind("bent_", 0) == 0 ? " (the estimator gives no bent normal)" : ""));
   if (!it->is_null()) return it->get<double>();
   if (key == "psnr") return 999.0;
-  if (key == "settle_frames" && m.contains("disocclusion_rmse_excess") &&
-      !m["disocclusion_rmse_excess"].is_null())
-    return m.value("seq_frames", 0.0);
-  const std::string why = key == "settle_frames" || key == "disocclusion_rmse_excess"
-                              ? "no pixel was disoccluded in that sequence; tune it on a "
-                                "sequence where something moves"
-                              : "the sequence has a single frame";
+  const std::string why =
+      key == "settle_frames"
+          ? "no trajectory stayed in view for 13 frames after a disocclusion with its truth "
+            "holding still; tune it on a longer sequence where something moves"
+      : key == "disocclusion_rmse_excess"
+          ? "no pixel was disoccluded in that sequence; tune it on a sequence where something "
+            "moves"
+      : key == "lag_rmse_excess"
+          ? "the truth moved nowhere under a surface in view; tune it on a sequence with a "
+            "moving object"
+          : "the sequence has a single frame";
   throw InputError(where + ": tune.objective: " + objective + " has no value for " + r.run_name +
                    " (" + why + ")");
 }

@@ -123,7 +123,7 @@ TEST(TuneSpec, TakesEveryObjectiveKeyAndItsTrueTwin) {
   EXPECT_EQ(sequence_keys,
             std::vector<std::string>({"seq_rmse_excess", "steady_rmse_excess", "temporal_rmse",
                                       "temporal_rmse_excess", "converge_frames", "settle_frames",
-                                      "disocclusion_rmse_excess"}));
+                                      "disocclusion_rmse_excess", "lag_rmse_excess"}));
   for (const auto& key : tune_objective_keys()) {
     const bool sequence =
         std::find(sequence_keys.begin(), sequence_keys.end(), key) != sequence_keys.end();
