@@ -102,8 +102,7 @@ std::map<std::string, MetricRule> default_metric_rules() {
   // The rms errors over frames: as rmse_excess (5 % and its sigma) with the floor of one frame's
   // round-off. Flicker and disocclusion are smaller numbers measured over fewer samples: 10 %.
   // Frame counts: two frames or a quarter, whichever is more (one frame is their resolution).
-  // lag_rmse_excess and settle_frames are named so that they have rules once the metric table
-  // flags them; a key a row lacks is never judged.
+  // A key a row lacks (a still view's sequence keys, a blank lag or settle) is never judged.
   return {{"seq_rmse_excess", {.relative = 0.05, .sigmas = 3.0, .absolute = 1e-4}},
           {"steady_rmse_excess", {.relative = 0.05, .sigmas = 3.0, .absolute = 1e-4}},
           {"temporal_rmse_excess", {.relative = 0.10, .sigmas = 3.0, .absolute = 2e-4}},

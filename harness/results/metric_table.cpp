@@ -130,6 +130,7 @@ std::vector<MetricDef> build_table() {
       {.key = "settle_frames",
        .family = F::sequence,
        .better = B::lower,
+       .dashboard = true,
        .meaning = "age after a disocclusion from which trajectories whose truth holds still are "
                   "within 1.1 x their error at ages 9..12 (0..8; 9 = not by age 8)"},
       {.key = "disocclusion_rmse_excess",
@@ -140,6 +141,7 @@ std::vector<MetricDef> build_table() {
       {.key = "lag_rmse_excess",
        .family = F::sequence,
        .better = B::lower,
+       .dashboard = true,
        .meaning = "rmse_excess where the truth moved under a surface in view for 4 frames "
                   "(AO ghosting: a history that lags)"},
   };
