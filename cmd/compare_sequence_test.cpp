@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <vector>
 
 #include "base/testing/cli_test_util.h"
@@ -33,9 +34,10 @@ std::string frame_name(int k) {
   return name;
 }
 
-// A w x h AO EXR: AO = ao, A = 1 except pixel 0 (uncovered), AO_stderr = stderr when >= 0.
-void write_frame(const fs::path& path, int w, int h, float ao, float stderr_ao = -1.0f) {
-  const bool with_stderr = stderr_ao >= 0.0f;
+// A w x h AO EXR: AO = ao, A = 1 except pixel 0 (uncovered), AO_stderr = stderr when given.
+void write_frame(const fs::path& path, int w, int h, float ao,
+                 std::optional<float> stderr_ao = std::nullopt) {
+  const bool with_stderr = stderr_ao.has_value();
   OIIO::ImageSpec spec(w, h, with_stderr ? 3 : 2, OIIO::TypeDesc::FLOAT);
   spec.channelnames = with_stderr ? std::vector<std::string>{"AO", "A", "AO_stderr"}
                                   : std::vector<std::string>{"AO", "A"};
@@ -45,7 +47,7 @@ void write_frame(const fs::path& path, int w, int h, float ao, float stderr_ao =
     float* o = px + p * spec.nchannels;
     o[0] = p == 0 ? 1.0f : ao;  // the uncovered pixel's AO must not count
     o[1] = p == 0 ? 0.0f : 1.0f;
-    if (with_stderr) o[2] = stderr_ao;
+    if (with_stderr) o[2] = *stderr_ao;
   }
   fs::create_directories(path.parent_path());
   aoeval::write_exr(path.string(), image, {});
