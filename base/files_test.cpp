@@ -41,6 +41,32 @@ TEST(JsonReader, AKeyGivenTwiceIsAnErrorNamingItsPath) {
   EXPECT_EQ(error_of(R"({"a": {"a": 1}, "b": [{"a": 1}, {"a": 2}], "c": {"a": [{"a": 0}]}})"), "");
 }
 
+// Invalid JSON (NaN, Infinity: not JSON numbers) and a number no double holds name the key whose
+// value was being read, in one line with no "[json.exception...]" text.
+TEST(JsonReader, InvalidValuesNameTheirKey) {
+  EXPECT_EQ(error_of("{\"defaults\": {\"max_rmse\": NaN}}"),
+            "f.json:1:27: invalid JSON (at key defaults.max_rmse)");
+  EXPECT_EQ(error_of("{\"a\": [1, 2, Infinity]}"), "f.json:1:14: invalid JSON (at key a[2])");
+  EXPECT_EQ(error_of("{\"defaults\": {\"max_rmse\": 1e400}}"),
+            "f.json: invalid JSON at key defaults.max_rmse: number overflow parsing '1e400'");
+}
+
+// An atomic write aimed at a folder is bad input naming the path (it was a failed rename naming
+// this process's temporary), and leaves nothing behind.
+TEST(Temporaries, WritingOverAFolderIsAnInputErrorNamingIt) {
+  const fs::path d = aoeval::testutil::test_temp_dir("files") / "a-folder";
+  fs::create_directories(d);
+  for (const std::string& path : {d.string(), d.string() + "/"}) {
+    try {
+      aoeval::write_text(path, "{}");
+      ADD_FAILURE() << path << " written";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), path + ": is a folder; give the path of a file to write");
+    }
+  }
+  EXPECT_TRUE(fs::is_empty(d));
+}
+
 // A pid that ran and is gone: a child that exited and was reaped.
 pid_t dead_pid() {
   const pid_t pid = fork();

@@ -42,14 +42,7 @@ class DuplicateKeys {
     }
   }
   const std::string& found() const { return found_; }  // the path of the first duplicate, or ""
-
- private:
-  struct Frame {
-    bool object;
-    std::set<std::string> keys;
-    std::string key;
-    size_t index;
-  };
+  // Where the parser is: the key (or index) path of the value it reads now, "" at the top.
   std::string path() const {
     std::string p;
     for (const Frame& f : frames_) {
@@ -60,6 +53,14 @@ class DuplicateKeys {
     }
     return p;
   }
+
+ private:
+  struct Frame {
+    bool object;
+    std::set<std::string> keys;
+    std::string key;
+    size_t index;
+  };
   std::vector<Frame> frames_;
   std::string found_;
 };
@@ -245,12 +246,16 @@ nlohmann::json parse_json_text(const std::string& text, const std::string& name)
   try {
     result = nlohmann::json::parse(text, depth_check);
   } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(name + ":" + position(e.byte) + ": invalid JSON");
+    // NaN, Infinity, a stray comma: the position, and the key whose value was being read.
+    const std::string at = duplicates.path();
+    throw InputError(name + ":" + position(e.byte) + ": invalid JSON" +
+                     (at.empty() ? "" : " (at key " + at + ")"));
   } catch (const nlohmann::json::exception& e) {
     // out_of_range 406: a number such as 1e400 that no double holds.
     std::string what = e.what();
     if (auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
-    throw InputError(name + ": invalid JSON: " + what);
+    const std::string at = duplicates.path();
+    throw InputError(name + ": invalid JSON" + (at.empty() ? "" : " at key " + at) + ": " + what);
   }
   if (too_deep) {
     throw InputError(name + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) +

@@ -11,6 +11,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "base/errors.h"
+
 namespace aoeval {
 
 namespace fs = std::filesystem;
@@ -93,6 +95,11 @@ size_t for_each_temporary_of(const std::string& target, Fn&& fn) {
 std::string temporary_path_for(const std::string& path) {
   static std::atomic<int> counter{0};
   fs::path p(path);
+  // A folder cannot be replaced by a file: said here, before a temporary exists, rather than as a
+  // failed rename naming the temporary.
+  std::error_code ec;
+  if (p.filename().empty() || fs::is_directory(p, ec))
+    throw InputError(path + ": is a folder; give the path of a file to write");
   fs::path dir = p.parent_path();
   if (!dir.empty() && !fs::exists(dir)) fs::create_directories(dir);
   // Keep the extension last so format detection by name still works on the temporary.

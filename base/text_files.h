@@ -17,7 +17,8 @@ namespace aoeval {
 // Writes a text file atomically.
 void write_text(const std::string& path, const std::string& content);
 
-// The temporary path used for an atomic write of `path` (its folder created if missing), and the
+// The temporary path used for an atomic write of `path` (its folder created if missing; an
+// InputError naming `path` when it is a folder), and the
 // rename that commits it. Between the two the temporary is this process's open temporary (see
 // install_interrupt_cleanup); discard_temporary() removes one that will not be committed.
 std::string temporary_path_for(const std::string& path);

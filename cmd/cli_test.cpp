@@ -194,6 +194,35 @@ TEST(Cli, ReferenceTakesPowerFalloffAndRefusesABadK) {
   EXPECT_FALSE(fs::exists(never));
 }
 
+// `--frame` that is no frame number is a short parse error (CLI11's NonNegativeNumber printed
+// "not in range 0 to" a 310-digit number), and `--json` naming a folder is exit 2 naming it (it
+// was exit 1 naming this process's temporary).
+TEST(Cli, AFrameThatIsNoNumberAndAJsonThatIsAFolderExitTwo) {
+  const std::string out = (temp_dir() / "never.exr").string();
+  for (const char* command : {"gbuffer", "reference"})
+    for (const char* bad : {"two", "-1", "1.5"}) {
+      const Result r = run(std::string(command) + " --scene cornell-box --res 8x8 --frame " + bad +
+                           " -o " + out);
+      EXPECT_EQ(r.code, 2) << command << " " << bad << ": " << r.err;
+      EXPECT_EQ(lines(r.err), 1u) << r.err;
+      EXPECT_NE(r.err.find("--frame: must be a frame number (a non-negative integer), got '" +
+                           std::string(bad) + "'"),
+                std::string::npos)
+          << r.err;
+      EXPECT_LT(r.err.size(), 200u) << r.err;
+    }
+  EXPECT_FALSE(fs::exists(out));
+  const fs::path folder = temp_dir() / "json-folder";
+  fs::create_directories(folder);
+  const std::string ao = (temp_dir() / "ao.exr").string();
+  ASSERT_EQ(run("estimate --estimator constant --scene cornell-box --res 8x8 -o " + ao).code, 0);
+  const Result r = run("compare " + ao + " " + ao + " --json " + folder.string());
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find(folder.string() + ": is a folder"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find(".tmp-"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::is_empty(folder));
+}
+
 TEST(Cli, ReferenceBadOptionsExitTwo) {
   const std::string out = (temp_dir() / "never.exr").string();
   for (const char* bad : {"--falloff linear", "--sampler halton", "--weighting area", "--dmax -1",

@@ -23,7 +23,7 @@ void add_gbuffer_command(CLI::App& app) {
   cmd->add_option("--res", o.res, "resolution WIDTHxHEIGHT (default: the view's)");
   cmd->add_option("--frame", o.frame,
                   "frame K of a sequence view (CONTRACT §10): adds motion.X, motion.Y, disoccluded")
-      ->check(CLI::NonNegativeNumber);
+      ->check(frame_number_check());
   cmd->add_option("-o,--output", o.output, "output OpenEXR file")->required();
   cmd->callback([] {
     install_interrupt_cleanup();  // Ctrl-C leaves no temporary (text_files.h)

@@ -148,7 +148,7 @@ void add_reference_command(CLI::App& app) {
       ->check(CLI::Range(1, 1 << 24));
   cmd->add_option("--frame", o.frame,
                   "frame K of a sequence view (CONTRACT §10; traced with seed + K)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(frame_number_check());
   cmd->add_flag("--no-cache", o.no_cache, "neither read nor write the reference cache");
   cmd->add_option("-o,--output", o.output, "output OpenEXR file")->required();
   cmd->callback([] { run_reference(o); });

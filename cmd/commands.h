@@ -28,6 +28,20 @@ void add_dashboard_command(CLI::App& app);
 void add_merge_command(CLI::App& app);
 void add_tune_command(CLI::App& app);
 
+// `--frame K` of gbuffer and reference: digits only (a word or a sign is a parse error that says
+// so; CLI11's NonNegativeNumber printed "not in range 0 to" the largest double, 310 digits).
+// Whether the view has frame K is the scene's to say (sequence_frame).
+inline CLI::Validator frame_number_check() {
+  return CLI::Validator(
+      [](std::string& text) {
+        return !text.empty() && text.size() <= 9 &&
+                       text.find_first_not_of("0123456789") == std::string::npos
+                   ? std::string()
+                   : "must be a frame number (a non-negative integer), got '" + text + "'";
+      },
+      "FRAME");
+}
+
 // `aoeval run`'s work: the suite, its pages, and the stage breakdown stored in the run's context.
 // Also what `aoeval bench harness` times.
 struct RunOutcome {

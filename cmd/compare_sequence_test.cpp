@@ -4,14 +4,18 @@
 #include <OpenImageIO/imagebuf.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <vector>
 
 #include "base/testing/cli_test_util.h"
 #include "base/testing/test_temp_dir.h"
 #include "scenes/exr_io.h"
+#include "scenes/gbuffer.h"
 
 namespace {
 
@@ -30,9 +34,10 @@ std::string frame_name(int k) {
   return name;
 }
 
-// A w x h AO EXR: AO = ao, A = 1 except pixel 0 (uncovered), AO_stderr = stderr when >= 0.
-void write_frame(const fs::path& path, int w, int h, float ao, float stderr_ao = -1.0f) {
-  const bool with_stderr = stderr_ao >= 0.0f;
+// A w x h AO EXR: AO = ao, A = 1 except pixel 0 (uncovered), AO_stderr = stderr when given.
+void write_frame(const fs::path& path, int w, int h, float ao,
+                 std::optional<float> stderr_ao = std::nullopt) {
+  const bool with_stderr = stderr_ao.has_value();
   OIIO::ImageSpec spec(w, h, with_stderr ? 3 : 2, OIIO::TypeDesc::FLOAT);
   spec.channelnames = with_stderr ? std::vector<std::string>{"AO", "A", "AO_stderr"}
                                   : std::vector<std::string>{"AO", "A"};
@@ -42,7 +47,7 @@ void write_frame(const fs::path& path, int w, int h, float ao, float stderr_ao =
     float* o = px + p * spec.nchannels;
     o[0] = p == 0 ? 1.0f : ao;  // the uncovered pixel's AO must not count
     o[1] = p == 0 ? 0.0f : 1.0f;
-    if (with_stderr) o[2] = stderr_ao;
+    if (with_stderr) o[2] = *stderr_ao;
   }
   fs::create_directories(path.parent_path());
   aoeval::write_exr(path.string(), image, {});
@@ -125,6 +130,67 @@ TEST(CompareSequence, BadFoldersExitTwoNamingTheFile) {
       "compare " + ref + "/" + frame_name(0) + " " + est + "/" + frame_name(0) + " --static", d);
   EXPECT_EQ(still.code, 2) << still.err;
   EXPECT_NE(still.err.find("--sequence"), std::string::npos) << still.err;
+}
+
+// A w x h sequence G-buffer (coverage as write_frame's, pixel 0 uncovered) whose motion is
+// (0.25, 0) everywhere except `motion_x` at pixel (2, 1).
+void write_gbuffer(const fs::path& path, int w, int h, float motion_x) {
+  aoeval::GBuffer g;
+  g.width = w;
+  g.height = h;
+  const size_t n = g.pixel_count();
+  g.coverage.assign(n, 1.0f);
+  g.coverage[0] = 0.0f;
+  g.depth.assign(n, 1.0f);
+  g.position.assign(n, glm::vec3(0.0f, 0.0f, -1.0f));
+  g.normal.assign(n, glm::vec3(0.0f, 0.0f, 1.0f));
+  g.geometric_normal = g.normal;
+  g.object_id.assign(n, 0.0f);
+  g.motion.assign(n, glm::vec2(0.25f, 0.0f));
+  g.motion[g.index(2, 1)].x = motion_x;
+  g.disoccluded.assign(n, 0.0f);
+  fs::create_directories(path.parent_path());
+  aoeval::write_exr(path.string(), aoeval::gbuffer_to_image(g),
+                    {{"aoeval:camera", aoeval::camera_to_json(g.camera)}});
+}
+
+// Damaged frames are exit 2 naming the file and the pixel, never a score: NaN or infinite motion
+// on a covered pixel (NaN crashed the scorer, inf passed as off screen), and a reference stderr
+// that is NaN, infinite, negative or above 0.5 (each scored as perfect: rmse_excess 0). The
+// single-image compare reads references the same way.
+TEST(CompareSequence, DamagedMotionOrStderrExitsTwoNamingFileAndPixel) {
+  const fs::path d = aoeval::testutil::test_temp_dir("compare_sequence_damaged");
+  for (int k = 0; k < 3; ++k) {
+    write_frame(d / "ref" / frame_name(k), 4, 3, 0.5f, 0.01f);
+    write_frame(d / "est" / frame_name(k), 4, 3, 0.4f);
+    write_gbuffer(d / "g" / frame_name(k), 4, 3, 0.25f);
+  }
+  const std::string ref = (d / "ref").string(), est = (d / "est").string(),
+                    motion = " --motion " + (d / "g").string();
+  ASSERT_EQ(run("compare --sequence " + ref + " " + est + motion, d).code, 0);
+  auto expect_refused = [&](const std::string& args, const std::string& named) {
+    SCOPED_TRACE(args);
+    const Result r = run(args, d);
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_NE(r.err.find(named), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  };
+  const std::string g1 = (d / "g" / frame_name(1)).string();
+  for (const auto& [value, text] : std::vector<std::pair<float, std::string>>{
+           {std::nanf(""), "NaN"}, {INFINITY, "inf"}, {-INFINITY, "-inf"}}) {
+    write_gbuffer(g1, 4, 3, value);
+    expect_refused("compare --sequence " + ref + " " + est + motion,
+                   g1 + ": motion.X is " + text + " at covered pixel (2, 1)");
+  }
+  write_gbuffer(g1, 4, 3, 0.25f);
+  const std::string r2 = (d / "ref" / frame_name(2)).string();
+  for (const auto& [value, text] : std::vector<std::pair<float, std::string>>{
+           {std::nanf(""), "nan"}, {INFINITY, "inf"}, {-1.0f, "-1"}, {100.0f, "100"}}) {
+    write_frame(r2, 4, 3, 0.5f, value);
+    const std::string named = r2 + ": AO_stderr value " + text + " at pixel (1, 0)";
+    expect_refused("compare --sequence " + ref + " " + est + " --static", named);
+    expect_refused("compare " + r2 + " " + (d / "est" / frame_name(2)).string(), named);
+  }
 }
 
 // A sequence sweep keeps each point's estimate frames and their references in compare's layout

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "base/text_files.h"
 #include "drawing/plot_workers.h"
 #include "scenes/exr_io.h"
 
@@ -69,7 +70,9 @@ void render_in_new_process(const std::vector<std::pair<std::string, std::string>
   argv.push_back(nullptr);
   // plot.py writes to a temporary name in the same folder and renames, so the image is atomic too.
   const std::string& first_out = jobs.front().second;
-  const std::string log_path = first_out + ".plot.log";
+  // The log is a temporary of <image>.plot.log (base/text_files.h): what a killed run leaves is
+  // removed by the next one's remove_stale_temporaries, never taken for a file of the run.
+  const std::string log_path = temporary_path_for(first_out + ".plot.log");
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("render_plot: fork failed");
   if (pid == 0) {
@@ -91,8 +94,7 @@ void render_in_new_process(const std::vector<std::pair<std::string, std::string>
     ss << in.rdbuf();
     log_text = ss.str();
   }
-  std::error_code ignored;
-  std::filesystem::remove(log_path, ignored);
+  discard_temporary(log_path);
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
     while (!log_text.empty() && (log_text.back() == '\n' || log_text.back() == '\r'))
       log_text.pop_back();

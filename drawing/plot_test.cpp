@@ -110,6 +110,12 @@ TEST(Plot, FailuresOfThePlotterNameTheReason) {
     EXPECT_NE(std::string(e.what()).find("failed"), std::string::npos) << e.what();
   }
   unsetenv("AOEVAL_PLOT_SCRIPT");
+  // Its log was a temporary (what a killed run leaves, the next one removes) and is gone.
+  for (const auto& entry : std::filesystem::directory_iterator(temp_dir())) {
+    const std::string name = entry.path().filename().string();
+    EXPECT_EQ(name.find("fail.png.plot.log"), std::string::npos) << name;
+    EXPECT_EQ(name.find(".fail.png.plot.tmp-"), std::string::npos) << name;
+  }
 }
 
 }  // namespace

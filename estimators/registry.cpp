@@ -28,6 +28,7 @@ namespace {
 // command that asks for it by `name` (its declared name, else the folder's name).
 struct BrokenPlugin {
   std::string name, folder, error;
+  bool said = false;  // its warning printed, or held back for the error of asking for it
 };
 
 struct Registry {
@@ -74,8 +75,9 @@ void add_plugin_folder(Registry& r, const std::string& folder) {
   r.entries.push_back(plugin_estimator(m));
 }
 
-// One broken plug-in must not take the others, or the built-ins, down (issue 28): its error is a
-// warning now, naming the folder, and becomes the error of any command that asks for it.
+// One broken plug-in must not take the others, or the built-ins, down (issue 28): its error is
+// kept, to be a warning naming the folder (say_broken_plugins) or the error of a command that asks
+// for it.
 void add_plugin_folder_or_warn(Registry& r, const std::string& folder) {
   try {
     add_plugin_folder(r, folder);
@@ -84,14 +86,22 @@ void add_plugin_folder_or_warn(Registry& r, const std::string& folder) {
     for (const auto& b : r.broken)
       if (b.folder == absolute) return;  // warned once
     r.broken.push_back({plugin_name_hint(folder), absolute, e.what()});
-    std::cerr << "aoeval: warning: plug-in \"" << r.broken.back().name << "\" (" << absolute
-              << ") is skipped: " << e.what() << "\n";
   }
 }
 
-}  // namespace
+// The warnings of the broken plug-ins not yet said, except `asked`'s: a command that asks for a
+// broken plug-in says why once, as its error (find_estimator), not also as a warning before it.
+void say_broken_plugins(Registry& r, const std::string& asked) {
+  for (BrokenPlugin& b : r.broken) {
+    if (b.said) continue;
+    b.said = true;
+    if (b.name == asked) continue;
+    std::cerr << "aoeval: warning: plug-in \"" << b.name << "\" (" << b.folder
+              << ") is skipped: " << b.error << "\n";
+  }
+}
 
-const std::vector<EstimatorInfo>& estimator_registry() {
+Registry& loaded_registry() {
   Registry& r = registry_storage();
   if (!r.default_plugins_read) {
     r.default_plugins_read = true;
@@ -106,22 +116,30 @@ const std::vector<EstimatorInfo>& estimator_registry() {
       }
     }
   }
+  return r;
+}
+
+}  // namespace
+
+const std::vector<EstimatorInfo>& estimator_registry() {
+  Registry& r = loaded_registry();
+  say_broken_plugins(r, "");
   return r.entries;
 }
 
 void add_plugin_dir(const std::string& dir) {
-  estimator_registry();
-  for (const auto& folder : plugin_folders_in(dir))
-    add_plugin_folder_or_warn(registry_storage(), folder);
+  Registry& r = loaded_registry();
+  for (const auto& folder : plugin_folders_in(dir)) add_plugin_folder_or_warn(r, folder);
 }
 
 const EstimatorInfo& find_estimator(const std::string& name) {
   std::string known;
-  const std::vector<EstimatorInfo>& entries = estimator_registry();
-  for (const BrokenPlugin& b : registry_storage().broken)
+  Registry& r = loaded_registry();
+  say_broken_plugins(r, name);
+  for (const BrokenPlugin& b : r.broken)
     if (b.name == name)
       throw InputError("--estimator: plug-in \"" + name + "\" cannot be used: " + b.error);
-  for (const auto& e : entries) {
+  for (const auto& e : r.entries) {
     if (e.name == name) return e;
     known += (known.empty() ? "" : ", ") + e.name;
   }

@@ -12,8 +12,9 @@ namespace aoeval {
 
 // Built-ins, then plug-ins (CONTRACT §7): the shipped examples and $AOEVAL_PLUGINS are read on the
 // first call, --plugins folders by add_plugin_dir(). A plug-in folder that cannot be read (a bad
-// manifest, a name clash) is skipped with a warning on stderr naming it; find_estimator() of its
-// name is then an InputError quoting why (exit 2 before any work).
+// manifest, a name clash) is skipped with a warning on stderr naming it, said by the next
+// estimator_registry() or find_estimator(); find_estimator() of its name is then an InputError
+// quoting why (exit 2 before any work), not also said as a warning before it.
 const std::vector<EstimatorInfo>& estimator_registry();
 // Adds the plug-ins of `dir` (a plug-in folder or a folder of them; see plugin_registry.h). Call
 // it before taking references into the registry (commands do, while parsing --plugins).

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "base/errors.h"
+#include "base/json_reader.h"
 
 namespace aoeval {
 
@@ -110,13 +111,7 @@ RegressionConfig RegressionConfig::load(const std::string& path) {
   if (!in) throw InputError(path + ": cannot read the dashboard thresholds file");
   std::stringstream text;
   text << in.rdbuf();
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text.str());
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(path + ": not JSON: " + e.what());
-  }
-  return parse(j, path);
+  return parse(parse_json_text(text.str(), path), path);
 }
 
 Thresholds RegressionConfig::thresholds(const std::string& estimator,

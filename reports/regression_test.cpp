@@ -7,10 +7,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <random>
 #include <set>
 
 #include "base/errors.h"
+#include "base/testing/test_temp_dir.h"
 #include "harness/results/metric_table.h"
 #include "reports/regression_config.h"
 
@@ -469,6 +471,24 @@ TEST(RegressionConfig, TheShippedFileLoads) {
   const RegressionConfig c = RegressionConfig::load(default_regression_config_path());
   EXPECT_EQ(c.source(), default_regression_config_path());
   EXPECT_THROW(RegressionConfig::load("/nonexistent/dashboard.json"), InputError);
+}
+
+// A thresholds file that is not JSON (NaN) or holds a number no double holds (1e400) is one line
+// naming the file and the key, not nlohmann's "[json.exception...]" text.
+TEST(RegressionConfig, InvalidValuesNameTheFileAndKey) {
+  const std::string path = (testutil::test_temp_dir("regression_config") / "t.json").string();
+  for (const auto& [value, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"NaN", path + ":1:39: invalid JSON (at key defaults.rmse_excess_relative)"},
+           {"1e400", path + ": invalid JSON at key defaults.rmse_excess_relative: number overflow "
+                            "parsing '1e400'"}}) {
+    std::ofstream(path) << "{\"defaults\": {\"rmse_excess_relative\": " << value << "}}";
+    try {
+      RegressionConfig::load(path);
+      ADD_FAILURE() << value << " loaded";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), expected);
+    }
+  }
 }
 
 // Bent normals (regression.cpp): a fixed 2-D angular error pattern of rms D and the reference's

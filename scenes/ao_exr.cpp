@@ -43,6 +43,15 @@ AoExr ao_exr_from_image(const OIIO::ImageBuf& image, const std::string& path, bo
     if (bent) f.bent[k] = {s[bx], s[by], s[bz]};
     if (sp >= 0) f.spp[k] = s[sp];
     if (bs >= 0) f.bent_stderr[k] = s[bs];
+    if (se >= 0 && f.covered(k) &&
+        !(f.stderr_ao[k] >= 0.0f && f.stderr_ao[k] <= kMaxAoStderr + kAoRangeSlack)) {
+      char value[32];
+      std::snprintf(value, sizeof value, "%g", static_cast<double>(f.stderr_ao[k]));
+      throw InputError(path + ": AO_stderr value " + value + " at pixel (" +
+                       std::to_string(k % f.width) + ", " + std::to_string(k / f.width) +
+                       ") is outside [0, 0.5] (the standard error of a mean of values in [0, 1] "
+                       "is finite and at most 0.5)");
+    }
     if (f.covered(k) && !(f.ao[k] >= -kAoRangeSlack && f.ao[k] <= 1.0f + kAoRangeSlack)) {
       char value[32];
       std::snprintf(value, sizeof value, "%g", static_cast<double>(f.ao[k]));

@@ -18,6 +18,9 @@ namespace aoeval {
 // in someone's arithmetic (1 - sum giving 1.0000001); anything further out means the file or the
 // program holds something other than accessibility.
 inline constexpr float kAoRangeSlack = 1e-3f;
+// AO_stderr, the standard error of a mean of values in [0, 1], is at most 0.5 (the largest
+// standard deviation such values can have; sampling/ao_tracer.cpp's bound with one sample).
+inline constexpr float kMaxAoStderr = 0.5f;
 
 struct AoExr {
   std::string path;  // the file it was read from
@@ -33,8 +36,9 @@ struct AoExr {
 
 // InputError naming the file when it is missing, unreadable, or lacks AO or A (or AO_stderr when
 // `need_stderr`), and naming the pixel and its value when a covered pixel's AO is NaN, infinite,
-// or outside [0, 1] by more than kAoRangeSlack: scoring such a file would turn it into plausible
-// numbers.
+// or outside [0, 1] by more than kAoRangeSlack, or when a covered pixel's AO_stderr is NaN,
+// infinite, negative or above kMaxAoStderr (by more than the slack): scoring such a file would turn
+// it into plausible numbers (a NaN or huge stderr made rmse_excess 0, a perfect score).
 AoExr read_ao_exr(const std::string& path, bool need_stderr = false);
 // The same from an image already read from `path` (the reference cache reads a file once to
 // verify it and to use it).

@@ -215,7 +215,29 @@ GBuffer read_gbuffer(const std::string& path) {
       g.disoccluded[k] = s[dis];
     }
   }
+  check_gbuffer_values(g, path);
   return g;
+}
+
+void check_gbuffer_values(const GBuffer& g, const std::string& path) {
+  if (g.motion.empty() && g.disoccluded.empty()) return;
+  const size_t n = g.pixel_count();
+  if (g.motion.size() != n || g.disoccluded.size() != n)
+    throw InputError(path + ": motion.X/Y and disoccluded hold " + std::to_string(g.motion.size()) +
+                     " and " + std::to_string(g.disoccluded.size()) + " values for " +
+                     std::to_string(n) + " pixels");
+  auto value_text = [](float v) { return std::isnan(v) ? "NaN" : v > 0 ? "inf" : "-inf"; };
+  for (size_t k = 0; k < n; ++k) {
+    if (!g.covered(k)) continue;
+    const std::pair<const char*, float> values[] = {{"motion.X", g.motion[k].x},
+                                                    {"motion.Y", g.motion[k].y},
+                                                    {"disoccluded", g.disoccluded[k]}};
+    for (const auto& [channel, v] : values)
+      if (!std::isfinite(v))
+        throw InputError(path + ": " + channel + " is " + value_text(v) + " at covered pixel (" +
+                         std::to_string(k % g.width) + ", " + std::to_string(k / g.width) +
+                         ") (a sequence G-buffer's motion is a finite offset in pixels)");
+  }
 }
 
 }  // namespace aoeval

@@ -47,8 +47,14 @@ GBuffer render_gbuffer(const EmbreeScene& scene, const Camera& camera);
 const std::vector<std::string>& gbuffer_channel_names();
 
 OIIO::ImageBuf gbuffer_to_image(const GBuffer& g);
-// Reads a G-buffer EXR written by gbuffer_to_image (camera from its aoeval:camera attribute).
+// Reads a G-buffer EXR written by gbuffer_to_image (camera from its aoeval:camera attribute),
+// checked by check_gbuffer_values.
 GBuffer read_gbuffer(const std::string& path);
+// The values check every G-buffer reader applies (read from `path`, named in the message): on
+// covered pixels, motion.X/Y and disoccluded are finite. A NaN offset read a previous frame at an
+// undefined index (a crash in the temporal scorer), an infinite one passed as "off screen":
+// damaged input either way. InputError naming the file, the channel and the pixel.
+void check_gbuffer_values(const GBuffer& g, const std::string& path);
 
 // The aoeval:* header attributes of a G-buffer file: scene, view, camera (JSON), version.
 Attributes gbuffer_attributes(const Scene& scene, const View& view, const Camera& camera);

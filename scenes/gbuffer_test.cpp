@@ -9,8 +9,10 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <thread>
 
+#include "base/errors.h"
 #include "base/testing/test_temp_dir.h"
 #include "scenes/embree_scene.h"
 #include "scenes/gbuffer.h"
@@ -131,6 +133,48 @@ TEST(GBuffer, DeterministicAndRoundTripsThroughExr) {
   EXPECT_EQ(r.object_id, a.object_id);
   EXPECT_NEAR(r.camera.tan_half_fov_y, cam.tan_half_fov_y, 1e-6);
   EXPECT_NEAR(r.camera.forward.z, -1.0f, 1e-6);
+  std::filesystem::remove(path);
+}
+
+// Non-finite motion on a covered pixel is damaged input (a NaN offset crashed the temporal scorer,
+// an infinite one passed as "off screen"): read_gbuffer refuses it naming the file, the channel
+// and the pixel. On an uncovered pixel nothing reads it.
+TEST(GBuffer, NonFiniteMotionOnACoveredPixelIsRefusedNamingFileAndPixel) {
+  Scene s = scene_of({wall(-3.0f, 100.0f, true)});
+  EmbreeScene es(s);
+  const Camera cam = make_camera(s.views[0], 8, 6);
+  const std::string path = (aoeval::testutil::test_temp_dir("gbuffer") / "motion.exr").string();
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::nanf("");
+  struct Case {
+    int channel;  // 0 motion.X, 1 motion.Y, 2 disoccluded
+    float value;
+    const char* expected;
+  };
+  for (const Case& c : {Case{0, nan, "motion.X is NaN at covered pixel (5, 2)"},
+                        Case{1, inf, "motion.Y is inf at covered pixel (5, 2)"},
+                        Case{0, -inf, "motion.X is -inf at covered pixel (5, 2)"},
+                        Case{2, nan, "disoccluded is NaN at covered pixel (5, 2)"}}) {
+    GBuffer g = render_gbuffer(es, cam);
+    g.motion.assign(g.pixel_count(), glm::vec2(0.5f, -0.25f));
+    g.disoccluded.assign(g.pixel_count(), 0.0f);
+    const size_t k = g.index(5, 2);
+    ASSERT_TRUE(g.covered(k));
+    if (c.channel == 2)
+      g.disoccluded[k] = c.value;
+    else
+      g.motion[k][c.channel] = c.value;
+    write_exr(path, gbuffer_to_image(g), gbuffer_attributes(s, s.views[0], cam));
+    try {
+      read_gbuffer(path);
+      ADD_FAILURE() << c.expected << ": read";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(path + ": " + c.expected, 0), 0u) << e.what();
+    }
+    // The same value where nothing is covered is not read by anyone.
+    g.coverage[k] = 0.0f;
+    write_exr(path, gbuffer_to_image(g), gbuffer_attributes(s, s.views[0], cam));
+    EXPECT_EQ(read_gbuffer(path).motion.size(), g.pixel_count());
+  }
   std::filesystem::remove(path);
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <glm/geometric.hpp>
@@ -254,6 +255,42 @@ SceneObject load_object(JsonReader reader, const fs::path& scene_dir) {
   return obj;
 }
 
+// Why the camera at `eye` looking at `target` with `up` has no viewing basis ("" when it has
+// one). Checked in double precision: in float, |target - eye|^2 overflows for eyes near 1e20 and
+// a zero `up` gives a zero cross product that passed a relative test, and either made NaN rays
+// that Embree rejects with an assertion.
+std::string camera_basis_problem(glm::dvec3 eye, glm::dvec3 target, glm::dvec3 up) {
+  const glm::dvec3 fwd = target - eye;
+  const double fwd_length = glm::length(fwd), up_length = glm::length(up);
+  if (!(fwd_length > 1e-6)) return "eye and target coincide";
+  if (!(up_length > 0.0)) return "up must not be the zero vector";
+  if (!(glm::length(glm::cross(fwd / fwd_length, up / up_length)) > 1e-6))
+    return "up is parallel to the viewing direction";
+  return "";
+}
+
+std::string vec3_text(glm::vec3 v) {
+  char text[96];
+  std::snprintf(text, sizeof text, "[%g, %g, %g]", static_cast<double>(v.x),
+                static_cast<double>(v.y), static_cast<double>(v.z));
+  return text;
+}
+
+// Every frame's camera of a sequence view, as sequence_frame.cpp will build it (camera_at, linear
+// between keys): a path that passes through its target or looks along `up` between two good keys
+// would otherwise load, render frame 0 and stop a sweep at that frame.
+void check_sequence_cameras(const View& v, const JsonReader& r) {
+  for (int k = 1; k < v.sequence->frames; ++k) {
+    const CameraKey c = camera_at(*v.sequence, v.eye, v.target, k);
+    const std::string problem = camera_basis_problem(c.eye, c.target, v.up);
+    if (!problem.empty())
+      r.fail("sequence.camera", "view '" + v.name + "', frame " + std::to_string(k) +
+                                    " (between the keys): " + problem + " (eye " +
+                                    vec3_text(c.eye) + ", target " + vec3_text(c.target) + ", up " +
+                                    vec3_text(v.up) + ")");
+  }
+}
+
 View read_view(JsonReader r) {
   View v;
   v.name = r.string("name");
@@ -263,16 +300,12 @@ View read_view(JsonReader r) {
   v.fov_y_deg = static_cast<float>(r.number("fov_y_deg", 45.0, 1.0, 170.0));
   v.width = static_cast<int>(r.integer("width", 320, 1, 16384));
   v.height = static_cast<int>(r.integer("height", 240, 1, 16384));
-  // The camera basis is checked in double precision: in float, |target - eye|^2 overflows for
-  // eyes near 1e20 and a zero `up` gives a zero cross product that passed a relative test, and
-  // either made NaN rays that Embree rejects with an assertion.
-  const glm::dvec3 fwd = glm::dvec3(v.target) - glm::dvec3(v.eye);
-  const double fwd_length = glm::length(fwd), up_length = glm::length(glm::dvec3(v.up));
-  if (!(fwd_length > 1e-6)) r.fail("target", "eye and target coincide");
-  if (!(up_length > 0.0)) r.fail("up", "up must not be the zero vector");
-  if (!(glm::length(glm::cross(fwd / fwd_length, glm::dvec3(v.up) / up_length)) > 1e-6))
-    r.fail("up", "up is parallel to the viewing direction");
-  if (auto seq = r.optional_object("sequence")) v.sequence = read_sequence(*seq, v.eye, v.target);
+  const std::string problem = camera_basis_problem(v.eye, v.target, v.up);
+  if (!problem.empty()) r.fail(problem.starts_with("eye") ? "target" : "up", problem);
+  if (auto seq = r.optional_object("sequence")) {
+    v.sequence = read_sequence(*seq, v.eye, v.target);
+    check_sequence_cameras(v, r);
+  }
   r.finish();
   return v;
 }

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <vector>
 
 #include "base/errors.h"
 #include "base/testing/test_temp_dir.h"
@@ -85,6 +86,37 @@ TEST(Sequence, ErrorsNameTheField) {
   EXPECT_THROW(
       load_scene_views(write_scene("v.json", R"({"frames": 2, "objects": {"x": [{"frame": 0}]}})")),
       InputError);
+}
+
+// Every frame's camera is checked when the scene loads, not only the keys: a path through its
+// target, or one that looks along `up` between two good keys, loaded, rendered frame 0 and stopped
+// a sweep at the bad frame with a line naming nothing.
+TEST(Sequence, ACameraPathThatDegeneratesBetweenKeysIsRefusedNamingViewAndFrame) {
+  const std::string through = write_scene(
+      "through.json",
+      R"({"frames": 5, "camera": [{"frame": 4, "eye": [0, -1, -3], "target": [0, 0, 0]}]})");
+  const std::string along_up = write_scene(
+      "along_up.json",
+      R"({"frames": 9, "camera": [{"frame": 8, "eye": [0, 1, -3], "target": [0, 0, 0]}]})");
+  for (const auto& [path, expected] : std::vector<std::pair<std::string, std::string>>{
+           {through, "view 'walk', frame 2 (between the keys): eye and target coincide"},
+           {along_up,
+            "view 'walk', frame 4 (between the keys): up is parallel to the viewing direction"}}) {
+    SCOPED_TRACE(path);
+    for (const bool views_only : {false, true}) {
+      try {
+        if (views_only)
+          load_scene_views(path);
+        else
+          load_scene_file(path);
+        ADD_FAILURE() << "loaded";
+      } catch (const InputError& e) {
+        const std::string what = e.what();
+        EXPECT_EQ(what.rfind(path + ": ", 0), 0u) << what;
+        EXPECT_NE(what.find("sequence.camera: " + expected), std::string::npos) << what;
+      }
+    }
+  }
 }
 
 TEST(Sequence, HaltonJitterStaysInsideThePixel) {

@@ -236,6 +236,13 @@ class FramesProcessEstimator : public Estimator {
   static std::string check_answer(int k, const std::string& line) {
     const std::string frame = "frame " + std::to_string(k);
     const std::string expected = "{\"frame\": " + std::to_string(k) + ", \"ok\": true}";
+    // A JSON line holds no control bytes (JSON escapes them inside strings): NULs after an
+    // answer were ignored by the parser, so a damaged answer passed as a good one.
+    for (const char c : line)
+      if (static_cast<unsigned char>(c) < 0x20 && c != '\t')
+        return "answered " + frame + " with " + quote_line(line) +
+               ", which holds a control byte (" +
+               (c == '\0' ? "NUL" : "code " + std::to_string(c)) + "), not a JSON line " + expected;
     nlohmann::json a;
     try {
       a = nlohmann::json::parse(line);
@@ -247,7 +254,9 @@ class FramesProcessEstimator : public Estimator {
     if (a["frame"].get<int64_t>() != k)
       return "answered frame " + std::to_string(a["frame"].get<int64_t>()) + " to " + frame;
     if (a.contains("error")) {
-      const std::string why = a["error"].is_string() ? a["error"].get<std::string>() : "";
+      // Not a string ({"x": 1}, a number): its JSON text, so the reason is never empty.
+      const std::string why =
+          a["error"].is_string() ? a["error"].get<std::string>() : a["error"].dump();
       return "reported an error on " + frame + ": " + quote_line(why);
     }
     if (!a.contains("ok") || a["ok"] != true)

@@ -224,6 +224,22 @@ TEST(FramesProtocol, AnErrorItReportsIsQuotedWithItsStderr) {
                 {"plug-in reports reported an error on frame 0: 'no GPU': no GPU here"});
 }
 
+// An error that is not a string is quoted as its JSON (it gave an empty reason), and an answer
+// line with control bytes in it (NULs after the JSON, which the parser ignored) is refused.
+TEST(FramesProtocol, AnErrorObjectIsQuotedAndControlBytesAreRefused) {
+  expect_reason(failure_of(frames_plugin("errobject",
+                                         "    print(json.dumps({'frame': k, 'error': {'x': 1}}), "
+                                         "flush=True)\n    continue")),
+                {"plug-in errobject reported an error on frame 0: '{\"x\":1}'"});
+  expect_reason(
+      failure_of(frames_plugin("nul",
+                               "    shutil.copy('ao.exr', r['out'])\n"
+                               "    sys.stdout.write(json.dumps({'frame': k, 'ok': True}) + "
+                               "'\\0\\0\\n')\n    sys.stdout.flush()\n    continue")),
+      {"plug-in nul answered frame 0 with '{\"frame\": 0, \"ok\": true}?\?', which holds a "
+       "control byte (NUL), not a JSON line"});
+}
+
 TEST(FramesProtocol, ACrashMidSequence) {
   expect_reason(failure_of(frames_plugin("crash",
                                          "    if k == 2:\n"

@@ -11,7 +11,9 @@
 // manifest's parameters in manifest order (aoeval.params.<name>). Eye space is right-handed: x
 // right, y up, the camera looking down -z (linear depth Z = -z).
 //
-// Compile errors are InputErrors quoting the shader's file and line (exit 2). Compiled SPIR-V is
+// Compile errors are InputErrors quoting the shader's file and line (exit 2), and so is a shader
+// whose descriptors or push constants break the ABI (check_glsl_abi, on every compiled or cached
+// SPIR-V before a pipeline is built). Compiled SPIR-V is
 // cached by content (a 128-bit hash of the compiler version, the preamble and the source) in
 // <data cache>/spirv/, $AOEVAL_CACHE when set.
 #pragma once

@@ -3,11 +3,15 @@
 #include "estimators/plugins/plugin_glsl_abi.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstring>
 #include <glm/geometric.hpp>
+#include <stdexcept>
 #include <string>
 
+#include "base/errors.h"
 #include "estimators/plugins/plugin_glsl.h"
+#include "estimators/plugins/spirv_reflect.h"
 
 namespace aoeval {
 
@@ -28,6 +32,10 @@ const std::vector<VkDescriptorType> kGlslBindings = {
     // Version 3: the plug-in's own state between frames (CONTRACT §10's history, widened).
     VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,  // 11 aoeval_state
 };
+const std::vector<std::string> kGlslBindingNames = {
+    "aoeval_depth",  "aoeval_normal",      "aoeval_position", "aoeval_prev",
+    "aoeval_out",    "aoeval_bent",        "aoeval_noise",    "aoeval",
+    "aoeval_motion", "aoeval_disoccluded", "aoeval_history"};
 
 namespace {
 
@@ -146,6 +154,12 @@ std::string glsl_abi_text() {
          "row's derived column (\"warning\") when a shader compares with a constant above it,\n"
          "has a loop with no test of its own (while (true), for (;;)), or its integer parameters\n"
          "(other than seed) or their product exceed it; other bounds are not seen.\n\n"
+         "Checked before any pipeline is built: aoeval reflects each compiled shader's SPIR-V\n"
+         "and refuses (exit 2, naming the shader, the line and the binding) any descriptor that\n"
+         "is not one of the preamble's: a set other than 0, a binding above 10, another type or\n"
+         "a second variable at one of its bindings (a sampler2D, a buffer block, an image of\n"
+         "another format), and any push-constant block. The shader's own data belongs in\n"
+         "aoeval.params, its scratch in shared memory or more passes.\n\n"
          "Over time (CONTRACT §10; ABI version 2, version 1's bindings 0-7 unchanged). Over a\n"
          "sequence one instance of the plug-in runs every frame in order on one device, with that\n"
          "frame's G-buffer and camera: aoeval.frame is the frame index k (0 on a still view);\n"
@@ -171,6 +185,92 @@ std::string glsl_abi_text() {
          "centre - motion yourself, as aoeval_history.\n\n"
          "#version 450\n" +
          glsl_abi_preamble({});
+}
+
+namespace {
+
+SpirvDescriptorKind kind_of(VkDescriptorType t) {
+  switch (t) {
+    case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE:
+      return SpirvDescriptorKind::storage_image;
+    case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER:
+      return SpirvDescriptorKind::uniform_buffer;
+    default:
+      return SpirvDescriptorKind::other;
+  }
+}
+
+bool identifier_char(char c) {
+  return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+}
+
+// The first line of `source` (1-based) naming `name` as a whole word outside a // comment: GLSL
+// declares a global before any use, so that is its declaration. 0 when not found.
+int declaration_line(const std::string& source, const std::string& name) {
+  if (name.empty()) return 0;
+  int line = 1;
+  size_t start = 0;
+  while (start <= source.size()) {
+    size_t end = source.find('\n', start);
+    if (end == std::string::npos) end = source.size();
+    std::string text = source.substr(start, end - start);
+    text = text.substr(0, text.find("//"));
+    for (size_t at = text.find(name); at != std::string::npos; at = text.find(name, at + 1)) {
+      const size_t after = at + name.size();
+      if ((at == 0 || !identifier_char(text[at - 1])) &&
+          (after >= text.size() || !identifier_char(text[after])))
+        return line;
+    }
+    start = end + 1;
+    ++line;
+  }
+  return 0;
+}
+
+}  // namespace
+
+void check_glsl_abi(const std::vector<uint32_t>& spirv, const std::string& file,
+                    const std::string& source) {
+  SpirvReflection r;
+  try {
+    r = reflect_spirv(spirv);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(file + ": its compiled SPIR-V cannot be read (" + e.what() + ")");
+  }
+  const std::string see = " (see `aoeval estimators abi`)";
+  auto where = [&](const std::string& name) {
+    // Appended, not "+"-chained: GCC 12 warns falsely (-Wrestrict, PR 105329) on "x" + string.
+    std::string text = file;
+    if (const int line = declaration_line(source, name); line > 0)
+      text.append(":").append(std::to_string(line));
+    return text.append(": ");
+  };
+  if (!r.push_constants.empty()) {
+    const std::string& name = r.push_constants.front();
+    throw InputError(where(name) + "push-constant block `" + name +
+                     "`: aoeval's GLSL ABI has no push constants (parameters come in "
+                     "aoeval.params)" +
+                     see);
+  }
+  for (const SpirvDescriptor& d : r.descriptors) {
+    const std::string what = "`" + d.name + "`, " + spirv_kind_text(d.kind);
+    if (!d.has_set || !d.has_binding)
+      throw InputError(where(d.name) + what + " has no layout(set = 0, binding = N)" + see);
+    const std::string at =
+        "at set " + std::to_string(d.set) + ", binding " + std::to_string(d.binding) + ": ";
+    if (d.set != 0)
+      throw InputError(where(d.name) + what + " " + at +
+                       "aoeval's GLSL ABI binds descriptor set 0 only" + see);
+    if (d.binding >= kGlslBindings.size())
+      throw InputError(where(d.name) + what + " " + at + "aoeval's GLSL ABI has bindings 0.." +
+                       std::to_string(kGlslBindings.size() - 1) + " only" + see);
+    const std::string& owner = kGlslBindingNames[d.binding];
+    const SpirvDescriptorKind expected = kind_of(kGlslBindings[d.binding]);
+    if (d.name != owner || d.kind != expected || d.array_size != 1)
+      throw InputError(where(d.name) + what + (d.array_size != 1 ? " array" : "") + " " + at +
+                       "that binding is aoeval's " + owner + ", " + spirv_kind_text(expected) +
+                       "; declare no other variable there" + see);
+  }
 }
 
 size_t glsl_uniform_block_bytes(const PluginManifest& m) {

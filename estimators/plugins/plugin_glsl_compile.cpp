@@ -17,6 +17,7 @@
 #include "base/errors.h"
 #include "base/hash.h"
 #include "estimators/plugins/plugin_glsl.h"
+#include "estimators/plugins/plugin_glsl_abi.h"
 #include "estimators/plugins/plugin_process.h"
 #include "scenes/exr_io.h"
 
@@ -94,6 +95,7 @@ CompiledShader compile_glsl_compute(const std::string& file, const std::string& 
     out.spirv.resize(bytes / 4);
     in.read(reinterpret_cast<char*>(out.spirv.data()), static_cast<std::streamsize>(bytes & ~3u));
     if (in && bytes % 4 == 0 && local_size_of(out.spirv, out.local_size)) {
+      check_glsl_abi(out.spirv, file, source);
       out.from_cache = true;
       return out;
     }
@@ -125,6 +127,7 @@ CompiledShader compile_glsl_compute(const std::string& file, const std::string& 
   if (!local_size_of(out.spirv, out.local_size))
     throw InputError(file +
                      ": the work-group size must be literal (layout(local_size_x = ...) in)");
+  check_glsl_abi(out.spirv, file, source);
   fs::create_directories(cached.parent_path(), ec);
   std::string bytes(reinterpret_cast<const char*>(out.spirv.data()), out.spirv.size() * 4);
   try {

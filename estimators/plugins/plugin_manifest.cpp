@@ -278,7 +278,10 @@ json parse_manifest_json(const std::string& file, const std::string& text,
   try {
     j = json::parse(text, check, true, /*ignore_comments=*/true);
   } catch (const json::parse_error& e) {
-    throw InputError(file + ": not JSON: " + e.what());
+    // nlohmann's own words without its "[json.exception.parse_error.101] " tag.
+    std::string what = e.what();
+    if (const auto tag = what.find("] "); tag != std::string::npos) what = what.substr(tag + 2);
+    throw InputError(file + ": not JSON: " + what);
   } catch (const json::out_of_range&) {
     // Raised only for a number that overflows a double (406), inside the value of `last_key`.
     throw InputError(file + ": " + last_key + ": a number too large for a double");

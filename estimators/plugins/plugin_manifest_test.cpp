@@ -196,6 +196,7 @@ TEST(PluginManifest, ANameClashWithABuiltInIsAnErrorWhenUsed) {
   make_plugin(dir, edited("\"name\": \"my-ssao\"", "\"name\": \"tree-volume\""));
   testing::internal::CaptureStderr();
   add_plugin_dir(dir.string());
+  estimator_registry();  // a command that lists estimators: the warnings are said here
   const std::string warning = testing::internal::GetCapturedStderr();
   EXPECT_NE(warning.find("warning: plug-in \"tree-volume\" (" + dir.string() + ") is skipped"),
             std::string::npos)
@@ -218,6 +219,7 @@ TEST(PluginManifest, ANameClashWithABuiltInIsAnErrorWhenUsed) {
   EXPECT_EQ(find_estimator("twice").folder, a.string());
   testing::internal::CaptureStderr();
   add_plugin_dir(b.string());
+  estimator_registry();
   EXPECT_NE(testing::internal::GetCapturedStderr().find("is already the plug-in of " + a.string()),
             std::string::npos);
 }
@@ -258,6 +260,7 @@ TEST(PluginManifest, BrokenPluginsAreWarningsUntilUsed) {
   make_plugin(root / "bad-range", range);
   testing::internal::CaptureStderr();
   add_plugin_dir(root.string());
+  estimator_registry();
   const std::string err = testing::internal::GetCapturedStderr();
   for (const std::string& named : {"\"not-json\" (" + (root / "not-json").string() + ")",
                                    "\"mixed-deep\" (" + (root / "deep").string() + ")",
@@ -280,6 +283,30 @@ TEST(PluginManifest, BrokenPluginsAreWarningsUntilUsed) {
       EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
     }
   }
+}
+
+// A command that asks for a broken plug-in says why once, as its error: no warning with the same
+// text before it. Other broken plug-ins are still warned about.
+TEST(PluginManifest, AskingForABrokenPluginSaysWhyOnce) {
+  const auto root = test_temp_dir("manifest") / "asked";
+  std::filesystem::remove_all(root);
+  std::string range = edited("\"name\": \"my-ssao\"", "\"name\": \"asked-range\"");
+  range.replace(range.find("\"default\": 0.5"), 14, "\"default\": 7");
+  make_plugin(root / "asked", range);
+  make_plugin(root / "other", "{\"name\": ");
+  testing::internal::CaptureStderr();
+  add_plugin_dir(root.string());
+  std::string error;
+  try {
+    find_estimator("asked-range");
+  } catch (const InputError& e) {
+    error = e.what();
+  }
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(error.find("plug-in \"asked-range\" cannot be used: "), std::string::npos) << error;
+  EXPECT_NE(error.find("params[0].default: 7 is outside"), std::string::npos) << error;
+  EXPECT_EQ(err.find("asked-range"), std::string::npos) << err;
+  EXPECT_NE(err.find("warning: plug-in \"other\""), std::string::npos) << err;
 }
 
 TEST(PluginManifest, AFolderOfPluginsOrNoneAtAll) {

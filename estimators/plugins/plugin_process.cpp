@@ -22,6 +22,8 @@
 #include <set>
 #include <sstream>
 
+#include "base/errors.h"
+#include "base/json_reader.h"
 #include "base/version.h"
 #include "scenes/exr_io.h"
 #include "scenes/gbuffer.h"
@@ -173,9 +175,9 @@ std::string read_timing(const std::string& path, EstimateResult& r) {
   text << in.rdbuf();
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(text.str());
-  } catch (const nlohmann::json::exception& e) {
-    return "AO.exr.timing.json is not JSON (" + std::string(e.what()) + ")";
+    j = parse_json_text(text.str(), "AO.exr.timing.json");
+  } catch (const InputError& e) {
+    return e.what();  // "AO.exr.timing.json:1:15: invalid JSON (at key frame_ms[0])"
   }
   auto times = [](const nlohmann::json& a, std::vector<double>& out) {
     if (!a.is_array() || a.empty()) return false;

@@ -357,6 +357,19 @@ TEST(ProcessPlugin, AMalformedTimingFile) {
       "badtiming", "cp ao_one.exr \"$6\"\necho '{\"frame_ms\": []}' > \"$6.timing.json\"\n");
   write_ao(dir, "ao_one.exr", 32, 24, {"AO"}, [](int, int) { return 1.0f; });
   expect_reason(failure_of(dir), {"frame_ms must be a non-empty array"});
+  // Not JSON (NaN), or a number no double holds: the file and the key, not nlohmann's text.
+  for (const auto& [text, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"{\"frame_ms\": [NaN]}", "AO.exr.timing.json:1:15: invalid JSON (at key frame_ms[0])"},
+           {"{\"frame_ms\": [1e400]}",
+            "AO.exr.timing.json: invalid JSON at key frame_ms[0]: number overflow parsing "
+            "'1e400'"}}) {
+    const std::string bad = shell_plugin(
+        "badtiming", "cp ao_one.exr \"$6\"\necho '" + text + "' > \"$6.timing.json\"\n");
+    write_ao(bad, "ao_one.exr", 32, 24, {"AO"}, [](int, int) { return 1.0f; });
+    const std::string reason = failure_of(bad);
+    expect_reason(reason, {expected});
+    EXPECT_EQ(reason.find("json.exception"), std::string::npos) << reason;
+  }
 }
 
 TEST(ProcessPlugin, AStaleOutputFromAnEarlierFrameDoesNotCount) {

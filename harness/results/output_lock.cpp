@@ -53,7 +53,9 @@ OutputFolderLock::~OutputFolderLock() {
 }
 
 size_t remove_stale_temporaries(const std::string& dir) {
-  static const std::regex temporary(R"(\..+\.tmp-[0-9]+-[0-9]+(\.[A-Za-z0-9]+)?)");
+  // Temporaries, and the <image>.plot.log that a plot process killed with its run left beside
+  // the image before the log became a temporary itself (drawing/plot.cpp).
+  static const std::regex temporary(R"(\..+\.tmp-[0-9]+-[0-9]+(\.[A-Za-z0-9]+)?|.+\.plot\.log)");
   size_t removed = 0;
   std::error_code ec;
   for (auto it = fs::recursive_directory_iterator(dir, ec);

@@ -27,7 +27,8 @@ class OutputFolderLock {
 };
 
 // Removes the temporary files of interrupted atomic writes (".<stem>.tmp-<pid>-<n><ext>", see
-// temporary_path_for) anywhere under `dir`. Call it while holding the folder's lock: no other
+// temporary_path_for) anywhere under `dir`, and any "<image>.plot.log" (a killed plot process's log
+// from before it was a temporary). Call it while holding the folder's lock: no other
 // aoeval process writes there then, so every such file is left over from a killed one. Returns how
 // many were removed.
 size_t remove_stale_temporaries(const std::string& dir);

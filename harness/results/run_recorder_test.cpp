@@ -128,8 +128,13 @@ TEST(RunRecorderTest, StaleTemporariesAreRemovedFromAnExclusiveFolder) {
   const fs::path dir = fresh_dir("stale");
   const fs::path out = dir / "out";
   fs::create_directories(out / "estimates");
-  const std::vector<fs::path> stale = {out / ".results.tmp-999999-0.json",
-                                       out / "estimates" / ".p.tmp-999999-3.exr"};
+  // The plot log a killed plot process left beside its image (empty; drawing/plot.cpp) too: a
+  // resumed run must not keep it.
+  fs::create_directories(out / "sequences" / "p");
+  const std::vector<fs::path> stale = {
+      out / ".results.tmp-999999-0.json", out / "estimates" / ".p.tmp-999999-3.exr",
+      out / "sequences" / "p" / "rmse_excess.png.plot.log",
+      out / "sequences" / "p" / ".rmse_excess.png.plot.tmp-9-0.log"};
   const fs::path kept = out / "results.json.bak";
   for (const fs::path& p : stale) std::ofstream(p) << "partial";
   std::ofstream(kept) << "not a temporary";

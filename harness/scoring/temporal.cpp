@@ -54,6 +54,11 @@ double TemporalScorer::add_frame(const TemporalFrame& f) {
         continue;
       }
       const double mx = f.motion ? f.motion[2 * p] : 0.0, my = f.motion ? f.motion[2 * p + 1] : 0.0;
+      // A non-finite offset would read frame k - 1 at an undefined index (read_gbuffer refuses
+      // such files; this guards every other caller).
+      if (!std::isfinite(mx) || !std::isfinite(my))
+        throw InputError("sequence frame " + std::to_string(k) + ": motion at pixel (" +
+                         std::to_string(i) + ", " + std::to_string(j) + ") is not finite");
       const double qx = i + 0.5 - mx, qy = j + 0.5 - my;
       if (disoccluded) {
         age[p] = 0;

@@ -276,5 +276,24 @@ TEST(TemporalScores, RejectsAFrameOfAnotherSize) {
   EXPECT_ANY_THROW(s.add_frame(b.view(3, 2)));
 }
 
+// A non-finite motion vector on a compared pixel is refused, not followed: a NaN one read frame
+// k - 1 at an undefined index (a SIGSEGV in compare --sequence). read_gbuffer refuses such files
+// first; this is the guard for every other caller.
+TEST(TemporalScores, RejectsNonFiniteMotionNamingThePixel) {
+  for (const float bad : {std::nanf(""), INFINITY, -INFINITY}) {
+    TemporalScorer s;
+    Frame a = frame_of(6, 0.5f, 0.5f, 0.0f), b = frame_of(6, 0.5f, 0.5f, 0.0f);
+    s.add_frame(a.view(3, 2));
+    b.motion.assign(12, 0.0f);
+    b.motion[2 * 4 + 1] = bad;  // pixel (1, 1), y
+    try {
+      s.add_frame(b.view(3, 2));
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const std::exception& e) {
+      EXPECT_STREQ(e.what(), "sequence frame 1: motion at pixel (1, 1) is not finite");
+    }
+  }
+}
+
 }  // namespace
 }  // namespace aoeval
