@@ -35,7 +35,7 @@ const std::vector<VkDescriptorType> kGlslBindings = {
 const std::vector<std::string> kGlslBindingNames = {
     "aoeval_depth",  "aoeval_normal",      "aoeval_position", "aoeval_prev",
     "aoeval_out",    "aoeval_bent",        "aoeval_noise",    "aoeval",
-    "aoeval_motion", "aoeval_disoccluded", "aoeval_history"};
+    "aoeval_motion", "aoeval_disoccluded", "aoeval_history",  "aoeval_state"};
 
 namespace {
 
@@ -156,7 +156,7 @@ std::string glsl_abi_text() {
          "(other than seed) or their product exceed it; other bounds are not seen.\n\n"
          "Checked before any pipeline is built: aoeval reflects each compiled shader's SPIR-V\n"
          "and refuses (exit 2, naming the shader, the line and the binding) any descriptor that\n"
-         "is not one of the preamble's: a set other than 0, a binding above 10, another type or\n"
+         "is not one of the preamble's: a set other than 0, a binding above 11, another type or\n"
          "a second variable at one of its bindings (a sampler2D, a buffer block, an image of\n"
          "another format), and any push-constant block. The shader's own data belongs in\n"
          "aoeval.params, its scratch in shared memory or more passes.\n\n"

@@ -2,7 +2,7 @@
 // and a descriptor that is not the preamble's own, or a push-constant block, is an InputError
 // naming the shader file, the line and the binding. The shaders below crashed lavapipe (a
 // sampler2D at binding 10: SIGBUS; a descriptor in set 1: SIGSEGV) or ran on undefined data (a
-// storage image at binding 11, an SSBO written at binding 9, a push-constant block) before the
+// storage image past the last binding, an SSBO written at binding 9, a push-constant block) before the
 // check. No Vulkan device is needed: the check runs on the compiled words.
 #include <gtest/gtest.h>
 
@@ -92,10 +92,14 @@ INSTANTIATE_TEST_SUITE_P(
                   "  float t = imageLoad(extra, p).x;\n",
                   "`extra`, a storage image (image2D) at set 1, binding 0: aoeval's GLSL ABI "
                   "binds descriptor set 0 only"},
-        BadShader{"image_at_11",
+        BadShader{"image_at_12",
+                  "layout(set = 0, binding = 12, r32f) uniform writeonly image2D scratch;\n",
+                  "  imageStore(scratch, p, vec4(0.0));\n",
+                  "at set 0, binding 12: aoeval's GLSL ABI has bindings 0..11 only"},
+        BadShader{"r32f_image_at_11",
                   "layout(set = 0, binding = 11, r32f) uniform writeonly image2D scratch;\n",
                   "  imageStore(scratch, p, vec4(0.0));\n",
-                  "at set 0, binding 11: aoeval's GLSL ABI has bindings 0..10 only"},
+                  "at set 0, binding 11: that binding is aoeval's aoeval_state"},
         BadShader{"ssbo_at_9",
                   "layout(std430, set = 0, binding = 9) buffer Scratch { float v[]; } scratch;\n",
                   "  scratch.v[p.x] = 1.0;\n",
