@@ -31,7 +31,7 @@ struct BrokenPlugin {
 };
 
 struct Registry {
-  std::vector<EstimatorInfo> entries;
+  std::deque<EstimatorInfo> entries;  // grows; its elements never move
   std::vector<BrokenPlugin> broken = {};
   size_t builtins = 0;
   bool default_plugins_read = false;
@@ -91,7 +91,7 @@ void add_plugin_folder_or_warn(Registry& r, const std::string& folder) {
 
 }  // namespace
 
-const std::vector<EstimatorInfo>& estimator_registry() {
+const std::deque<EstimatorInfo>& estimator_registry() {
   Registry& r = registry_storage();
   if (!r.default_plugins_read) {
     r.default_plugins_read = true;
@@ -117,7 +117,7 @@ void add_plugin_dir(const std::string& dir) {
 
 const EstimatorInfo& find_estimator(const std::string& name) {
   std::string known;
-  const std::vector<EstimatorInfo>& entries = estimator_registry();
+  const std::deque<EstimatorInfo>& entries = estimator_registry();
   for (const BrokenPlugin& b : registry_storage().broken)
     if (b.name == name)
       throw InputError("--estimator: plug-in \"" + name + "\" cannot be used: " + b.error);
