@@ -175,6 +175,21 @@ glm::vec3 JsonReader::vec3(const std::string& key) {
   return v;
 }
 
+std::array<double, 2> JsonReader::number_pair(const std::string& key,
+                                              std::array<double, 2> fallback, double lo,
+                                              double hi) {
+  if (!has(key)) return fallback;
+  const auto& j = raw(key);
+  if (!j.is_array() || j.size() != 2 || !j[0].is_number() || !j[1].is_number())
+    fail(key, "expected an array of 2 numbers");
+  std::array<double, 2> v{j[0].get<double>(), j[1].get<double>()};
+  for (double d : v) {
+    if (!std::isfinite(d) || d < lo || d > hi)
+      fail(key, "each value must lie in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  }
+  return v;
+}
+
 glm::vec3 JsonReader::vec3(const std::string& key, glm::vec3 fallback) {
   return has(key) ? vec3(key) : fallback;
 }

@@ -3,6 +3,7 @@
 // the file and the field path ("scene.json: objects[2].transform.scale: expected 3 numbers").
 #pragma once
 
+#include <array>
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -34,6 +35,9 @@ class JsonReader {
                      const std::vector<std::string>& choices);
   glm::vec3 vec3(const std::string& key, glm::vec3 fallback);
   glm::vec3 vec3(const std::string& key);  // required
+  // An optional array of two numbers, each in [lo, hi] (a generator's "size": [w, d]).
+  std::array<double, 2> number_pair(const std::string& key, std::array<double, 2> fallback,
+                                    double lo, double hi);
 
   // Child readers: an object field, or each element of an array of objects.
   JsonReader object(const std::string& key);

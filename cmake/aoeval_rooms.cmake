@@ -7,7 +7,7 @@
 #     JSON reading, atomic writes, the median), never aoeval_scenes and its Embree, OIIO and assimp;
 #   - base/ (aoeval_base, the ground floor) links nothing of ours and includes only base/;
 #   - cmd/ (the `aoeval` binary) is the top floor: no source outside cmd/ includes a header of it;
-#   - only the `aoeval` binary (cli/), aoeval_figures and the reports' own tests link aoeval_reports;
+#   - only the `aoeval` binary (cmd/) and the reports' own tests link aoeval_reports;
 #   - estimators/ (the registry, every estimator folder, the Vulkan layer) never reach references/:
 #     an estimator that traces rays shares sampling/'s tracer with the ground truth instead;
 #   - an estimator room (a folder of estimators/ that makes aoeval_estimator_<folder>) neither
@@ -139,9 +139,9 @@ function(aoeval_check_rooms)
         endif()
       endforeach()
     endif()
-    if(direct AND "aoeval_reports" IN_LIST direct AND NOT t MATCHES "^(aoeval|aoeval_figures)$"
+    if(direct AND "aoeval_reports" IN_LIST direct AND NOT t STREQUAL "aoeval"
        AND NOT dir MATCHES "^${PROJECT_SOURCE_DIR}/reports")
-      list(APPEND errors "${t} links aoeval_reports: only cli/ (aoeval) and figures/ may")
+      list(APPEND errors "${t} links aoeval_reports: only cmd/ (aoeval) may")
     endif()
   endforeach()
   # base/ is the ground floor: it links none of our targets and includes nothing of ours but

@@ -14,13 +14,14 @@
 
 #include <CLI/CLI.hpp>
 #include <string>
+#include "base/resolution.h"
 
 namespace aoeval {
 
 struct PluginBenchOptions {
   std::string scene = "bunny";
   std::string view;
-  std::string res = "640x480";
+  std::string res = kDefaultBenchResolution;
   int warmup = 1;
   int repetitions = 10;
   std::string out_dir = "out/bench-plugins";

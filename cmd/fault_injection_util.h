@@ -18,6 +18,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -54,13 +55,24 @@ inline pid_t spawn_aoeval(const std::vector<std::string>& args, const fs::path& 
   return pid;
 }
 
+// The rows a sweep has recorded in its folder so far: results.json's, and those appended to its
+// journal (results.rows.jsonl) since results.json was last written whole; each run name once.
 inline size_t json_row_count(const fs::path& out) {
+  std::set<std::string> names;
   try {
     const auto j = nlohmann::json::parse(slurp(out / "results.json"));
-    return j["rows"].size();
+    for (const auto& row : j["rows"]) names.insert(row["run_name"].get<std::string>());
   } catch (const std::exception&) {
-    return 0;  // not written yet
+    // not written yet
   }
+  std::ifstream journal(out / "results.rows.jsonl");
+  std::string line;
+  while (std::getline(journal, line)) {
+    const auto row = nlohmann::json::parse(line, nullptr, false);
+    if (row.is_object() && row.contains("run_name") && row["run_name"].is_string())
+      names.insert(row["run_name"].get<std::string>());  // a line cut short is not a row
+  }
+  return names.size();
 }
 
 inline std::vector<std::string> sqlite_strings(const fs::path& db, const std::string& sql) {
@@ -92,9 +104,9 @@ inline std::vector<std::string> csv_run_names(const fs::path& csv) {
 }
 
 // How a kill loop kills: each launch is SIGKILLed once 0 to max_wait_rows new rows (uniform) are
-// in results.json, after a further 0 to max_delay_us (uniform); a launch that writes no row within
-// `polls` polls of 2 ms is killed then. The loop stops after max_kills SIGKILLs or max_launches
-// launches, or when a launch finishes on its own.
+// recorded (json_row_count), after a further 0 to max_delay_us (uniform); a launch that writes no
+// row within `polls` polls of 2 ms is killed then. The loop stops after max_kills SIGKILLs or
+// max_launches launches, or when a launch finishes on its own.
 struct KillSchedule {
   int max_kills = 0;
   int max_launches = 0;

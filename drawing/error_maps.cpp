@@ -174,7 +174,7 @@ float p99_of(const Errors& er) {
   for (size_t k = 0; k < er.e.size(); ++k)
     if (er.state[k] == Px::kValue) a.push_back(std::fabs(er.e[k]));
   if (a.empty()) return 0.0f;
-  const size_t idx = static_cast<size_t>(std::ceil(0.99 * static_cast<double>(a.size()))) - 1;
+  const size_t idx = p99_rank(a.size());
   std::nth_element(a.begin(), a.begin() + static_cast<std::ptrdiff_t>(idx), a.end());
   return a[idx];
 }
@@ -318,6 +318,28 @@ float nice_ceiling(float x) {
     for (double m : {1.0, 2.0, 2.5, 5.0})
       if (m * p >= v * (1.0 - 1e-6)) return static_cast<float>(m * p);
   return static_cast<float>(p);  // not reached: 10^(k+1) >= v is in the third decade
+}
+
+size_t p99_rank(size_t n) {
+  if (n == 0) throw std::invalid_argument("p99_rank: no values");
+  return static_cast<size_t>(std::ceil(0.99 * static_cast<double>(n))) - 1;
+}
+
+std::vector<std::array<uint8_t, 3>> colour_table(ErrorMapKind kind, int n) {
+  if (n < 2) throw std::invalid_argument("colour_table: n < 2");
+  OIIO::ImageBuf t(OIIO::ImageSpec(n, 1, 1, OIIO::TypeDesc::FLOAT));
+  auto* tp = static_cast<float*>(t.localpixels());
+  for (int i = 0; i < n; ++i) tp[i] = static_cast<float>(i) / static_cast<float>(n - 1);
+  OIIO::ImageBuf rgb = float_rgb(n, 1);
+  apply_map(rgb, t, kind == ErrorMapKind::signed_error ? diverging_map() : inferno_map());
+  // To bytes as the panels become the 8-bit canvas (OIIO's float -> uint8: round(255 v)).
+  OIIO::ImageBuf bytes(OIIO::ImageSpec(n, 1, 3, OIIO::TypeDesc::UINT8));
+  if (!bytes.copy_pixels(rgb))
+    throw std::runtime_error("colour_table: conversion failed: " + bytes.geterror());
+  const auto* b = static_cast<const uint8_t*>(bytes.localpixels());
+  std::vector<std::array<uint8_t, 3>> out(static_cast<size_t>(n));
+  for (size_t i = 0; i < out.size(); ++i) out[i] = {b[i * 3], b[i * 3 + 1], b[i * 3 + 2]};
+  return out;
 }
 
 float abs_error_p99(int w, int h, const float* ref, const float* est,

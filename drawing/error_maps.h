@@ -10,6 +10,7 @@
 
 #include <OpenImageIO/imagebuf.h>
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -56,9 +57,19 @@ OIIO::ImageBuf error_mosaic(int w, int h, const float* ref, const float* est,
 // The automatic scale: the smallest of {1, 2, 2.5, 5} x 10^k that is >= x (x <= 0 or not finite
 // gives 0.01, so a zero-error image still has a valid bar).
 float nice_ceiling(float x);
-// 99th percentile of |est - ref| over compared, finite pixels (0 when there are none).
+// 99th percentile of |est - ref| over compared, finite pixels (0 when there are none): the value
+// of rank p99_rank(n) among the n sorted |errors|.
 float abs_error_p99(int w, int h, const float* ref, const float* est,
                     const std::vector<uint8_t>& mask);
+// The percentile rule: nearest rank, ceil(0.99 n) - 1 (0-based) of n > 0 sorted values.
+size_t p99_rank(size_t n);
+
+// The two maps as tables for the pages' viewer, which colours the same errors in the browser:
+// `n` >= 2 evenly spaced coordinates t = i / (n - 1) through the map the error maps use, as 8-bit
+// sRGB. drawing/colour_maps_js.cpp writes them, with the rule above, into the viewer's
+// colour_maps.js at build time, so a viewer's colour bar and the mosaic beside it agree.
+enum class ErrorMapKind { abs, signed_error };
+std::vector<std::array<uint8_t, 3>> colour_table(ErrorMapKind kind, int n);
 
 // Where the top-left pixel of an h-pixel-high panel lies in the outputs of abs_error_map,
 // signed_error_map and ao_image; and the text size used for an image h pixels high.

@@ -32,7 +32,7 @@ struct BrokenPlugin {
 };
 
 struct Registry {
-  std::vector<EstimatorInfo> entries;
+  std::deque<EstimatorInfo> entries;  // grows; its elements never move
   std::vector<BrokenPlugin> broken = {};
   size_t builtins = 0;
   bool default_plugins_read = false;
@@ -121,7 +121,7 @@ Registry& loaded_registry() {
 
 }  // namespace
 
-const std::vector<EstimatorInfo>& estimator_registry() {
+const std::deque<EstimatorInfo>& estimator_registry() {
   Registry& r = loaded_registry();
   say_broken_plugins(r, "");
   return r.entries;

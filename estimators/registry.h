@@ -3,6 +3,7 @@
 // by accident. Adding an estimator = one add_subdirectory line and one line in registry.cpp.
 #pragma once
 
+#include <deque>
 #include <string>
 #include <vector>
 
@@ -14,8 +15,10 @@ namespace aoeval {
 // first call, --plugins folders by add_plugin_dir(). A plug-in folder that cannot be read (a bad
 // manifest, a name clash) is skipped with a warning on stderr naming it, said by the next
 // estimator_registry() or find_estimator(); find_estimator() of its name is then an InputError
-// quoting why (exit 2 before any work), not also said as a warning before it.
-const std::vector<EstimatorInfo>& estimator_registry();
+// quoting why (exit 2 before any work), not also said as a warning before it. A deque, so the
+// references and pointers to its entries that commands and runners keep stay valid while plug-ins
+// are added.
+const std::deque<EstimatorInfo>& estimator_registry();
 // Adds the plug-ins of `dir` (a plug-in folder or a folder of them; see plugin_registry.h). Call
 // it before taking references into the registry (commands do, while parsing --plugins).
 void add_plugin_dir(const std::string& dir);

@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "base/rank_test.h"
+#include "base/mann_whitney.h"
 #include "harness/results/result_row.h"
 
 namespace aoeval {

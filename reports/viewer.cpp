@@ -73,6 +73,7 @@ std::string write_viewer_assets(const std::string& page_dir) {
   for (const ViewerAsset& a : viewer_assets())
     write_if_changed(dir / a.name, std::string(a.content));
   return "<link rel=\"stylesheet\" href=\"viewer/viewer.css\">\n"
+         "<script src=\"viewer/colour_maps.js\" defer></script>\n"
          "<script src=\"viewer/viewer.js\" defer></script>\n"
          "<script src=\"viewer/report.js\" defer></script>\n";
 }

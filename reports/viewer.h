@@ -9,7 +9,7 @@
 
 namespace aoeval {
 
-// Writes viewer/viewer.js, viewer/report.js and viewer/viewer.css under `page_dir` (atomically,
+// Writes viewer/colour_maps.js, viewer.js, report.js and viewer.css under `page_dir` (atomically,
 // only when they differ) and returns the <link>/<script> tags for the page's <head>.
 std::string write_viewer_assets(const std::string& page_dir);
 

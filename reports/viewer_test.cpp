@@ -61,7 +61,8 @@ TEST(Viewer, AssetsAreBuiltIn) {
     names.insert(std::string(a.name));
     EXPECT_GT(a.content.size(), 500u) << a.name;
   }
-  EXPECT_EQ(names, (std::set<std::string>{"viewer.js", "report.js", "viewer.css"}));
+  EXPECT_EQ(names,
+            (std::set<std::string>{"viewer.js", "report.js", "viewer.css", "colour_maps.js"}));
   const fs::path dir = testutil::test_temp_dir("viewer");
   const std::string head = write_viewer_assets(dir.string());
   EXPECT_NE(head.find("viewer/viewer.js"), std::string::npos);

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "base/default_paths.h"
+#include "base/resolution.h"
 
 namespace aoeval {
 
@@ -13,7 +14,7 @@ struct EstimatorBenchOptions {
   std::vector<std::string> scenes{"bunny"};
   std::vector<std::string> estimators;  // empty = all
   std::vector<std::string> sets;        // KEY=VALUE, applied to estimators that have the key
-  std::string res = "640x480";
+  std::string res = kDefaultBenchResolution;
   int warmup = 1;
   int repetitions = 5;
   std::string out_dir = "out/bench";

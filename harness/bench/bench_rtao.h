@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "base/default_paths.h"
+#include "base/resolution.h"
 
 namespace aoeval {
 
@@ -20,7 +21,7 @@ struct RtaoBenchOptions {
   std::string estimator = "rtao";  // any estimator that keeps state (EstimatorInfo::keeps_state)
   std::string scene = "bunny";
   std::string view;  // "" = the scene's first
-  std::string res = "640x480";
+  std::string res = kDefaultBenchResolution;
   int frames = 16;
   std::vector<std::string> sets;  // KEY=VALUE for rtao
   int warmup = 1;                 // untimed sequences first

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "base/default_paths.h"
+#include "base/resolution.h"
 #include "estimators/registry.h"
 #include "estimators/vulkan/vk_context.h"
 #include "harness/bench/bench_rows.h"
@@ -24,7 +25,7 @@ namespace aoeval {
 struct TwinBenchOptions {
   std::string scene = "bunny";
   std::string view;
-  std::string res = "640x480";
+  std::string res = kDefaultBenchResolution;
   std::vector<std::string> sets;  // KEY=VALUE for the GPU estimator (gbuffer applies to it only)
   int warmup = 1;
   int repetitions = 5;

@@ -2,7 +2,7 @@
 // `--slurm` submission, of `--shard I/N` runs under GNU parallel, or of separate machines) become
 // one result set: every row exactly once, one results.csv/results.json, the rows appended to the
 // SQLite history as one run, and, for suite runs, the report a single-machine run writes
-// (cli/cmd_merge.cpp writes the pages; this room never links reports/).
+// (cmd/cmd_merge.cpp writes the pages; this room never links reports/).
 #pragma once
 
 #include <optional>

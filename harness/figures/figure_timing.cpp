@@ -2,7 +2,7 @@
 
 #include <chrono>
 
-#include "base/rank_test.h"
+#include "base/mann_whitney.h"
 #include "base/summary.h"
 #include "estimators/registry.h"
 

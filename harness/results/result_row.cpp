@@ -38,16 +38,6 @@ const std::vector<std::string>& metric_names() {
   return all_metric_keys();
 }
 
-const std::set<std::string>& fixed_columns() {
-  static const std::set<std::string> fixed = [] {
-    std::set<std::string> s;
-    for (const auto& c : identifying_columns()) s.insert(c);
-    for (const auto& c : measured_columns()) s.insert(c);
-    return s;
-  }();
-  return fixed;
-}
-
 // The column of parameter `name`: its name, or "param_" + name where it would collide with a
 // fixed column.
 std::string parameter_column(const std::string& name) {
@@ -147,6 +137,16 @@ std::vector<std::string> measured_columns() {
     columns.emplace_back(c);
   }
   return columns;
+}
+
+const std::set<std::string>& fixed_columns() {
+  static const std::set<std::string> fixed = [] {
+    std::set<std::string> s;
+    for (const auto& c : identifying_columns()) s.insert(c);
+    for (const auto& c : measured_columns()) s.insert(c);
+    return s;
+  }();
+  return fixed;
 }
 
 nlohmann::json flatten(const ResultRow& row) {

@@ -5,6 +5,7 @@
 
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,9 @@ std::vector<std::string> identifying_columns();  // run_id, run_name, estimator,
 // for still views.
 const std::vector<std::string>& sequence_metric_names();
 std::vector<std::string> measured_columns();  // metrics, true_ metrics, timings, context
+// identifying_columns() and measured_columns() as one set: every column that is not a parameter's
+// or a pass's.
+const std::set<std::string>& fixed_columns();
 
 // A file name for a run name: "raytraced/rays:16/scene:bunny" -> "raytraced__rays-16__scene-bunny".
 std::string file_stem_for(const std::string& run_name);

@@ -1,12 +1,19 @@
-// Results store: an output folder's results.csv + results.json, rewritten atomically after every
-// row (results_store.h). The run context is run_context.cpp, the writers results_writers.cpp, the
-// SQLite history results_sqlite.cpp.
+// Results store: an output folder's results.csv + results.json, written whole or appended row by
+// row with a journal (results_store.h). The run context is run_context.cpp, the writers
+// results_writers.cpp, the SQLite history results_sqlite.cpp.
 #include "harness/results/results_store.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <climits>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 
 #include "base/errors.h"
@@ -19,8 +26,9 @@ namespace fs = std::filesystem;
 
 // ---------------------------------------------------------------- output folder
 
-ResultsFolder::ResultsFolder(std::string dir, RunContext context, std::string stem)
-    : dir_(std::move(dir)), stem_(std::move(stem)), context_(std::move(context)) {}
+ResultsFolder::ResultsFolder(std::string dir, RunContext context, std::string stem,
+                             FolderWrites writes)
+    : dir_(std::move(dir)), stem_(std::move(stem)), writes_(writes), context_(std::move(context)) {}
 
 std::string ResultsFolder::csv_path() const {
   return (fs::path(dir_) / (stem_ + ".csv")).string();
@@ -28,6 +36,63 @@ std::string ResultsFolder::csv_path() const {
 std::string ResultsFolder::json_path() const {
   return (fs::path(dir_) / (stem_ + ".json")).string();
 }
+std::string ResultsFolder::journal_path() const {
+  return (fs::path(dir_) / (stem_ + ".rows.jsonl")).string();
+}
+
+namespace {
+
+// Appends `text` to `path` with one write (O_APPEND), so a kill leaves at most one partial line at
+// the end, which load_existing() knows to ignore.
+void append_text(const std::string& path, const std::string& text) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) throw std::runtime_error(path + ": cannot append: " + std::strerror(errno));
+  size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const std::string why = std::strerror(errno);
+      ::close(fd);
+      throw std::runtime_error(path + ": cannot append: " + why);
+    }
+    done += static_cast<size_t>(n);
+  }
+  if (::close(fd) != 0) throw std::runtime_error(path + ": cannot append: " + std::strerror(errno));
+}
+
+// The journal's rows in order. A last line without its newline is an append cut short by a kill:
+// left out unless it holds the whole object (its row is in SQLite, which is written first, or the
+// point runs again). Any other unreadable line is an InputError naming the file and the line.
+std::vector<ResultRow> read_journal(const std::string& path) {
+  std::vector<ResultRow> rows;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return rows;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open file");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  size_t start = 0, line = 0;
+  while (start < text.size()) {
+    size_t end = text.find('\n', start);
+    const bool cut = end == std::string::npos;
+    if (cut) end = text.size();
+    ++line;
+    const std::string where = path + ": line " + std::to_string(line);
+    const nlohmann::json flat = nlohmann::json::parse(text.substr(start, end - start), nullptr,
+                                                      /*allow_exceptions=*/false);
+    if (flat.is_discarded() || !flat.is_object()) {
+      if (cut) break;
+      throw InputError(where + ": not a results row (one JSON object a line)");
+    }
+    rows.push_back(unflatten(flat, where));
+    start = end + 1;
+  }
+  return rows;
+}
+
+}  // namespace
 
 std::vector<ResultRow> read_results_file(const std::string& path,
                                          std::optional<RunContext>* context) {
@@ -68,42 +133,66 @@ std::vector<ResultRow> read_results_file(const std::string& path,
 
 std::vector<std::string> ResultsFolder::load_existing() {
   const std::string path = json_path();
+  std::vector<ResultRow> loaded;
+  if (fs::exists(path)) loaded = read_results_file(path, &existing_context_);
+  std::vector<ResultRow> journal = read_journal(journal_path());
+  std::vector<ResultRow> held = std::move(rows_);
+  rows_.clear();
+  index_.clear();
+  columns_ = ResultColumns();
+  files_current_ = false;
   std::vector<std::string> names;
-  if (!fs::exists(path)) return names;
-  std::vector<ResultRow> loaded = read_results_file(path, &existing_context_);
-  for (const ResultRow& row : loaded) names.push_back(row.run_name);
-  for (const ResultRow& row : rows_) {  // rows added before loading stay, after the loaded ones
-    bool present = false;
-    for (const ResultRow& l : loaded) present = present || l.run_name == row.run_name;
-    if (!present) loaded.push_back(row);
-  }
-  rows_ = std::move(loaded);
+  for (std::vector<ResultRow>* from : {&loaded, &journal})
+    for (const ResultRow& row : *from)
+      if (!put(row)) names.push_back(row.run_name);
+  for (const ResultRow& row : held) merge(row);  // rows added before loading stay, after these
   return names;
 }
 
+bool ResultsFolder::put(const ResultRow& row) {
+  const auto [it, added] = index_.try_emplace(row.run_name, rows_.size());
+  if (added) {
+    rows_.push_back(row);
+  } else {
+    rows_[it->second] = row;
+  }
+  columns_.add(row);
+  return !added;
+}
+
 void ResultsFolder::merge(const ResultRow& row) {
-  for (const ResultRow& r : rows_)
-    if (r.run_name == row.run_name) return;
-  rows_.push_back(row);
+  if (!index_.count(row.run_name)) put(row);
 }
 
 void ResultsFolder::add(const ResultRow& row) {
-  bool replaced = false;
-  for (ResultRow& r : rows_) {
-    if (r.run_name == row.run_name) {
-      r = row;
-      replaced = true;
-      break;
-    }
+  const bool replaced = put(row);
+  if (writes_ == FolderWrites::whole || !files_current_) {
+    write();
+    return;
   }
-  if (!replaced) rows_.push_back(row);
-  write();
+  const nlohmann::json flat = flatten(row);
+  append_text(journal_path(), flat.dump() + "\n");
+  // A new column changes the header, a replaced row a line in the middle: the CSV is rewritten
+  // (a sweep brings its columns with its first rows; a row is replaced only when retimed).
+  const std::vector<std::string> columns = columns_.list();
+  if (replaced || columns != csv_columns_) {
+    write_text(csv_path(), results_csv(rows_));
+    csv_columns_ = columns;
+  } else {
+    append_text(csv_path(), csv_line(flat, csv_columns_) + "\n");
+  }
 }
 
-void ResultsFolder::write() const {
-  // JSON first: it is what --resume reads, so it never lags behind the CSV.
+void ResultsFolder::write() {
+  // JSON first: it is what --resume reads, so it never lags behind the CSV; the journal goes last,
+  // once the JSON holds its rows.
   write_text(json_path(), results_json(rows_, context_));
   write_text(csv_path(), results_csv(rows_));
+  csv_columns_ = columns_.list();
+  std::error_code ec;
+  fs::remove(journal_path(), ec);
+  if (ec) throw std::runtime_error(journal_path() + ": cannot remove: " + ec.message());
+  files_current_ = true;
 }
 
 }  // namespace aoeval

@@ -3,7 +3,9 @@
 // and the text writers (CSV, JSON, Markdown, console). Every writer reads the same ResultRows.
 #pragma once
 
+#include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -37,6 +39,20 @@ RunContext run_context_from_json(const nlohmann::json& j);
 // order of first appearance, then measured_columns(), then pass columns in order of first
 // appearance. The header of results.csv and the column set of the SQLite results table.
 std::vector<std::string> result_columns(const std::vector<ResultRow>& rows);
+// The same union grown one row at a time (a folder that appends rows keeps one, so the header of
+// its CSV costs nothing per row): add() returns true when the row brought a column.
+class ResultColumns {
+ public:
+  bool add(const ResultRow& row);
+  std::vector<std::string> list() const;
+
+ private:
+  std::vector<std::string> params_, passes_;
+  std::set<std::string> seen_params_, seen_passes_;
+};
+// One results.csv line (no newline) of `flat` (flatten(row)) under `columns`, as results_csv
+// writes it.
+std::string csv_line(const nlohmann::json& flat, const std::vector<std::string>& columns);
 // A sequence point's frames.csv (CONTRACT §10): one line per frame, columns frame, time_ms,
 // disoccluded_pixels, then the metric keys and true_ metric keys in results order.
 std::string frames_csv(const std::vector<nlohmann::json>& frames);
@@ -54,38 +70,65 @@ bool is_metric_column(const std::string& column);
 std::vector<ResultRow> read_results_file(const std::string& path,
                                          std::optional<RunContext>* context = nullptr);
 
-// One output folder's results: <dir>/<stem>.csv and <dir>/<stem>.json, both rewritten atomically
-// (temporary + rename) after every added row, so an interrupted run never leaves a partial row.
-// `stem` defaults to "results"; give shards of one sweep that share a folder their own stem
-// (e.g. "results.shard-1-of-4"), since each process rewrites its files whole.
+// One output folder's results: <dir>/<stem>.csv and <dir>/<stem>.json. `stem` defaults to
+// "results"; give shards of one sweep that share a folder their own stem (e.g.
+// "results.shard-1-of-4").
+//
+// How a row reaches the files (FolderWrites): `whole` rewrites both files atomically (temporary +
+// rename) after every row, which costs O(rows) per row; `append` (the runners that may record
+// 100,000 rows: sweep, suite, tune, merge) costs O(1) per row: the row is appended as one line to
+// <dir>/<stem>.csv (the file is rewritten whole only when the row brings a new column or replaces
+// an earlier row) and as one JSON line to the journal <dir>/<stem>.rows.jsonl, while
+// <stem>.json is written whole only by write() (a runner's start, resume and end) and by the
+// first row this object adds. write() removes the journal after the JSON that holds its rows, so a
+// finished run's folder holds the two files CONTRACT §4 names. A run killed between two write()s
+// leaves its rows in the journal (and in SQLite: RunRecorder commits there first);
+// load_existing() takes them back, ignoring the one partial line an append cut short.
+enum class FolderWrites { whole, append };
+
 class ResultsFolder {
  public:
-  ResultsFolder(std::string dir, RunContext context, std::string stem = "results");
-  // Loads the rows already in <dir>/<stem>.json (for --resume, read_results_file) and returns
-  // their run names; no file: none. InputError naming the file and the row when it is unreadable,
-  // not results JSON, or of a newer schema version. The folder is created by the first write.
+  ResultsFolder(std::string dir, RunContext context, std::string stem = "results",
+                FolderWrites writes = FolderWrites::whole);
+  // Loads the rows already in <dir>/<stem>.json and its journal (for --resume and merge,
+  // read_results_file; a journal row replaces the JSON's row of the same run name) and returns
+  // their run names; no file: none. InputError naming the file and the row (or journal line) when
+  // it is unreadable, not results JSON, or of a newer schema version. The folder is created by the
+  // first write.
   std::vector<std::string> load_existing();
   // The context of <dir>/<stem>.json as load_existing() found it (a resumed sweep keeps its run
   // id, so one sweep is one run however often it was interrupted); empty before loading or when
   // there was no file.
   const std::optional<RunContext>& existing_context() const { return existing_context_; }
   void set_context(const RunContext& context) { context_ = context; }
-  // Appends `row` (replacing, in place, a row with the same run_name) and rewrites both files.
+  // Appends `row` (replacing, in place, a row with the same run_name) and writes it to the files
+  // as FolderWrites says.
   void add(const ResultRow& row);
-  // Appends `row` when no row has its run_name, without rewriting the files (resume's repair).
+  // Appends `row` when no row has its run_name, without writing the files (resume's repair).
   void merge(const ResultRow& row);
-  // Rewrites both files from the rows held (JSON first, then CSV; each atomically).
-  void write() const;
+  // Rewrites both files from the rows held (JSON first, then CSV; each atomically), then removes
+  // the journal.
+  void write();
   const std::vector<ResultRow>& rows() const { return rows_; }
   const RunContext& context() const { return context_; }
   std::string csv_path() const;
   std::string json_path() const;
+  std::string journal_path() const;
 
  private:
+  // rows_ grown by `row` (or its run_name's row replaced): true when replaced.
+  bool put(const ResultRow& row);
   std::string dir_, stem_;
+  FolderWrites writes_;
   RunContext context_;
   std::optional<RunContext> existing_context_;
   std::vector<ResultRow> rows_;
+  std::map<std::string, size_t> index_;  // run_name -> position in rows_
+  ResultColumns columns_;                // of rows_
+  // Whether this object wrote the files since it holds rows_ (so an append continues them), and
+  // the CSV header it wrote.
+  bool files_current_ = false;
+  std::vector<std::string> csv_columns_;
 };
 
 // The SQLite history (results_sqlite.cpp; default out/results.sqlite), shared by every run and by

@@ -7,7 +7,9 @@
 #include "harness/results/stage_times.h"
 
 #include <gtest/gtest.h>
+
 #include <sqlite3.h>
+#include <chrono>
 
 #include <algorithm>
 #include <cstdlib>
@@ -180,8 +182,19 @@ TEST(StageTimes, SumsByStageInFirstUseOrderAndCountsTheEstimatorsShare) {
   const std::string table = t.table(20.0);
   EXPECT_NE(table.find("other (untimed)"), std::string::npos) << table;
   EXPECT_NE(table.find(" 35.0 %  (estimator share of wall time)"), std::string::npos) << table;
-  { const auto timer = u.time("timed scope"); }
-  EXPECT_GE(u.ms("timed scope"), 0.0);
+  // A scope adds the time it lived: at least the 2 ms it waited out on the clock it reads, at
+  // most the time around it (no bound depends on how fast the machine is).
+  using Clock = std::chrono::steady_clock;
+  const auto outer = Clock::now();
+  {
+    const auto timer = u.time("timed scope");
+    const auto inner = Clock::now();
+    while (Clock::now() - inner < std::chrono::milliseconds(2)) {
+    }
+  }
+  const double around = std::chrono::duration<double, std::milli>(Clock::now() - outer).count();
+  EXPECT_GE(u.ms("timed scope"), 2.0);
+  EXPECT_LE(u.ms("timed scope"), around);
   EXPECT_TRUE(u.to_json().contains("timed scope"));
 }
 

@@ -15,16 +15,6 @@ namespace aoeval {
 
 namespace {
 
-const std::set<std::string>& fixed_set() {
-  static const std::set<std::string> fixed = [] {
-    std::set<std::string> s;
-    for (const auto& c : identifying_columns()) s.insert(c);
-    for (const auto& c : measured_columns()) s.insert(c);
-    return s;
-  }();
-  return fixed;
-}
-
 void append_unique(std::vector<std::string>& out, std::set<std::string>& seen,
                    const std::string& c) {
   if (seen.insert(c).second) out.push_back(c);
@@ -101,22 +91,30 @@ bool is_metric_column(const std::string& column) {
   return metrics.count(column) > 0;
 }
 
-std::vector<std::string> result_columns(const std::vector<ResultRow>& rows) {
+bool ResultColumns::add(const ResultRow& row) {
+  const size_t before = params_.size() + passes_.size();
+  const nlohmann::json flat = flatten(row);  // kept alive: items() does not own it
+  for (const auto& item : flat.items()) {
+    if (fixed_columns().count(item.key()) || row.pass_ms.count(item.key())) continue;
+    append_unique(params_, seen_params_, item.key());
+  }
+  for (const auto& [pass, ms] : row.pass_ms) append_unique(passes_, seen_passes_, pass);
+  return params_.size() + passes_.size() != before;
+}
+
+std::vector<std::string> ResultColumns::list() const {
   std::vector<std::string> out = identifying_columns();
   std::set<std::string> seen(out.begin(), out.end());
-  std::vector<std::string> passes;
-  std::set<std::string> seen_passes;
-  for (const ResultRow& row : rows) {
-    const nlohmann::json flat = flatten(row);  // kept alive: items() does not own it
-    for (const auto& item : flat.items()) {
-      if (fixed_set().count(item.key()) || row.pass_ms.count(item.key())) continue;
-      append_unique(out, seen, item.key());
-    }
-    for (const auto& [pass, ms] : row.pass_ms) append_unique(passes, seen_passes, pass);
-  }
+  for (const auto& c : params_) append_unique(out, seen, c);
   for (const auto& c : measured_columns()) append_unique(out, seen, c);
-  for (const auto& c : passes) append_unique(out, seen, c);
+  for (const auto& c : passes_) append_unique(out, seen, c);
   return out;
+}
+
+std::vector<std::string> result_columns(const std::vector<ResultRow>& rows) {
+  ResultColumns columns;
+  for (const ResultRow& row : rows) columns.add(row);
+  return columns.list();
 }
 
 // ---------------------------------------------------------------- writers
@@ -144,23 +142,25 @@ std::string csv_cell(const nlohmann::json& v, const std::string& column) {
 }
 }  // namespace
 
+std::string csv_line(const nlohmann::json& flat, const std::vector<std::string>& columns) {
+  std::string out;
+  for (size_t i = 0; i < columns.size(); ++i) {
+    if (i) out += ',';  // appends, not "," + string: GCC 12 warns falsely (-Wrestrict, PR 105329)
+    const auto it = flat.find(columns[i]);
+    if (it != flat.end()) out += csv_cell(*it, columns[i]);
+  }
+  return out;
+}
+
 std::string results_csv(const std::vector<ResultRow>& rows) {
   const std::vector<std::string> columns = result_columns(rows);
   std::string out;
   for (size_t i = 0; i < columns.size(); ++i) {
-    if (i) out += ',';  // appends, not "," + string: GCC 12 warns falsely (-Wrestrict, PR 105329)
+    if (i) out += ',';
     out += csv_cell(columns[i], "");
   }
   out += "\n";
-  for (const ResultRow& row : rows) {
-    const nlohmann::json flat = flatten(row);
-    for (size_t i = 0; i < columns.size(); ++i) {
-      if (i) out += ",";
-      const auto it = flat.find(columns[i]);
-      if (it != flat.end()) out += csv_cell(*it, columns[i]);
-    }
-    out += "\n";
-  }
+  for (const ResultRow& row : rows) out += csv_line(flatten(row), columns) + "\n";
   return out;
 }
 

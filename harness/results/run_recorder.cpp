@@ -22,7 +22,8 @@ RunRecorder::RunRecorder(const std::string& out_dir, const std::string& database
     : out_dir_(out_dir),
       store_(after_checking(out_dir, database)),
       context_(make_run_context(command)),
-      folder_(out_dir, context_) {
+      folder_(out_dir, context_, "results",
+              access == FolderAccess::exclusive ? FolderWrites::append : FolderWrites::whole) {
   if (access == FolderAccess::exclusive) {
     lock_.emplace(out_dir);
     remove_stale_temporaries(out_dir);

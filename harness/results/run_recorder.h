@@ -12,9 +12,12 @@
 //  3. a runner that resumes writes results.json (with the run context, possibly no rows) before
 //     any row reaches the database (write_files()), so the run id is on disk before it is used: a
 //     resume keeps it, and one run is one run in the history however often it was interrupted;
-//  4. each row is committed to SQLite first, then the files derived from it are rewritten
-//     (atomically). A kill between the two leaves the row in SQLite only; resume() takes it back
-//     from there into the files instead of running the point again.
+//  4. each row is committed to SQLite first, then the files derived from it are written: in an
+//     exclusive folder appended (results.csv and the journal results.rows.jsonl, O(1) a row;
+//     ResultsFolder, FolderWrites::append), results.json being rewritten whole only by
+//     write_files() at the runner's start, resume and end; in a shared one rewritten whole. A kill
+//     between the two leaves the row in SQLite only; resume() takes it back from there into the
+//     files instead of running the point again.
 #pragma once
 
 #include <optional>
@@ -31,11 +34,10 @@ namespace aoeval {
 enum class FolderAccess {
   // One writer: <out>/.aoeval.lock held for the recorder's life (a second process given the same
   // folder gets an InputError naming the holder), and the temporaries of killed writes removed.
-  // The runners that rewrite results.json after every row and may resume: sweep, suite, tune,
-  // merge.
+  // The runners that append their rows and may resume: sweep, suite, tune, merge.
   exclusive,
-  // No lock, nothing removed: `aoeval bench`, which writes its few timing rows at the end of a
-  // measurement and never resumes.
+  // No lock, nothing removed, the files rewritten whole after each row: `aoeval bench`, which
+  // writes its few timing rows at the end of a measurement and never resumes.
   shared,
 };
 
@@ -64,7 +66,9 @@ class RunRecorder {
   // SQLite are added to it. No results.json: nothing loaded, the fresh context kept. Writes
   // nothing itself: call write_files() and register_run() after it.
   void resume();
-  // Rewrites results.json and results.csv from the rows held and the context (atomically).
+  // Rewrites results.json and results.csv from the rows held and the context (atomically), and
+  // removes the journal: every runner calls it when it ends (interrupted or not), so a finished
+  // folder's results.json holds every row.
   void write_files();
   // Adds the run (its context) to the history's runs table, replacing an earlier entry of its id.
   void register_run();
@@ -72,9 +76,9 @@ class RunRecorder {
   // The row with the run's identity: run_id, machine and git_commit from the context, and the
   // context's device where the row names none (CPU estimators leave it to the runner).
   ResultRow stamped(ResultRow row) const;
-  // stamped(row) committed to SQLite, then to the files (rewritten whole, replacing a row of the
-  // same run_name); returns the stamped row. With `stages`, the two writes are timed as "results
-  // SQLite" and "results CSV + JSON".
+  // stamped(row) committed to SQLite, then to the files (appended or rewritten, as FolderAccess
+  // says; a row of the same run_name replaced); returns the stamped row. With `stages`, the two
+  // writes are timed as "results SQLite" and "results CSV + JSON".
   ResultRow record(ResultRow row, StageTimes* stages = nullptr);
   // Rows that already carry their identity (merge: each keeps the machine, device and commit of
   // the shard that measured it; the caller sets their run_id): appended to the files as they are,

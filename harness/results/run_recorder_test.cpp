@@ -69,7 +69,9 @@ TEST(RunRecorderTest, RowsAreStampedWithTheContext) {
   EXPECT_EQ(a.device, c.device);
   EXPECT_EQ(b.device, "a GPU");
 
-  // The files and the store hold the stamped rows, and the store knows the run.
+  // The files (results.json once the runner ends) and the store hold the stamped rows, and the
+  // store knows the run.
+  recorder.write_files();
   std::optional<RunContext> on_disk;
   const std::vector<ResultRow> files =
       read_results_file((dir / "out" / "results.json").string(), &on_disk);
@@ -186,6 +188,7 @@ TEST(RunRecorderTest, AResumedRunKeepsItsRunIdAndDuplicatesNoRow) {
   again.record(row_named("b", 0.2));
   again.record(row_named("e"));
 
+  again.write_files();
   const std::vector<ResultRow> files = read_results_file((fs::path(out) / "results.json").string());
   EXPECT_EQ(names(files), (std::vector<std::string>{"a", "b", "d", "c", "e"}));
   EXPECT_EQ(files[1].metrics["rmse"], 0.2);
@@ -194,6 +197,71 @@ TEST(RunRecorderTest, AResumedRunKeepsItsRunIdAndDuplicatesNoRow) {
   std::multiset<std::string> stored;
   for (const ResultRow& r : store.rows_of_run(run_id)) stored.insert(r.run_name);
   EXPECT_EQ(stored, (std::multiset<std::string>{"a", "b", "c", "d", "e"}));
+}
+
+std::string read_all(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// An exclusive folder appends each row (O(1) a row): results.json is not rewritten until the
+// runner's write_files(), the CSV appended is the CSV a whole write gives (also when a row brings
+// a column or replaces a row), and a run killed between two write_files() loses no row: the
+// journal gives them back, even without SQLite (another --db), a last line cut short left out.
+TEST(RunRecorderTest, AppendedRowsAreKeptByTheJournalThroughAKill) {
+  const fs::path dir = fresh_dir("journal");
+  const fs::path out = dir / "out";
+  const fs::path json = out / "results.json", csv = out / "results.csv",
+                 journal = out / "results.rows.jsonl";
+  std::string run_id;
+  {
+    RunRecorder first(out.string(), (dir / "a.sqlite").string(), "sweep j",
+                      FolderAccess::exclusive);
+    first.write_files();
+    run_id = first.context().run_id;
+    const std::string written = read_all(json);
+    for (const char* n : {"a", "b", "c"}) first.record(row_named(n));
+    EXPECT_EQ(read_all(json), written) << "results.json rewritten by a row";
+    EXPECT_EQ(read_all(csv), results_csv(first.rows()));
+    ResultRow wide = row_named("d");
+    wide.params["Nd"] = 8;  // a new column: the header changes
+    first.record(wide);
+    EXPECT_EQ(read_all(csv), results_csv(first.rows()));
+    first.record(row_named("b", 0.3));  // replaced in place
+    EXPECT_EQ(read_all(csv), results_csv(first.rows()));
+    first.record(row_named("e"));
+    EXPECT_EQ(read_all(csv), results_csv(first.rows()));
+    EXPECT_EQ(read_all(json), written);
+  }
+  std::ofstream(journal, std::ios::app) << "{\"run_name\": \"f\", \"est";  // a kill mid-append
+
+  RunRecorder again(out.string(), (dir / "b.sqlite").string(), "sweep j", FolderAccess::exclusive);
+  again.resume();
+  EXPECT_EQ(again.context().run_id, run_id);
+  EXPECT_EQ(names(again.rows()), (std::vector<std::string>{"a", "b", "c", "d", "e"}));
+  again.write_files();
+  EXPECT_FALSE(fs::exists(journal));
+  const std::vector<ResultRow> files = read_results_file(json.string());
+  EXPECT_EQ(names(files), (std::vector<std::string>{"a", "b", "c", "d", "e"}));
+  EXPECT_EQ(files[1].metrics["rmse"], 0.3);
+  EXPECT_EQ(read_all(csv), results_csv(files));
+  // The second database got the rows only the files held.
+  EXPECT_EQ(SqliteStore((dir / "b.sqlite").string()).rows_of_run(run_id).size(), 5u);
+
+  // A damaged line that is not the last is bad input, named by file and line.
+  again.record(row_named("g"));
+  again.record(row_named("h"));
+  std::string lines = read_all(journal);
+  lines.replace(0, 1, "[");
+  std::ofstream(journal, std::ios::trunc) << lines;
+  ResultsFolder folder(out.string(), RunContext{});
+  try {
+    folder.load_existing();
+    FAIL() << "a damaged journal line was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(journal.string() + ": line 1"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(RunRecorderTest, ImportedRowsKeepTheirIdentity) {

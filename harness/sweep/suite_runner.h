@@ -1,4 +1,4 @@
-// Runs a suite (harness/sweep/suite.h); cli/cmd_run.cpp then writes its report (reports/). Output
+// Runs a suite (harness/sweep/suite.h); cmd/cmd_run.cpp then writes its report (reports/). Output
 // folder:
 //   index.html                  the report of this (the newest) run
 //   results.csv, results.json   this run's rows (also appended to the SQLite history)
@@ -34,7 +34,7 @@ struct SuiteRunOptions {
   bool prestart_plot_workers = false;
 };
 
-// What a run leaves for its report (cli/cmd_run.cpp writes the page with reports/).
+// What a run leaves for its report (cmd/cmd_run.cpp writes the page with reports/).
 struct SuiteRun {
   std::string out_dir;
   SuiteReport report;                 // rows and the images kept beside them

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "drawing/plot.h"
+#include "harness/results/pareto.h"
 
 namespace aoeval {
 
@@ -59,21 +60,18 @@ void render_tune_plot(const TuneSpec& spec, const std::vector<TunePlotPoint>& po
   by_time.y_label = spec.objective;
   by_time.log_x = true;
   by_time.log_y = !spec.maximise;
-  // The Pareto front over every evaluated point: another is at least as fast and as good.
+  // The Pareto front over every evaluated point, by the report's rule (harness/results/pareto.h;
+  // a maximised objective is negated into an error).
   PlotSeries all = series("evaluations", "scatter", "C0");
-  for (size_t i = 0; i < points.size(); ++i) {
-    const auto& a = points[i];
-    bool dominated = false;
-    for (const auto& b : points) {
-      const bool better_obj = spec.maximise ? b.objective > a.objective : b.objective < a.objective;
-      const bool as_good = spec.maximise ? b.objective >= a.objective : b.objective <= a.objective;
-      if (b.time_ms <= a.time_ms && as_good && (b.time_ms < a.time_ms || better_obj))
-        dominated = true;
-    }
-    all.x.push_back(a.time_ms);
-    all.y.push_back(a.objective);
-    all.highlight.push_back(!dominated);
+  std::vector<double> cost, error, noise;
+  for (const auto& p : points) {
+    cost.push_back(p.time_ms);
+    error.push_back(spec.maximise ? -p.objective : p.objective);
+    noise.push_back(p.time_ms_noise);
+    all.x.push_back(p.time_ms);
+    all.y.push_back(p.objective);
   }
+  for (const bool on_front : pareto_front(cost, error, noise)) all.highlight.push_back(on_front);
   by_time.series.push_back(all);
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (const auto& p : points) {

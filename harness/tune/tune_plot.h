@@ -13,6 +13,9 @@ namespace aoeval {
 struct TunePlotPoint {
   double objective = 0.0;                                      // as the metric reads
   double time_ms = 0.0, time_ms_min = 0.0, time_ms_max = 0.0;  // means over views
+  // The timing noise where the front is decided: the mean over views of pareto_time_noise() of
+  // each view's row, as the report judges a row (harness/results/pareto.h).
+  double time_ms_noise = 0.0;
   bool feasible = true;
   bool best = false;
 };

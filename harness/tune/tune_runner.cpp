@@ -9,6 +9,7 @@
 #include "base/errors.h"
 #include "base/json_reader.h"
 #include "harness/evaluation/progress.h"
+#include "harness/results/pareto.h"
 #include "harness/results/results_store.h"
 #include "harness/results/run_recorder.h"
 #include "harness/tune/tune_budget.h"
@@ -236,7 +237,12 @@ int run_tune(const TuneOptions& o) {
     result = search(space, settings, evaluate);
   } catch (const std::exception& e) {
     // A tune that fails says so in tune.json instead of staying "running"; its rows are kept, and
-    // the same command resumes from them once the cause is fixed.
+    // the same command resumes from them once the cause is fixed (from the journal, should this
+    // rewrite of results.json fail too).
+    try {
+      recorder.write_files();
+    } catch (const std::exception&) {
+    }
     write_text(tune_json.string(), nlohmann::json{{"name", spec.name},
                                                   {"status", "failed"},
                                                   {"error", e.what()},
@@ -247,6 +253,7 @@ int run_tune(const TuneOptions& o) {
     throw;
   }
 
+  recorder.write_files();  // every row in results.json (record() appended them to the journal)
   // tune.json: written whole, atomically, at the end (and as "interrupted" when stopped).
   nlohmann::json trials = nlohmann::json::array();
   for (size_t i = 0; i < result.trials.size(); ++i)
@@ -321,9 +328,15 @@ int run_tune(const TuneOptions& o) {
     for (size_t i = 0; i < result.trials.size(); ++i) {
       const Trial& t = result.trials[i];
       const TrialRecord& r = records.at(t.overrides.dump());
-      if (t.outcome.ok)
-        plotted.push_back({r.objective, r.time.mean_median, r.time.mean_min, r.time.mean_max,
-                           t.outcome.feasible, static_cast<int>(i) == result.best});
+      if (!t.outcome.ok) continue;
+      double noise = 0.0;
+      for (const std::string& name : r.run_names)
+        if (const auto row = stored.find(name); row != stored.end())
+          noise += pareto_time_noise(row->second);
+      plotted.push_back(
+          {r.objective, r.time.mean_median, r.time.mean_min, r.time.mean_max,
+           r.run_names.empty() ? 0.0 : noise / static_cast<double>(r.run_names.size()),
+           t.outcome.feasible, static_cast<int>(i) == result.best});
     }
     render_tune_plot(spec, plotted, (fs::path(out) / "tune.png").string());
   }

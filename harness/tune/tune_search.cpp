@@ -323,21 +323,4 @@ SearchResult search(const TuneSpace& space, const SearchSettings& s, const Evalu
   return finish();
 }
 
-std::vector<size_t> pareto_front(const std::vector<Trial>& trials) {
-  std::vector<size_t> front;
-  for (size_t i = 0; i < trials.size(); ++i) {
-    const Outcome& a = trials[i].outcome;
-    if (!a.ok) continue;
-    bool dominated = false;
-    for (size_t j = 0; j < trials.size() && !dominated; ++j) {
-      const Outcome& b = trials[j].outcome;
-      if (j == i || !b.ok) continue;
-      dominated = b.time_ms <= a.time_ms && b.objective <= a.objective &&
-                  (b.time_ms < a.time_ms || b.objective < a.objective);
-    }
-    if (!dominated) front.push_back(i);
-  }
-  return front;
-}
-
 }  // namespace aoeval

@@ -84,8 +84,4 @@ SearchResult search(const TuneSpace& space, const SearchSettings& settings,
 // The value the optimiser minimises for an outcome (see above).
 double barrier_value(const Outcome& o, double budget_ms);
 
-// Indices of the points no other point beats: another is as fast or faster and at least as good,
-// and strictly better in one of the two (ok points only).
-std::vector<size_t> pareto_front(const std::vector<Trial>& trials);
-
 }  // namespace aoeval

@@ -188,15 +188,6 @@ TEST(TuneBudget, JudgesBySpreadAndPooledMedian) {
   EXPECT_DOUBLE_EQ(median_of({4, 1, 3, 2}), 2.5);
 }
 
-TEST(TuneSearch, ParetoFrontKeepsOnlyUndominatedPoints) {
-  std::vector<Trial> t(4);
-  t[0].outcome = {true, 0.1, 10, true};
-  t[1].outcome = {true, 0.2, 5, true};
-  t[2].outcome = {true, 0.2, 10, true};  // dominated by 0 and 1
-  t[3].outcome = {true, 0.05, 20, false};
-  EXPECT_EQ(pareto_front(t), (std::vector<size_t>{0, 1, 3}));
-}
-
 // A closed-form problem shaped like AO tuning: error falls with the sample count n and has an
 // interior optimum in a log-scale radius x; time grows with n; a choice doubles the cost and
 // lowers the error. Under a budget of 20 the optimum is n = 19, mode b, x = 0.5 (error

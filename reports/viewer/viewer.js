@@ -57,12 +57,9 @@
     return rec[key];
   }
 
-  // Colour maps as a few stops, linearly interpolated: inferno (matplotlib) and RdBu reversed
-  // (ColorBrewer: blue = estimate lower), as in drawing/error_maps.h.
-  const INFERNO = [[0, 0, 4], [40, 11, 84], [101, 21, 110], [159, 42, 99], [212, 72, 66],
-    [245, 125, 21], [250, 193, 39], [252, 255, 164]];
-  const RDBU = [[5, 48, 97], [33, 102, 172], [67, 147, 195], [146, 197, 222], [209, 229, 240],
-    [247, 247, 247], [253, 219, 199], [244, 165, 130], [214, 96, 77], [178, 24, 43], [103, 0, 31]];
+  // Colour maps as 256 stops, linearly interpolated: inferno and RdBu reversed (blue = estimate
+  // lower), the mosaics' own (colour_maps.js, generated from drawing/error_maps.cpp).
+  const INFERNO = AOEVAL_COLOUR_MAPS.inferno, RDBU = AOEVAL_COLOUR_MAPS.rdbu;
   function lut(stops, t) {
     const x = Math.min(1, Math.max(0, t)) * (stops.length - 1), i = Math.min(stops.length - 2, x | 0);
     const f = x - i, a = stops[i], b = stops[i + 1];
@@ -75,18 +72,9 @@
   }
   const GREY = 64, GREEN = [0, 255, 0];  // uncompared pixels; NaN or infinite values
 
-  // The automatic scale of drawing/error_maps.h: nice_ceiling(99th percentile of |v|).
-  function autoScale(v, mask) {
-    const a = [];
-    for (let i = 0; i < v.length; ++i) if ((!mask || mask[i]) && isFinite(v[i])) a.push(Math.abs(v[i]));
-    if (!a.length) return 0.01;
-    a.sort(function (x, y) { return x - y; });
-    const p = a[Math.min(a.length - 1, Math.floor(0.99 * a.length))];
-    if (!(p > 0)) return 0.01;
-    const e = Math.pow(10, Math.floor(Math.log10(p)));
-    for (const m of [1, 2, 2.5, 5, 10]) if (m * e >= p * (1 - 1e-7)) return m * e;
-    return 10 * e;
-  }
+  // The automatic scale of drawing/error_maps.h: nice_ceiling(99th percentile of |v|), its rule
+  // generated with the maps.
+  const autoScale = AOEVAL_COLOUR_MAPS.autoScale;
   function fmt(v) {
     if (v === null || v === undefined) return '–';
     return Array.isArray(v) ? v.map(fmt).join(', ') : Number(v).toPrecision(6);

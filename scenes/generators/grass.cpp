@@ -35,22 +35,6 @@ namespace {
 
 constexpr int64_t kMaxTriangles = 50'000'000;
 
-std::array<double, 2> read_pair(JsonReader& params, const std::string& key,
-                                std::array<double, 2> fallback, double lo, double hi) {
-  if (!params.has(key)) return fallback;
-  const auto& j = params.raw(key);
-  if (!j.is_array() || j.size() != 2 || !j[0].is_number() || !j[1].is_number())
-    params.fail(key, "expected an array of 2 numbers");
-  std::array<double, 2> v{j[0].get<double>(), j[1].get<double>()};
-  for (double d : v) {
-    if (!std::isfinite(d) || d < lo || d > hi) {
-      params.fail(
-          key, "each value must lie in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-    }
-  }
-  return v;
-}
-
 // Every draw is its own statement: the evaluation order of function arguments is unspecified (GCC
 // goes right to left, Clang left to right), and the bits must not depend on the compiler.
 // A uniform direction in the XZ plane (rejection in the unit square).
@@ -67,7 +51,7 @@ glm::vec2 unit_vector_2d(SplitMix64& rng) {
 }  // namespace
 
 GeneratedGeometry generate_grass(uint64_t seed, JsonReader& params) {
-  const auto size = read_pair(params, "size", {4.0, 4.0}, 1e-3, 1e4);
+  const auto size = params.number_pair("size", {4.0, 4.0}, 1e-3, 1e4);
   const double density = params.number("density", 1000.0, 1e-3, 1e6);
   const double height = params.number("blade_height", 0.3, 1e-4, 1e3);
   const double width = params.number("blade_width", 0.01, 1e-6, 1e2);

@@ -34,23 +34,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// An optional array of two numbers, each in [lo, hi].
-std::array<double, 2> read_pair(JsonReader& params, const std::string& key,
-                                std::array<double, 2> fallback, double lo, double hi) {
-  if (!params.has(key)) return fallback;
-  const auto& j = params.raw(key);
-  if (!j.is_array() || j.size() != 2 || !j[0].is_number() || !j[1].is_number())
-    params.fail(key, "expected an array of 2 numbers");
-  std::array<double, 2> v{j[0].get<double>(), j[1].get<double>()};
-  for (double d : v) {
-    if (!std::isfinite(d) || d < lo || d > hi) {
-      params.fail(
-          key, "each value must lie in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-    }
-  }
-  return v;
-}
-
 // Appends an nu x nv grid of quads spanning origin + [0,1] u + [0,1] v, two triangles per quad,
 // whose front faces along cross(u, v).
 void add_grid(TriangleMesh& m, glm::dvec3 origin, glm::dvec3 u, glm::dvec3 v, int nu, int nv) {
@@ -82,7 +65,7 @@ nlohmann::json json3(glm::dvec3 v) {
 }  // namespace
 
 GeneratedGeometry generate_plane(uint64_t /*seed*/, JsonReader& params) {
-  const auto size = read_pair(params, "size", {10.0, 10.0}, 1e-6, 1e6);
+  const auto size = params.number_pair("size", {10.0, 10.0}, 1e-6, 1e6);
   const int n = static_cast<int>(params.integer("subdivisions", 1, 1, 2048));
   GeneratedGeometry g;
   // cross(+Z, +X) = +Y: the front faces up.

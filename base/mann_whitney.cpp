@@ -1,4 +1,4 @@
-#include "base/rank_test.h"
+#include "base/mann_whitney.h"
 
 #include <algorithm>
 #include <cmath>
