@@ -55,34 +55,36 @@ std::string verdict_in(const std::string& caption) {
 
 // Every registered figure whose caption is in the folder, in registry order, with its verdict.
 void write_index(const std::string& out_dir) {
-  std::ostringstream os;
-  os << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>aoeval figures</title>\n"
-        "<style>body{font-family:sans-serif;max-width:1100px;margin:2em auto;background:#fafafa}"
-        "img{max-width:100%;border:1px solid #ccc}pre{white-space:pre-wrap;background:#fff;"
-        "padding:0.8em;border:1px solid #ddd}</style></head><body>\n"
-        "<h1>Reproductions of the seed papers' figures</h1>\n<ul>\n";
+  Html h;  // reports/html.h: every name and caption is text
+  h << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\">" << content_security_policy()
+    << "<title>aoeval figures</title>\n"
+       "<style>body{font-family:sans-serif;max-width:1100px;margin:2em auto;background:#fafafa}"
+       "img{max-width:100%;border:1px solid #ccc}pre{white-space:pre-wrap;background:#fff;"
+       "padding:0.8em;border:1px solid #ddd}</style></head><body>\n"
+       "<h1>Reproductions of the seed papers' figures</h1>\n<ul>\n";
   std::vector<const Figure*> present;
   for (const auto& f : figure_registry())
     if (fs::exists(fs::path(out_dir) / (f.name + ".txt"))) present.push_back(&f);
   for (const auto* f : present) {
     const std::string verdict = verdict_in(read_file(fs::path(out_dir) / (f->name + ".txt")));
-    os << "<li><a href=\"#" << f->name << "\">" << f->name << "</a> — "
-       << (verdict.empty() ? "" : "<b class=\"verdict\">" + html_escape(verdict) + "</b> — ")
-       << html_escape(f->source) << "</li>\n";
+    h << "<li><a href=\"#" << attr(f->name) << "\">" << text(f->name) << "</a> — ";
+    if (!verdict.empty()) h << "<b class=\"verdict\">" << text(verdict) << "</b> — ";
+    h << text(f->source) << "</li>\n";
   }
-  os << "</ul>\n";
+  h << "</ul>\n";
   for (const auto* f : present) {
     const fs::path dir(out_dir);
-    os << "<h2 id=\"" << f->name << "\">" << f->name << "</h2>\n";
+    h << "<h2 id=\"" << attr(f->name) << "\">" << text(f->name) << "</h2>\n";
     for (const auto& entry : {f->name + ".png", f->name + "-plot.png", f->name + "-images.png"})
       if (fs::exists(dir / entry))
-        os << "<p><img src=\"" << entry << "\" loading=\"lazy\" alt=\"" << entry << "\"></p>\n";
+        h << "<p><img src=\"" << url(entry) << "\" loading=\"lazy\" alt=\"" << attr(entry)
+          << "\"></p>\n";
     if (fs::exists(dir / (f->name + ".csv")))
-      os << "<p><a href=\"" << f->name << ".csv\">numbers (CSV)</a></p>\n";
-    os << "<pre>" << html_escape(read_file(dir / (f->name + ".txt"))) << "</pre>\n";
+      h << "<p><a href=\"" << url(f->name + ".csv") << "\">numbers (CSV)</a></p>\n";
+    h << "<pre>" << text(read_file(dir / (f->name + ".txt"))) << "</pre>\n";
   }
-  os << "</body></html>\n";
-  write_text((fs::path(out_dir) / "index.html").string(), os.str());
+  h << "</body></html>\n";
+  write_text((fs::path(out_dir) / "index.html").string(), h.str());
 }
 
 void remove_outputs(const std::string& out_dir, const std::string& name) {

@@ -126,20 +126,31 @@ std::vector<RowReport> pair_rows(const std::vector<ResultRow>& before,
   return out;
 }
 
-// Reads both estimates, measures the change (image_change.h) and writes the row's images; a
-// missing or unreadable image is said on the row, never a failure of the dashboard.
+// An ok row's estimate image, read and checked: a missing or unreadable file, an AO outside
+// [0, 1] on a covered pixel (NaN, infinite, negative: read_ao_exr names the pixel) or a size other
+// than the row's is damaged input (exit 2 naming the file), never a row the change check silently
+// leaves out (issue 48).
+AoPlanes read_estimate(const std::string& exr, const ResultRow& row) {
+  AoPlanes p;
+  try {
+    p = read_planes(exr);
+  } catch (const InputError& e) {
+    throw InputError(std::string(e.what()) + " (the estimate of row " + row.run_name + ")");
+  }
+  if (p.w != row.width || p.h != row.height)
+    throw InputError(exr + ": estimate image is " + std::to_string(p.w) + "x" +
+                     std::to_string(p.h) + ", its row " + row.run_name + " says " +
+                     std::to_string(row.width) + "x" + std::to_string(row.height));
+  return p;
+}
+
+// Reads both estimates (read_estimate: damaged ones are an InputError), measures the change
+// (image_change.h) and writes the row's images.
 void measure_change(RowReport& rep, const std::string& before_exr, const std::string& after_exr,
                     const Thresholds& t, const std::string& out_dir, std::optional<double>* delta) {
-  AoPlanes b, a;
-  try {
-    b = read_planes(before_exr);
-    a = read_planes(after_exr);
-  } catch (const InputError& e) {
-    rep.image_note = std::string("estimate image unreadable: ") + e.what();
-    return;
-  }
+  const AoPlanes b = read_estimate(before_exr, *rep.before);
+  const AoPlanes a = read_estimate(after_exr, *rep.after);
   *delta = write_row_images(rep, b, a, out_dir);
-  if (b.w != a.w || b.h != a.h) return;  // write_row_images said so
   const auto seed_b = rep.before->params.find("seed"), seed_a = rep.after->params.find("seed");
   const bool seeds_differ =
       seed_b != rep.before->params.end() && seed_a != rep.after->params.end() && *seed_b != *seed_a;
@@ -228,6 +239,17 @@ Dashboard build_dashboard(const DashboardOptions& o) {
   const std::vector<ResultRow> no_rows;
   if (before) d.before_run = *before;
   d.rows = pair_rows(before ? rows_of[before->run_id] : no_rows, rows_of[after->run_id]);
+  // Every compared estimate image is checked before anything is written: a damaged one exits 2
+  // with no page and no images behind.
+  for (const RowReport& rep : d.rows) {
+    if (!rep.before || !rep.after || rep.before->status != "ok" || rep.after->status != "ok")
+      continue;
+    const std::string b = estimate_path(*rep.before, *before);
+    const std::string a = estimate_path(*rep.after, *after);
+    if (b.empty() || a.empty()) continue;
+    read_estimate(b, *rep.before);
+    read_estimate(a, *rep.after);
+  }
   fs::create_directories(o.out_dir);
   for (RowReport& rep : d.rows) {
     const ResultRow& r = rep.after ? *rep.after : *rep.before;
@@ -291,6 +313,7 @@ Dashboard build_dashboard(const DashboardOptions& o) {
   if (o.charts) d.groups = write_history_charts(d, history, o.out_dir);
 
   d.page = (fs::path(o.out_dir) / "index.html").string();
+  write_text((fs::path(o.out_dir) / "dashboard.js").string(), dashboard_script());
   write_text(d.page, dashboard_html(d));
   return d;
 }

@@ -151,7 +151,8 @@ void find_steps(Dashboard& d,
 std::vector<GroupCharts> write_history_charts(
     const Dashboard& d, const std::vector<std::pair<RunContext, std::vector<ResultRow>>>& history,
     const std::string& out_dir);
-// The page.
+// The page, and the script it loads from dashboard.js beside it.
 std::string dashboard_html(const Dashboard& d);
+const char* dashboard_script();
 
 }  // namespace aoeval

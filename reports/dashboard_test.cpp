@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "base/errors.h"
@@ -72,7 +73,7 @@ TEST(Dashboard, UnchangedRerunPassesAndARegressionComesFirst) {
   EXPECT_NE(html.find("class=\"swap\""), std::string::npos);
   EXPECT_NE(html.find("data-baseline=\"" + beta.baseline_png + "\""), std::string::npos);
   EXPECT_LT(html.find("beta on bunny"), html.find("alpha on bunny"));
-  EXPECT_EQ(html.find("http"), std::string::npos);  // self-contained
+  EXPECT_EQ(html.find("://"), std::string::npos);  // self-contained: no URL with a scheme
 
   // An explicit baseline: r3 against r1 is the same regression.
   DashboardOptions o = h.options();
@@ -232,6 +233,64 @@ TEST(Dashboard, FirstRunHasNoBaselineAndBadInputIsAnInputError) {
   o.database = (h.dir / "absent.sqlite").string();
   EXPECT_THROW(build_dashboard(o), InputError);
   EXPECT_FALSE(fs::exists(o.database));  // not created by asking
+}
+
+// Issue 48: a damaged estimate image is bad input (exit 2 naming the file), never a row that
+// passes the change check unseen, and the dashboard writes nothing before it says so.
+TEST(Dashboard, DamagedEstimateImageIsAnInputErrorNamingTheFile) {
+  const std::vector<std::string> kinds = {"missing", "garbage",  "nan",
+                                          "inf",     "negative", "resized"};
+  for (const std::string& kind : kinds) {
+    History h("damaged_" + kind);
+    h.add_run("r1", "2024-01-01T00:00:00Z", {{"alpha", 0.05, 0.0, 0.5}});
+    h.add_run("r2", "2024-01-02T00:00:00Z", {{"alpha", 0.05, 0.0, 0.5}});
+    const fs::path exr =
+        h.dir / "r2" / "estimates" / (file_stem_for("alpha/scene:bunny/view:main/24x16") + ".exr");
+    ASSERT_TRUE(fs::exists(exr)) << exr;
+    if (kind == "missing") {
+      fs::remove(exr);
+    } else if (kind == "garbage") {
+      std::ofstream(exr, std::ios::binary | std::ios::trunc) << "not an EXR";
+    } else if (kind == "resized") {
+      OIIO::ImageSpec spec(kW + 1, kH, 2, OIIO::TypeDesc::FLOAT);
+      spec.channelnames = {"AO", "A"};
+      OIIO::ImageBuf image(spec);
+      const float px[2] = {0.5f, 1.0f};
+      for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW + 1; ++x) image.setpixel(x, y, px);
+      write_exr(exr.string(), image, {});
+    } else {
+      OIIO::ImageSpec spec(kW, kH, 2, OIIO::TypeDesc::FLOAT);
+      spec.channelnames = {"AO", "A"};
+      OIIO::ImageBuf image(spec);
+      for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+          const float px[2] = {0.5f, 1.0f};
+          image.setpixel(x, y, px);
+        }
+      const float bad = kind == "nan"   ? std::nanf("")
+                        : kind == "inf" ? std::numeric_limits<float>::infinity()
+                                        : -0.25f;
+      const float px[2] = {bad, 1.0f};
+      image.setpixel(9, 7, px);  // a covered pixel
+      write_exr(exr.string(), image, {});
+    }
+    const DashboardOptions o = h.options();
+    try {
+      build_dashboard(o);
+      ADD_FAILURE() << kind << ": accepted";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(exr.string()), std::string::npos) << kind << ": " << what;
+      if (kind == "nan" || kind == "inf" || kind == "negative") {
+        EXPECT_NE(what.find("pixel (9, 7)"), std::string::npos) << kind << ": " << what;
+      }
+      if (kind == "resized") {
+        EXPECT_NE(what.find("25x16"), std::string::npos) << what;
+      }
+    }
+    EXPECT_FALSE(fs::exists(o.out_dir)) << kind << ": the dashboard wrote before failing";
+  }
 }
 
 }  // namespace

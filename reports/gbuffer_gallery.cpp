@@ -27,9 +27,10 @@ std::string with_commas(size_t n) {
 
 std::string write_gbuffer_gallery(const std::string& out_dir, const std::string& suite,
                                   const std::vector<GalleryEntry>& entries) {
-  std::ostringstream html;
+  Html html;
   html << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
-       << "<title>aoeval " << html_escape(suite) << " suite: scene corpus G-buffers</title>\n"
+       << content_security_policy() << "<title>aoeval " << text(suite)
+       << " suite: scene corpus G-buffers</title>\n"
        << "<style>body{font-family:sans-serif;margin:1.5em;background:#fafafa;color:#222}"
           "section{margin-bottom:1.5em;border-bottom:1px solid #ddd;padding-bottom:1em}"
           "figure{display:inline-block;margin:0 1em 0.5em 0;vertical-align:top}"
@@ -38,7 +39,7 @@ std::string write_gbuffer_gallery(const std::string& out_dir, const std::string&
           "table{border-collapse:collapse}td,th{padding:2px 10px;text-align:right}"
           "th{text-align:left}</style>\n"
        << write_viewer_assets(out_dir) << "</head><body>\n"
-       << "<h1>aoeval: " << html_escape(suite) << " suite</h1>\n"
+       << "<h1>aoeval: " << text(suite) << " suite</h1>\n"
        << "<p>The shared G-buffer of every corpus scene and view: shading normals (RGB = N &times; "
           "0.5 + "
           "0.5) and linear view depth (inferno colour map, near = bright). Each image links to its "
@@ -52,8 +53,8 @@ std::string write_gbuffer_gallery(const std::string& out_dir, const std::string&
   for (const auto& e : entries) {
     if (e.scene == last) continue;
     last = e.scene;
-    html << "<tr><th><a href=\"#" << html_escape(e.scene) << "\">" << html_escape(e.scene)
-         << "</a></th><td>" << with_commas(e.triangles) << "</td><td>" << e.objects << "</td><td>"
+    html << "<tr><th><a href=\"#" << attr(e.scene) << "\">" << text(e.scene) << "</a></th><td>"
+         << text(with_commas(e.triangles)) << "</td><td>" << e.objects << "</td><td>"
          << static_cast<long>(e.load_ms) << "</td><td>" << static_cast<long>(e.bvh_ms)
          << "</td></tr>\n";
   }
@@ -62,9 +63,8 @@ std::string write_gbuffer_gallery(const std::string& out_dir, const std::string&
   for (const auto& e : entries) {
     if (e.scene != last) {
       if (!last.empty()) html << "</section>\n";
-      html << "<section id=\"" << html_escape(e.scene) << "\"><h2>" << html_escape(e.scene)
-           << "</h2>"
-           << "<p>" << with_commas(e.triangles) << " triangles, " << e.objects
+      html << "<section id=\"" << attr(e.scene) << "\"><h2>" << text(e.scene) << "</h2>"
+           << "<p>" << text(with_commas(e.triangles)) << " triangles, " << e.objects
            << " object(s)</p>\n";
       last = e.scene;
     }
@@ -80,12 +80,12 @@ std::string write_gbuffer_gallery(const std::string& out_dir, const std::string&
     };
     if (stale(normals_png) || stale(depth_png))
       write_gbuffer_previews(exr.string(), normals_png.string(), depth_png.string());
-    std::string figures;
-    for (const auto& [img, label] : {std::pair{normals, "normals"}, std::pair{depth, "depth"}}) {
-      figures += "<figure><a href=\"" + html_escape(e.gbuffer_exr) + "\"><img src=\"" +
-                 html_escape(img) + "\" loading=\"lazy\" alt=\"" +
-                 html_escape(e.scene + " " + e.view + " " + label) + "\"></a><figcaption>" +
-                 html_escape(e.view) + ": " + label + "</figcaption></figure>\n";
+    Html figures;
+    for (const auto& [img, label] :
+         {std::pair<std::string, std::string>{normals, "normals"}, {depth, "depth"}}) {
+      figures << "<figure><a href=\"" << url(e.gbuffer_exr) << "\"><img src=\"" << url(img)
+              << "\" loading=\"lazy\" alt=\"" << attr(e.scene + " " + e.view + " " + label)
+              << "\"></a><figcaption>" << text(e.view + ": " + label) << "</figcaption></figure>\n";
     }
     ViewerSpec viewer;  // the same pictures from the EXR's floats, with the probe (CONTRACT §11)
     viewer.kind = "gbuffer";

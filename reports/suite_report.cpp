@@ -23,17 +23,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string num(double v, const char* format = "%.4g") {
-  if (std::isnan(v)) return "&ndash;";
-  char buf[48];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
-
-std::string metric(const nlohmann::json& metrics, const std::string& key) {
+Html metric(const nlohmann::json& metrics, const std::string& key) {
   const auto it = metrics.find(key);
-  if (it == metrics.end() || it->is_null()) return "&ndash;";
-  return it->is_number() ? num(it->get<double>()) : html_escape(it->dump());
+  if (it == metrics.end() || it->is_null()) return Html("&ndash;");
+  return it->is_number() ? number(it->get<double>()) : text(it->dump());
 }
 
 void append_listed(std::string& list, const char* separator, const std::string& item) {
@@ -41,17 +34,14 @@ void append_listed(std::string& list, const char* separator, const std::string& 
   list.append(item);
 }
 
-std::string link(const std::string& href, const std::string& text) {
-  if (href.empty()) return "";
-  return std::string("<a href=\"")
-      .append(html_escape(href))
-      .append("\">")
-      .append(html_escape(text))
-      .append("</a>");
+Html link(const std::string& href, const std::string& label) {
+  if (href.empty()) return {};
+  return Html("<a href=\"") << url(href) << "\">" << text(label) << "</a>";
 }
 
-std::string view_of(const ResultRow& r) {
-  return r.view + " " + std::to_string(r.width) + "&times;" + std::to_string(r.height);
+// The view's name is the user's (issue 48: it was written raw here): text, like every name.
+Html view_of(const ResultRow& r) {
+  return text(r.view) << " " << r.width << "&times;" << r.height;
 }
 
 // {"weighting":"cosine","dmax":null,"falloff":"none"} -> "cosine, unbounded";
@@ -62,12 +52,14 @@ std::string definition_text(const std::string& definition) {
   std::string text = j.value("weighting", std::string("?"));
   const auto dmax = j.find("dmax");
   if (dmax == j.end() || !dmax->is_number()) return text + ", unbounded";
-  text += ", dmax " + num(dmax->get<double>());
+  char dmax_text[48];
+  std::snprintf(dmax_text, sizeof dmax_text, "%.4g", dmax->get<double>());
+  text += std::string(", dmax ") + dmax_text;
   const std::string falloff = j.value("falloff", std::string("none"));
   return falloff == "none" ? text : text + ", " + falloff + " falloff";
 }
 
-const char* kStyle =
+constexpr const char* kStyle =
     "body{font-family:sans-serif;margin:1.5em;background:#fafafa;color:#222;max-width:110em}"
     "table{border-collapse:collapse;margin:.5em 0 1em}td,th{padding:2px 8px;border-bottom:1px "
     "solid #ddd;text-align:right;font-size:.9em}th{background:#eee}td.l,th.l{text-align:left}"
@@ -77,7 +69,7 @@ const char* kStyle =
     "img.video{max-width:100%;border:1px solid #ccc}tr.front "
     "td{font-weight:bold}.skipped{color:#a60}nav a{margin-right:.8em}";
 
-void summary(std::ostringstream& h, const SuiteReport& r, const std::vector<std::string>& scenes,
+void summary(Html& h, const SuiteReport& r, const std::vector<std::string>& scenes,
              const std::vector<EstimatorChart>& charts) {
   std::set<std::string> references;
   size_t ok = 0;
@@ -98,21 +90,21 @@ void summary(std::ostringstream& h, const SuiteReport& r, const std::vector<std:
   }
   std::string sets;
   for (const auto& s : r.overrides) append_listed(sets, " ", std::string("--set ").append(s));
-  auto row = [&](const std::string& k, const std::string& v) {
+  auto row = [&](Literal k, const Html& v) {
     h << "<tr><th>" << k << "</th><td class=\"l\">" << v << "</td></tr>\n";
   };
   h << "<table class=\"summary\" id=\"summary\">\n";
-  row("suite", html_escape(r.suite) + " (" + html_escape(r.suite_file) + ")");
-  if (!sets.empty()) row("overrides", html_escape(sets));
-  row("scenes", std::to_string(scenes.size()) + ": " + html_escape(scene_list));
-  row("estimators", std::to_string(charts.size()) + " (rows): " + html_escape(estimator_list));
-  row("rows", std::to_string(r.entries.size()) + " (" + std::to_string(ok) + " ok, " +
-                  std::to_string(r.entries.size() - ok) + " skipped)");
-  row("references", "Embree ray-traced, " + html_escape(reference_list));
-  row("run id", html_escape(r.context.run_id));
-  row("started", html_escape(r.context.started));
-  row("git commit", html_escape(r.context.git_commit));
-  row("aoeval version", html_escape(r.context.aoeval_version));
+  row("suite", text(r.suite + " (" + r.suite_file + ")"));
+  if (!sets.empty()) row("overrides", text(sets));
+  row("scenes", text(std::to_string(scenes.size()) + ": " + scene_list));
+  row("estimators", text(std::to_string(charts.size()) + " (rows): " + estimator_list));
+  row("rows", text(std::to_string(r.entries.size()) + " (" + std::to_string(ok) + " ok, " +
+                   std::to_string(r.entries.size() - ok) + " skipped)"));
+  row("references", text("Embree ray-traced, " + reference_list));
+  row("run id", text(r.context.run_id));
+  row("started", text(r.context.started));
+  row("git commit", text(r.context.git_commit));
+  row("aoeval version", text(r.context.aoeval_version));
   std::vector<ResultRow> all_rows;
   std::set<std::string> nodes;
   for (const auto& e : r.entries) {
@@ -121,32 +113,31 @@ void summary(std::ostringstream& h, const SuiteReport& r, const std::vector<std:
   }
   const std::vector<std::string> classes = machine_classes(all_rows);
   if (nodes.size() <= 1) {
-    row("machine", html_escape(r.context.machine));
+    row("machine", text(r.context.machine));
   } else {  // merged from several nodes (aoeval merge, CONTRACT §9)
     std::string node_list, class_list;
     for (const auto& n : nodes) append_listed(node_list, "; ", n);
     for (const auto& c : classes) append_listed(class_list, "; ", c);
-    row("machines", std::to_string(nodes.size()) + " nodes: " + html_escape(node_list));
+    row("machines", text(std::to_string(nodes.size()) + " nodes: " + node_list));
     row("machine classes",
-        html_escape(class_list) + (classes.size() > 1
-                                       ? ". Times are compared only within a machine class "
-                                         "(CPU model, cores, device): see each timing table."
-                                       : ". One class: the times compare across nodes."));
+        text(class_list + (classes.size() > 1 ? ". Times are compared only within a machine class "
+                                                "(CPU model, cores, device): see each timing table."
+                                              : ". One class: the times compare across nodes.")));
   }
-  row("Embree", html_escape(r.context.embree_version));
-  row("wall time", r.wall_s > 0.0 ? num(r.wall_s, "%.1f") + " s (before the report)"
-                                  : std::string("not recorded"));
+  row("Embree", text(r.context.embree_version));
+  row("wall time", r.wall_s > 0.0 ? number(r.wall_s, "%.1f") + " s (before the report)"
+                                  : Html("not recorded"));
   row("files", link("results.csv", "results.csv") + " " + link("results.json", "results.json") +
                    " " + link(r.gbuffer_gallery, "G-buffer gallery"));
   h << "</table>\n";
 }
 
 // The mosaic inside its viewer (CONTRACT §11): the PNG is what a reader without JavaScript sees.
-std::string mosaic_html(const std::string& out_dir, const SuiteReportEntry& e) {
+Html mosaic_html(const std::string& out_dir, const SuiteReportEntry& e) {
   const ResultRow& r = e.row;
-  const std::string image = "<a href=\"" + html_escape(r.estimate_file) +
-                            "\"><img class=\"mosaic\" src=\"" + html_escape(e.mosaic_png) +
-                            "\" loading=\"lazy\" alt=\"" + html_escape(r.run_name) + "\"></a>";
+  const Html image = Html("<a href=\"") << url(r.estimate_file) << "\"><img class=\"mosaic\" src=\""
+                                        << url(e.mosaic_png) << "\" loading=\"lazy\" alt=\""
+                                        << attr(r.run_name) << "\"></a>";
   std::error_code ec;
   const fs::path dir(out_dir);
   if (r.estimate_file.empty() || e.reference_exr.empty() ||
@@ -155,21 +146,21 @@ std::string mosaic_html(const std::string& out_dir, const SuiteReportEntry& e) {
   return compare_viewer(out_dir, e.reference_exr, r.estimate_file, "reference,estimate", image);
 }
 
-void scene_section(std::ostringstream& h, const std::string& out_dir, const std::string& scene,
+void scene_section(Html& h, const std::string& out_dir, const std::string& scene,
                    const std::vector<const SuiteReportEntry*>& rows) {
-  h << "<section class=\"scene\" id=\"scene-" << slug(scene) << "\"><h2>Scene "
-    << html_escape(scene) << "</h2>\n";
+  h << "<section class=\"scene\" id=\"scene-" << attr(slug(scene)) << "\"><h2>Scene " << text(scene)
+    << "</h2>\n";
   for (const auto* e : rows) {
     const ResultRow& r = e->row;
     if (r.status != "ok" || e->mosaic_png.empty()) continue;
-    h << "<figure id=\"mosaic-" << slug(r.run_name) << "\">" << mosaic_html(out_dir, *e)
-      << "\n<figcaption><b>" << html_escape(r.estimator) << "</b> " << html_escape(params_of(r))
-      << ", view " << view_of(r)
+    h << "<figure id=\"mosaic-" << attr(slug(r.run_name)) << "\">" << mosaic_html(out_dir, *e)
+      << "\n<figcaption><b>" << text(r.estimator) << "</b> " << text(params_of(r)) << ", view "
+      << view_of(r)
       << ": reference | estimate | |estimate &minus; reference| | estimate &minus; reference. "
       << link(r.estimate_file, "estimate EXR") << " &middot; "
-      << link(e->reference_exr, "reference EXR") << " ("
-      << html_escape(definition_text(r.definition)) << ") &middot; "
-      << link(e->true_reference_exr, "true-AO reference EXR") << "</figcaption></figure>\n";
+      << link(e->reference_exr, "reference EXR") << " (" << text(definition_text(r.definition))
+      << ") &middot; " << link(e->true_reference_exr, "true-AO reference EXR")
+      << "</figcaption></figure>\n";
   }
   h << "<h3>Metrics</h3>\n<table class=\"metrics\"><tr><th class=\"l\">estimator</th><th "
        "class=\"l\">parameters</th><th class=\"l\">view</th><th class=\"l\">matched "
@@ -185,15 +176,15 @@ void scene_section(std::ostringstream& h, const std::string& out_dir, const std:
         if (m.family == family && m.report_true)
           columns.emplace_back("true_" + m.key, &ResultRow::true_metrics);
   }
-  for (const auto& c : columns) h << "<th>" << c.first << "</th>";
+  for (const auto& c : columns) h << "<th>" << text(c.first) << "</th>";
   h << "</tr>\n";
   for (const auto* e : rows) {
     const ResultRow& r = e->row;
-    h << "<tr><td class=\"l\">" << html_escape(r.estimator) << "</td><td class=\"l\">"
-      << html_escape(params_of(r)) << "</td><td class=\"l\">" << view_of(r)
-      << "</td><td class=\"l\">" << html_escape(definition_text(r.definition)) << "</td>";
+    h << "<tr><td class=\"l\">" << text(r.estimator) << "</td><td class=\"l\">"
+      << text(params_of(r)) << "</td><td class=\"l\">" << view_of(r) << "</td><td class=\"l\">"
+      << text(definition_text(r.definition)) << "</td>";
     if (r.status != "ok") {
-      h << "<td colspan=\"" << columns.size() << "\" class=\"l skipped\">" << html_escape(r.status)
+      h << "<td colspan=\"" << columns.size() << "\" class=\"l skipped\">" << text(r.status)
         << "</td></tr>\n";
       continue;
     }
@@ -218,61 +209,60 @@ void scene_section(std::ostringstream& h, const std::string& out_dir, const std:
          "times only between rows of the same class.</p>\n";
   h << "<table class=\"timing\"><tr><th class=\"l\">estimator</th><th "
        "class=\"l\">parameters</th><th class=\"l\">view</th>"
-    << (classes ? "<th class=\"l\">machine class</th>" : "")
+    << (classes ? Html("<th class=\"l\">machine class</th>") : Html())
     << "<th>median</th><th>min</th><th>max</th><th>reps</th><th>precompute</th>";
-  for (const auto& p : passes) h << "<th>" << html_escape(p) << "</th>";
+  for (const auto& p : passes) h << "<th>" << text(p) << "</th>";
   h << "</tr>\n";
   for (const auto* e : rows) {
     const ResultRow& r = e->row;
     if (r.status != "ok") continue;
-    h << "<tr><td class=\"l\">" << html_escape(r.estimator) << "</td><td class=\"l\">"
-      << html_escape(params_of(r)) << "</td><td class=\"l\">" << view_of(r) << "</td>"
-      << (classes ? "<td class=\"l\">" + html_escape(machine_class(r)) + "</td>" : "") << "<td>"
-      << num(r.time_ms_median) << "</td><td>" << num(r.time_ms_min) << "</td><td>"
-      << num(r.time_ms_max) << "</td><td>" << r.repetitions << "</td><td>" << num(r.precompute_ms)
-      << "</td>";
+    h << "<tr><td class=\"l\">" << text(r.estimator) << "</td><td class=\"l\">"
+      << text(params_of(r)) << "</td><td class=\"l\">" << view_of(r) << "</td>";
+    if (classes) h << "<td class=\"l\">" << text(machine_class(r)) << "</td>";
+    h << "<td>" << number(r.time_ms_median) << "</td><td>" << number(r.time_ms_min) << "</td><td>"
+      << number(r.time_ms_max) << "</td><td>" << r.repetitions << "</td><td>"
+      << number(r.precompute_ms) << "</td>";
     for (const auto& p : passes) {
       const auto it = r.pass_ms.find(p);
-      h << "<td>" << (it == r.pass_ms.end() ? "&ndash;" : num(it->second)) << "</td>";
+      h << "<td>" << (it == r.pass_ms.end() ? Html("&ndash;") : number(it->second)) << "</td>";
     }
     h << "</tr>\n";
   }
   h << "</table>\n</section>\n";
 }
 
-void estimator_section(std::ostringstream& h, const EstimatorChart& c) {
-  h << "<section class=\"estimator\" id=\"estimator-" << slug(c.estimator) << "\"><h2>Estimator "
-    << html_escape(c.estimator) << "</h2>\n";
+void estimator_section(Html& h, const EstimatorChart& c) {
+  h << "<section class=\"estimator\" id=\"estimator-" << attr(slug(c.estimator))
+    << "\"><h2>Estimator " << text(c.estimator) << "</h2>\n";
   if (c.png.empty()) {
     h << "<p class=\"skipped\">Every run of it was "
-      << html_escape(c.rows.empty() ? std::string() : c.rows.front()->row.status)
-      << "</p>\n</section>\n";
+      << text(c.rows.empty() ? std::string() : c.rows.front()->row.status) << "</p>\n</section>\n";
     return;
   }
-  h << "<figure><a href=\"" << html_escape(c.png) << ".plot.json\"><img class=\"chart\" src=\""
-    << html_escape(c.png) << "\" loading=\"lazy\" alt=\"" << html_escape(c.estimator)
-    << ": error against time\"></a><figcaption>" << kChartMetric
+  h << "<figure><a href=\"" << url(c.png + ".plot.json") << "\"><img class=\"chart\" src=\""
+    << url(c.png) << "\" loading=\"lazy\" alt=\"" << attr(c.estimator)
+    << ": error against time\"></a><figcaption>" << text(kChartMetric)
     << " against the median time per frame, one series per scene view; the Pareto front (no "
        "other point of the series is both at least as fast and more accurate, times closer than "
        "their repetitions' interquartile range counting as equal) is marked and listed in bold "
        "below. The image "
        "links to the plotted data, each run name to its estimate "
        "EXR.</figcaption></figure>\n";
-  h << "<details><summary>" << c.rows.size() << (c.rows.size() == 1 ? " row" : " rows")
-    << "</summary>\n<table class=\"sweep\"><tr><th class=\"l\">run</th><th>" << kChartMetric
+  h << "<details><summary>" << c.rows.size() << (c.rows.size() == 1 ? Html(" row") : Html(" rows"))
+    << "</summary>\n<table class=\"sweep\"><tr><th class=\"l\">run</th><th>" << text(kChartMetric)
     << "</th><th>rmse</th><th>true_rmse</th><th>median ms</th><th>Pareto</th></tr>\n";
   for (size_t i = 0; i < c.rows.size(); ++i) {
     const ResultRow& r = c.rows[i]->row;
-    h << "<tr" << (c.on_front[i] ? " class=\"front\"" : "") << "><td class=\"l\">"
-      << (r.estimate_file.empty() ? html_escape(r.run_name) : link(r.estimate_file, r.run_name))
+    h << "<tr" << (c.on_front[i] ? Html(" class=\"front\"") : Html()) << "><td class=\"l\">"
+      << (r.estimate_file.empty() ? text(r.run_name) : link(r.estimate_file, r.run_name))
       << "</td>";
     if (r.status != "ok") {
-      h << "<td colspan=\"5\" class=\"l skipped\">" << html_escape(r.status) << "</td></tr>\n";
+      h << "<td colspan=\"5\" class=\"l skipped\">" << text(r.status) << "</td></tr>\n";
       continue;
     }
     h << "<td>" << metric(r.metrics, kChartMetric) << "</td><td>" << metric(r.metrics, "rmse")
-      << "</td><td>" << metric(r.true_metrics, "rmse") << "</td><td>" << num(r.time_ms_median)
-      << "</td><td>" << (c.on_front[i] ? "yes" : "") << "</td></tr>\n";
+      << "</td><td>" << metric(r.true_metrics, "rmse") << "</td><td>" << number(r.time_ms_median)
+      << "</td><td>" << (c.on_front[i] ? Html("yes") : Html()) << "</td></tr>\n";
   }
   h << "</table></details>\n</section>\n";
 }
@@ -283,7 +273,7 @@ std::string write_suite_report(const std::string& out_dir, const SuiteReport& re
   // A sweep features no point of its own: its Pareto-front points are shown (mosaics drawn here).
   const SuiteReport r = with_featured_mosaics(out_dir, report);
   const std::vector<EstimatorChart> charts = write_estimator_charts(out_dir, r);
-  const std::string sequences = sequence_sections(out_dir, r);
+  const Html sequences = sequence_sections(out_dir, r);
   std::vector<std::string> scenes;
   std::map<std::string, std::vector<const SuiteReportEntry*>> featured;
   for (const auto& e : r.entries) {
@@ -291,21 +281,20 @@ std::string write_suite_report(const std::string& out_dir, const SuiteReport& re
     auto& list = featured[e.row.scene];
     if (e.featured) list.push_back(&e);
   }
-  std::ostringstream h;
-  h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>aoeval "
-    << html_escape(r.suite) << " suite, run " << html_escape(r.context.run_id)
-    << "</title>\n<style>" << kStyle << "</style>\n"
-    << write_viewer_assets(out_dir) << "</head><body>\n<h1>aoeval: " << html_escape(r.suite)
-    << (r.sweep ? " sweep" : " suite") << "</h1>\n";
+  Html h;
+  h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
+    << content_security_policy() << "<title>aoeval " << text(r.suite) << " suite, run "
+    << text(r.context.run_id) << "</title>\n<style>" << kStyle << "</style>\n"
+    << write_viewer_assets(out_dir) << "</head><body>\n<h1>aoeval: " << text(r.suite)
+    << (r.sweep ? Html(" sweep") : Html(" suite")) << "</h1>\n";
   h << leaderboard_html(r.entries, scenes);
   summary(h, r, scenes, charts);
   h << "<nav>Scenes: ";
   for (const auto& s : scenes)
-    h << "<a href=\"#scene-" << slug(s) << "\">" << html_escape(s) << "</a>";
+    h << "<a href=\"#scene-" << attr(slug(s)) << "\">" << text(s) << "</a>";
   h << "<br>Estimators: ";
   for (const auto& c : charts)
-    h << "<a href=\"#estimator-" << slug(c.estimator) << "\">" << html_escape(c.estimator)
-      << "</a>";
+    h << "<a href=\"#estimator-" << attr(slug(c.estimator)) << "\">" << text(c.estimator) << "</a>";
   if (!sequences.empty()) h << "<br><a href=\"#sequences\">Sequences (AO over time)</a>";
   h << "</nav>\n<p>Each scene shows every estimator's featured run (its default point unless the "
        "suite says otherwise; in a sweep, the points on its Pareto fronts). A mosaic opens in the "

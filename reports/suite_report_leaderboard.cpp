@@ -30,20 +30,14 @@ double rmse_excess(const ResultRow& r) {
                                                                       : std::nan("");
 }
 
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", v);
-  return buf;
-}
-
 std::string view_key(const ResultRow& r) {
   return r.scene + "/" + r.view + "/" + std::to_string(r.width) + "x" + std::to_string(r.height);
 }
 
 }  // namespace
 
-std::string leaderboard_html(const std::vector<SuiteReportEntry>& entries,
-                             const std::vector<std::string>& scenes) {
+Html leaderboard_html(const std::vector<SuiteReportEntry>& entries,
+                      const std::vector<std::string>& scenes) {
   // Rows: one per featured configuration (estimator and its explicit parameters), in order.
   std::vector<std::string> labels;
   std::map<std::string, std::map<std::string, std::vector<const SuiteReportEntry*>>> cells;
@@ -60,21 +54,21 @@ std::string leaderboard_html(const std::vector<SuiteReportEntry>& entries,
       if (!fresh) it->second = std::min(it->second, v);
     }
   }
-  if (labels.empty()) return "";
-  std::ostringstream h;
+  if (labels.empty()) return {};
+  Html h;
   h << "<h2 id=\"leaderboard\">Leaderboard</h2>\n<p>Each estimator's featured point per scene: "
        "rmse_excess (matched reference) and median ms per frame; &#9733; marks the least "
        "rmse_excess of a scene view. Click a header to sort; a value links to its mosaic.</p>\n"
        "<table class=\"leaderboard sortable\"><thead><tr><th class=\"l\" rowspan=\"2\" "
        "data-sort=\"0\" data-type=\"text\">estimator</th>";
-  for (const auto& s : scenes) h << "<th colspan=\"2\">" << html_escape(s) << "</th>";
+  for (const auto& s : scenes) h << "<th colspan=\"2\">" << text(s) << "</th>";
   h << "</tr>\n<tr>";
   for (size_t k = 0; k < scenes.size(); ++k)
     h << "<th data-sort=\"" << 1 + 2 * k << "\">rmse_excess</th><th data-sort=\"" << 2 + 2 * k
       << "\">ms</th>";
   h << "</tr></thead>\n<tbody>\n";
   for (const auto& label : labels) {
-    h << "<tr><td class=\"l\">" << html_escape(label) << "</td>";
+    h << "<tr><td class=\"l\">" << text(label) << "</td>";
     for (const auto& s : scenes) {
       const auto it = cells[label].find(s);
       if (it == cells[label].end()) {
@@ -82,42 +76,44 @@ std::string leaderboard_html(const std::vector<SuiteReportEntry>& entries,
         continue;
       }
       // Several views of a scene: one line each; the first one sorts.
-      std::string error_cell, time_cell, error_v, time_v;
+      Html error_cell, time_cell, error_v, time_v;
       bool is_best = false, skipped = false;
       for (const auto* e : it->second) {
         const ResultRow& r = e->row;
-        const std::string br = error_cell.empty() ? "" : "<br>";
-        const std::string title =
-            html_escape(r.view + " " + std::to_string(r.width) + "x" + std::to_string(r.height));
+        if (!error_cell.empty()) {
+          error_cell << "<br>";
+          time_cell << "<br>";
+        }
+        const Html title =
+            attr(r.view + " " + std::to_string(r.width) + "x" + std::to_string(r.height));
         const double v = rmse_excess(r);
         if (std::isnan(v)) {
           skipped = skipped || error_cell.empty();
-          error_cell += br + "<span title=\"" + html_escape(r.status) + "\">skipped</span>";
-          time_cell += br + "&ndash;";
+          error_cell << "<span title=\"" << attr(r.status) << "\">skipped</span>";
+          time_cell << "&ndash;";
           continue;
         }
         const bool b = v <= best[view_key(r)];
         is_best = is_best || b;
-        const std::string anchor = "#mosaic-" + slug(r.run_name);
-        error_cell += br + "<a href=\"" + anchor + "\" title=\"" + title + "\">" + num(v) +
-                      (b ? " &#9733;" : "") + "</a>";
-        time_cell += br + num(r.time_ms_median);
+        error_cell << "<a href=\"#mosaic-" << attr(slug(r.run_name)) << "\" title=\"" << title
+                   << "\">" << number(v) << (b ? Html(" &#9733;") : Html()) << "</a>";
+        time_cell << number(r.time_ms_median);
         if (error_v.empty()) {
-          error_v = num(v);
-          time_v = num(r.time_ms_median);
+          error_v = number(v);
+          time_v = number(r.time_ms_median);
         }
       }
       h << "<td"
-        << (is_best   ? " class=\"best\""
-            : skipped ? " class=\"skipped\""
-                      : "")
+        << (is_best   ? Html(" class=\"best\"")
+            : skipped ? Html(" class=\"skipped\"")
+                      : Html())
         << " data-v=\"" << error_v << "\">" << error_cell << "</td><td data-v=\"" << time_v << "\">"
         << time_cell << "</td>";
     }
     h << "</tr>\n";
   }
   h << "</tbody></table>\n";
-  return h.str();
+  return h;
 }
 
 }  // namespace aoeval

@@ -8,12 +8,13 @@
 #include <vector>
 
 #include "harness/results/suite_record.h"
+#include "reports/html.h"
 
 namespace aoeval {
 
 // The table's HTML over the featured entries (in their order); "" when there are none.
-std::string leaderboard_html(const std::vector<SuiteReportEntry>& entries,
-                             const std::vector<std::string>& scenes);
+Html leaderboard_html(const std::vector<SuiteReportEntry>& entries,
+                      const std::vector<std::string>& scenes);
 
 // The parameters set explicitly, as in the run name: "rays:16" ("defaults" when none).
 std::string params_of(const ResultRow& row);

@@ -217,23 +217,21 @@ PlotSpec chart_of(const nlohmann::json& manifest, const ResultRow& row) {
   return spec;
 }
 
-std::string value_of(const nlohmann::json& metrics, const std::string& key) {
+Html value_of(const nlohmann::json& metrics, const std::string& key) {
   const auto it = metrics.find(key);
-  if (it == metrics.end() || !it->is_number()) return "&ndash;";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.4g", it->get<double>());
-  return buf;
+  if (it == metrics.end() || !it->is_number()) return Html("&ndash;");
+  return number(it->get<double>());
 }
 
-std::string link(const std::string& href, const std::string& text) {
-  return "<a href=\"" + html_escape(href) + "\">" + html_escape(text) + "</a>";
+Html link(const std::string& href, const std::string& label) {
+  return Html("<a href=\"") << url(href) << "\">" << text(label) << "</a>";
 }
 
 }  // namespace
 
-std::string sequence_sections(const std::string& out_dir, const SuiteReport& report) {
+Html sequence_sections(const std::string& out_dir, const SuiteReport& report) {
   const fs::path out(out_dir);
-  std::ostringstream h;
+  Html h;
   std::vector<std::pair<PlotSpec, std::string>> charts;
   size_t sections = 0;
   for (const auto& e : report.entries) {
@@ -255,11 +253,11 @@ std::string sequence_sections(const std::string& out_dir, const SuiteReport& rep
           fs::exists(out / k["reference"].get<std::string>(), ec))
         kept.push_back(k);
     ++sections;
-    h << "<section class=\"sequence\" id=\"sequence-" << slug(r.run_name) << "\"><h3>"
-      << html_escape(r.estimator) << " " << html_escape(params_of(r)) << ", "
-      << html_escape(r.scene) << "/" << html_escape(r.view) << " " << r.width << "&times;"
-      << r.height << ", " << m.value("frames", 0) << " frames</h3>\n<table class=\"metrics\"><tr>";
-    for (const auto& k : sequence_metric_names()) h << "<th>" << k << "</th>";
+    h << "<section class=\"sequence\" id=\"sequence-" << attr(slug(r.run_name)) << "\"><h3>"
+      << text(r.estimator) << " " << text(params_of(r)) << ", " << text(r.scene) << "/"
+      << text(r.view) << " " << r.width << "&times;" << r.height << ", " << m.value("frames", 0)
+      << " frames</h3>\n<table class=\"metrics\"><tr>";
+    for (const auto& k : sequence_metric_names()) h << "<th>" << text(k) << "</th>";
     h << "</tr>\n<tr>";
     for (const auto& k : sequence_metric_names()) h << "<td>" << value_of(r.metrics, k) << "</td>";
     h << "</tr></table>\n";
@@ -287,24 +285,23 @@ std::string sequence_sections(const std::string& out_dir, const SuiteReport& rep
       std::string picked;
       for (size_t i : pick) picked += (picked.empty() ? "" : ", ") + std::to_string(numbers[i]);
       h << "<figure>"
-        << viewer_html(spec, "<img class=\"mosaic strip\" src=\"" + html_escape(strip) +
-                                 "\" loading=\"lazy\" alt=\"" + html_escape(r.run_name) +
-                                 ": frames " + picked + "\">")
-        << "<figcaption>Frames " << picked
+        << viewer_html(spec, Html("<img class=\"mosaic strip\" src=\"")
+                                 << url(strip) << "\" loading=\"lazy\" alt=\""
+                                 << attr(r.run_name + ": frames " + picked) << "\">")
+        << "<figcaption>Frames " << text(picked)
         << " (the first, the one with most disoccluded pixels, the last): reference | estimate | "
            "|estimate &minus; reference|, one error scale for the three. The viewer holds all "
         << kept.size() << " kept frames (frame slider, play: , . p).</figcaption></figure>\n"
-        << "<figure><img class=\"video\" src=\"" << html_escape(video)
-        << "\" loading=\"lazy\" alt=\"" << html_escape(r.run_name)
-        << ": video\"><figcaption>Reference | estimate, every kept "
+        << "<figure><img class=\"video\" src=\"" << url(video) << "\" loading=\"lazy\" alt=\""
+        << attr(r.run_name) << ": video\"><figcaption>Reference | estimate, every kept "
         << "frame at " << value_of(m, "fps") << " frames per second (animated PNG).</figcaption>"
         << "</figure>\n";
     }
     const std::string chart = (dir / "rmse_excess.png").string();
     if (!up_to_date(out / chart, {manifest_path}))
       charts.emplace_back(chart_of(m, r), (out / chart).string());
-    h << "<figure><img class=\"chart\" src=\"" << html_escape(chart) << "\" loading=\"lazy\" alt=\""
-      << html_escape(r.run_name) << ": rmse_excess by frame and by frames since disocclusion\">"
+    h << "<figure><img class=\"chart\" src=\"" << url(chart) << "\" loading=\"lazy\" alt=\""
+      << attr(r.run_name) << ": rmse_excess by frame and by frames since disocclusion\">"
       << "<figcaption>Left: each frame's rmse_excess, steady_rmse_excess dashed over the frames it "
          "averages (the last half). Right: rmse_excess over pixels grouped by the frames since "
          "they were last disoccluded (settle_frames is the first age within 1.1 &times; "
@@ -312,13 +309,14 @@ std::string sequence_sections(const std::string& out_dir, const SuiteReport& rep
       << link((dir / "frames.csv").string(), "frames.csv") << " &middot; "
       << link((dir / "sequence.json").string(), "sequence.json") << "</p></section>\n";
   }
-  if (sections == 0) return "";
+  if (sections == 0) return {};
   if (!charts.empty()) render_plots(charts);
-  return "<section class=\"sequences\" id=\"sequences\"><h2>Sequences (AO over time)</h2>\n"
-         "<p>Each sequence point (CONTRACT &sect;10): its sequence keys, a strip of frames that "
-         "opens the viewer over every kept frame, a video of the estimate beside the reference, "
-         "and rmse_excess by frame and by frames since disocclusion.</p>\n" +
-         h.str() + "</section>\n";
+  return Html(
+             "<section class=\"sequences\" id=\"sequences\"><h2>Sequences (AO over time)</h2>\n"
+             "<p>Each sequence point (CONTRACT &sect;10): its sequence keys, a strip of frames "
+             "that opens the viewer over every kept frame, a video of the estimate beside the "
+             "reference, and rmse_excess by frame and by frames since disocclusion.</p>\n")
+         << h << "</section>\n";
 }
 
 }  // namespace aoeval

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "harness/results/suite_record.h"
+#include "reports/html.h"
 
 namespace aoeval {
 
@@ -22,6 +23,6 @@ std::string sequence_folder(const ResultRow& row);
 // their sources) and returns the HTML of the report's "Sequences" part: "" when no ok row of
 // `report` is a sequence point with a manifest. InputError naming the file when a manifest or
 // an EXR it names cannot be read.
-std::string sequence_sections(const std::string& out_dir, const SuiteReport& report);
+Html sequence_sections(const std::string& out_dir, const SuiteReport& report);
 
 }  // namespace aoeval

@@ -68,14 +68,15 @@ std::string base64(const unsigned char* data, size_t n) {
   return out;
 }
 
-std::string write_viewer_assets(const std::string& page_dir) {
+Html write_viewer_assets(const std::string& page_dir) {
   const fs::path dir = fs::path(page_dir) / "viewer";
   for (const ViewerAsset& a : viewer_assets())
     write_if_changed(dir / a.name, std::string(a.content));
-  return "<link rel=\"stylesheet\" href=\"viewer/viewer.css\">\n"
-         "<script src=\"viewer/colour_maps.js\" defer></script>\n"
-         "<script src=\"viewer/viewer.js\" defer></script>\n"
-         "<script src=\"viewer/report.js\" defer></script>\n";
+  return Html(
+      "<link rel=\"stylesheet\" href=\"viewer/viewer.css\">\n"
+      "<script src=\"viewer/colour_maps.js\" defer></script>\n"
+      "<script src=\"viewer/viewer.js\" defer></script>\n"
+      "<script src=\"viewer/report.js\" defer></script>\n");
 }
 
 const std::vector<std::string>& reference_viewer_channels() {
@@ -151,17 +152,17 @@ std::string write_viewer_data(const std::string& page_dir, const std::vector<std
   return rel;
 }
 
-std::string viewer_html(const ViewerSpec& spec, const std::string& static_html) {
-  std::string h = "<div class=\"aoeval-viewer\" data-kind=\"" + html_escape(spec.kind) +
-                  "\" data-a=\"" + html_escape(spec.a) + "\"";
-  if (!spec.b.empty()) h += " data-b=\"" + html_escape(spec.b) + "\"";
-  if (spec.kind == "compare") h += " data-labels=\"" + html_escape(spec.labels) + "\"";
-  return h + ">\n<div class=\"av-static\">" + static_html + "</div></div>\n";
+Html viewer_html(const ViewerSpec& spec, const Html& static_html) {
+  Html h;
+  h << "<div class=\"aoeval-viewer\" data-kind=\"" << attr(spec.kind) << "\" data-a=\""
+    << url(spec.a) << "\"";
+  if (!spec.b.empty()) h << " data-b=\"" << url(spec.b) << "\"";
+  if (spec.kind == "compare") h << " data-labels=\"" << attr(spec.labels) << "\"";
+  return h << ">\n<div class=\"av-static\">" << static_html << "</div></div>\n";
 }
 
-std::string compare_viewer(const std::string& page_dir, const std::string& a_exr,
-                           const std::string& b_exr, const std::string& labels,
-                           const std::string& static_html) {
+Html compare_viewer(const std::string& page_dir, const std::string& a_exr, const std::string& b_exr,
+                    const std::string& labels, const Html& static_html) {
   ViewerSpec spec;
   spec.a = write_viewer_data(page_dir, {a_exr}, reference_viewer_channels());
   spec.b = write_viewer_data(page_dir, {b_exr}, estimate_viewer_channels());

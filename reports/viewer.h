@@ -7,11 +7,13 @@
 #include <string>
 #include <vector>
 
+#include "reports/html.h"
+
 namespace aoeval {
 
 // Writes viewer/colour_maps.js, viewer.js, report.js and viewer.css under `page_dir` (atomically,
 // only when they differ) and returns the <link>/<script> tags for the page's <head>.
-std::string write_viewer_assets(const std::string& page_dir);
+Html write_viewer_assets(const std::string& page_dir);
 
 // The channels a viewer shows: of a reference (AO, AO_stderr), an estimate (AO) and a G-buffer.
 // The coverage channel A always comes along as the compared-pixel mask.
@@ -38,13 +40,12 @@ struct ViewerSpec {
   std::string a, b;
   std::string labels = "reference,estimate";
 };
-std::string viewer_html(const ViewerSpec& spec, const std::string& static_html);
+Html viewer_html(const ViewerSpec& spec, const Html& static_html);
 
 // The whole of it for a pair of EXRs (relative to `page_dir`): data scripts, then the element.
 // For pages that show an EXR pair as images (the dashboard's new | baseline | difference).
-std::string compare_viewer(const std::string& page_dir, const std::string& a_exr,
-                           const std::string& b_exr, const std::string& labels,
-                           const std::string& static_html);
+Html compare_viewer(const std::string& page_dir, const std::string& a_exr, const std::string& b_exr,
+                    const std::string& labels, const Html& static_html);
 
 // Base64 (RFC 4648, with padding) of `n` bytes.
 std::string base64(const unsigned char* data, size_t n);

@@ -64,7 +64,7 @@ TEST(Viewer, AssetsAreBuiltIn) {
   EXPECT_EQ(names,
             (std::set<std::string>{"viewer.js", "report.js", "viewer.css", "colour_maps.js"}));
   const fs::path dir = testutil::test_temp_dir("viewer");
-  const std::string head = write_viewer_assets(dir.string());
+  const std::string head = write_viewer_assets(dir.string()).str();
   EXPECT_NE(head.find("viewer/viewer.js"), std::string::npos);
   for (const auto& a : viewer_assets()) EXPECT_EQ(read_file(dir / "viewer" / a.name), a.content);
 }
@@ -92,9 +92,10 @@ TEST(Viewer, DataScriptsHoldTheExrFloatsExactly) {
     }
   write_exr((dir / "ref.exr").string(), image, {});
   const std::string rel = write_viewer_data(dir.string(), {"ref.exr"}, reference_viewer_channels());
-  EXPECT_EQ(rel, "viewer-data/ref.js");
+  EXPECT_EQ(rel, "viewer-data/" + file_stem_for("ref") + ".js");
   const std::string js = read_file(dir / rel);
-  const std::string prefix = "(window.AOEVAL_DATA=window.AOEVAL_DATA||{})[\"ref\"]=";
+  const std::string prefix =
+      "(window.AOEVAL_DATA=window.AOEVAL_DATA||{})[\"" + file_stem_for("ref") + "\"]=";
   ASSERT_EQ(js.substr(0, prefix.size()), prefix);
   const auto record =
       nlohmann::json::parse(js.substr(prefix.size(), js.size() - prefix.size() - 2));
@@ -134,14 +135,15 @@ TEST(Viewer, DataScriptsHoldTheExrFloatsExactly) {
   ViewerSpec v;
   v.a = "viewer-data/ref.js";
   v.b = "viewer-data/est.js";
-  const std::string html = viewer_html(v, "<img src=\"m.png\">");
+  const std::string html = viewer_html(v, Html("<img src=\"m.png\">")).str();
   EXPECT_NE(html.find("class=\"aoeval-viewer\""), std::string::npos);
   EXPECT_NE(html.find("data-b=\"viewer-data/est.js\""), std::string::npos);
   EXPECT_NE(html.find("<div class=\"av-static\"><img src=\"m.png\"></div>"), std::string::npos);
   // For a pair of EXRs in one call (the dashboard's new and baseline): both scripts, the labels.
-  const std::string pair = compare_viewer(dir.string(), "ref.exr", "ref.exr", "baseline,new", "");
-  EXPECT_NE(pair.find("data-a=\"viewer-data/ref.js\" data-b=\"viewer-data/ref.js\""),
-            std::string::npos)
+  const std::string pair =
+      compare_viewer(dir.string(), "ref.exr", "ref.exr", "baseline,new", Html()).str();
+  const std::string ref_js = "viewer-data/" + file_stem_for("ref") + ".js";
+  EXPECT_NE(pair.find("data-a=\"" + ref_js + "\" data-b=\"" + ref_js + "\""), std::string::npos)
       << pair;
   EXPECT_NE(pair.find("data-labels=\"baseline,new\""), std::string::npos);
 }
@@ -166,7 +168,7 @@ TEST(Leaderboard, MarksTheBestPerSceneAndSkippedRows) {
   entries[3].row = scored("b", "tree", 0.0, 0.0);
   entries[3].row.status = "skipped: no device";
   for (auto& e : entries) e.featured = true;
-  const std::string html = leaderboard_html(entries, {"box", "tree"});
+  const std::string html = leaderboard_html(entries, {"box", "tree"}).str();
   EXPECT_NE(html.find("class=\"leaderboard sortable\""), std::string::npos);
   // b is best on box, a on tree (b's skipped row does not count).
   EXPECT_NE(
@@ -179,7 +181,7 @@ TEST(Leaderboard, MarksTheBestPerSceneAndSkippedRows) {
       << html;
   EXPECT_EQ(html.find("<td class=\"best\" data-v=\"0.2\""), std::string::npos);
   for (auto& e : entries) e.featured = false;
-  EXPECT_EQ(leaderboard_html(entries, {"box"}), "");
+  EXPECT_TRUE(leaderboard_html(entries, {"box"}).empty());
 }
 
 }  // namespace

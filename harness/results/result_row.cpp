@@ -20,12 +20,15 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <map>
 #include <set>
 #include <stdexcept>
 #include <type_traits>
 
 #include "base/errors.h"
+#include "base/hash.h"
 #include "base/summary.h"
 #include "harness/results/metric_table.h"
 
@@ -295,7 +298,22 @@ std::string file_stem_for(const std::string& run_name) {
       out += '_';
     }
   }
-  return out;
+  // The readable part is lossy (view "a<b" and "a>b" both read "a_b", "a:b" reads like "a-b"):
+  // a hash of the whole name beside it keeps one file per point (issue 48).
+  char hash[16];
+  std::snprintf(hash, sizeof hash, "_%08x", static_cast<unsigned>(fnv1a(run_name) & 0xffffffffu));
+  return out + hash;
+}
+
+void check_file_stems(const std::vector<std::string>& run_names, const std::string& where) {
+  std::map<std::string, const std::string*> owner;
+  for (const auto& name : run_names) {
+    const auto [it, fresh] = owner.emplace(file_stem_for(name), &name);
+    if (!fresh && *it->second != name)
+      throw InputError(where + ": points \"" + *it->second + "\" and \"" + name +
+                       "\" would share the file name " + it->first +
+                       "; rename a view, scene or estimator");
+  }
 }
 
 }  // namespace aoeval

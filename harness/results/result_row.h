@@ -66,7 +66,12 @@ std::vector<std::string> measured_columns();  // metrics, true_ metrics, timings
 // or a pass's.
 const std::set<std::string>& fixed_columns();
 
-// A file name for a run name: "raytraced/rays:16/scene:bunny" -> "raytraced__rays-16__scene-bunny".
+// A file name for a run name: its readable part, then 8 hex digits of the name's FNV-1a hash, so
+// that names which read alike once sanitised (views "a<b" and "a>b") get files of their own:
+// "raytraced/rays:16/scene:bunny" -> "raytraced__rays-16__scene-bunny_<8 hex>".
 std::string file_stem_for(const std::string& run_name);
+// InputError naming `where` and both points when two different run names would still share a
+// file stem (a hash collision): one file per point, never one overwriting another.
+void check_file_stems(const std::vector<std::string>& run_names, const std::string& where);
 
 }  // namespace aoeval

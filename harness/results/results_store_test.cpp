@@ -4,6 +4,7 @@
 #include "base/errors.h"
 #include "base/testing/test_temp_dir.h"
 #include "harness/results/metric_table.h"
+#include "harness/results/result_row.h"
 #include "harness/results/stage_times.h"
 
 #include <gtest/gtest.h>
@@ -615,6 +616,45 @@ TEST(SqliteStoreTest, AnotherApplicationsDatabaseIsRefusedAndLeftUnchanged) {
   EXPECT_EQ(files, 1u);  // no -wal or -shm beside it
   std::ofstream(dir / "text.sqlite") << "not a database at all, but long enough to be read as one";
   EXPECT_THROW(SqliteStore((dir / "text.sqlite").string()), InputError);
+}
+
+// Issue 48: views whose names read alike once sanitised ("a<b", "a>b") got one estimate file and
+// one reference file between them. The stem keeps the readable part and adds the name's hash.
+TEST(FileStem, UniquePerRunNameAndReadable) {
+  const std::string lt = "raytraced/rays:16/scene:bunny/view:a<b/64x48";
+  const std::string gt = "raytraced/rays:16/scene:bunny/view:a>b/64x48";
+  const std::string colon = "raytraced/rays:16/scene:bunny/view:a:b/64x48";
+  const std::string dash = "raytraced/rays:16/scene:bunny/view:a-b/64x48";
+  EXPECT_EQ(file_stem_for(lt).rfind("raytraced__rays-16__scene-bunny__view-a_b__64x48_", 0), 0u)
+      << file_stem_for(lt);
+  EXPECT_EQ(file_stem_for(lt), file_stem_for(lt));  // stable
+  const std::set<std::string> stems = {file_stem_for(lt), file_stem_for(gt), file_stem_for(colon),
+                                       file_stem_for(dash)};
+  EXPECT_EQ(stems.size(), 4u);
+  for (const auto& s : stems)
+    EXPECT_EQ(
+        s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789._-"),
+        std::string::npos)
+        << s;
+  EXPECT_NO_THROW(
+      check_file_stems({lt, gt, colon, dash, lt}, "spec.json"));  // a repeat is one point
+}
+
+// Two names that read alike and whose 32-bit hashes collide (found by search: the hash is
+// FNV-1a, base/hash.h): refused, naming both, rather than one file overwriting the other.
+TEST(FileStem, ACollisionIsRefused) {
+  const std::string a = "raytraced/scene:box/view:<<<?\"<\"\"/8x8";
+  const std::string b = "raytraced/scene:box/view:><>*?**>/8x8";
+  ASSERT_EQ(file_stem_for(a), file_stem_for(b));
+  try {
+    check_file_stems({a, b}, "spec.json");
+    ADD_FAILURE() << "a shared file name was accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind("spec.json: ", 0), 0u) << what;
+    EXPECT_NE(what.find(a), std::string::npos) << what;
+    EXPECT_NE(what.find(b), std::string::npos) << what;
+  }
 }
 
 }  // namespace

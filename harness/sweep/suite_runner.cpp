@@ -215,6 +215,11 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
   for (const auto& s : o.sets) overrides.push_back(parse_suite_override(s));
   apply_suite_overrides(suite, overrides);
   std::vector<SuitePoint> points = expand_suite(suite);
+  {
+    std::vector<std::string> names;
+    for (const auto& p : points) names.push_back(p.point.name);
+    check_file_stems(names, "suite " + suite.name);
+  }
   if (!o.shard.empty() || !o.shard_plan.empty()) {  // a shard of a --slurm run (CONTRACT §9)
     std::vector<std::string> names;
     for (const auto& p : points) names.push_back(p.point.name);

@@ -58,6 +58,7 @@ int run_sweep(const SweepOptions& o, std::string* out_dir) {
   {
     std::vector<std::string> names;
     for (const auto& p : points) names.push_back(p.name);
+    check_file_stems(names, o.spec_path);  // before a shard is taken
     std::vector<SweepPoint> selected;
     for (size_t i : shard_indices(names, o.shard, o.shard_plan)) selected.push_back(points[i]);
     points = std::move(selected);

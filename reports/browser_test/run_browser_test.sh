@@ -21,30 +21,10 @@ build="$(realpath "$2")"
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 chromium="${AOEVAL_CHROMIUM:-/usr/bin/chromium}"
 
-if [ ! -x "$chromium" ]; then
-  echo "browser_test: skipped: $chromium is not installed (./test.sh installs Debian's chromium)"
-  exit 77
-fi
-if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
-  echo "browser_test: skipped: node and npm are not installed (./test.sh installs them)"
-  exit 77
-fi
-
-modules="$build/browser_test"
-if ! cmp -s "$here/package-lock.json" "$modules/package-lock.json" ||
-   [ ! -f "$modules/node_modules/playwright-core/package.json" ]; then
-  rm -rf "$modules"
-  mkdir -p "$modules"
-  cp "$here/package.json" "$here/package-lock.json" "$modules/"
-  # The npm registry is this test's one source outside Debian: retry its fetches, and skip (77)
-  # rather than fail when it cannot be reached, since that says nothing about aoeval's pages.
-  if ! (cd "$modules" && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error \
-          --fetch-retries=5 --fetch-retry-mintimeout=2000 --fetch-retry-maxtimeout=30000); then
-    rm -rf "$modules"
-    echo "browser_test: skipped: npm ci could not install playwright-core (is the npm registry reachable?)"
-    exit 77
-  fi
-fi
+# chromium, node and playwright-core (exit 77 without them): playwright_modules.sh.
+# shellcheck source=playwright_modules.sh
+source "$here/playwright_modules.sh"
+modules="$(playwright_modules "$here" "$build" "$chromium")" || exit $?
 
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
@@ -86,8 +66,10 @@ expect_status 0 "$aoeval" dashboard --db r.sqlite --out dash-pass --config accur
 # The checker itself must catch a broken page: a missing image, a console error, no hover swap.
 cp -r dash-fail broken
 rm "$(find broken/images -name baseline.png | head -n 1)"
-sed -i -e 's|img.addEventListener|void|g' -e 's|</body>|<script>console.error("planted")</script></body>|' \
-  broken/index.html
+sed -i -e 's|img.addEventListener|void|g' broken/dashboard.js
+# (A script file beside the page: the page's Content-Security-Policy refuses inline script.)
+echo 'console.error("planted");' >broken/planted.js
+sed -i -e 's|</body>|<script src="planted.js"></script></body>|' broken/index.html
 set +e
 # (The hover is expected to time out here, so a short wait will do.)
 NODE_PATH="$modules/node_modules" node "$here/check_pages.js" --screenshots "$work/shots" \
