@@ -376,8 +376,7 @@ bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
 bool same_bits(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
-  return a.size() == b.size() &&
-         std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec3)) == 0;
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec3)) == 0;
 }
 
 // Issue 42, must-show 3: one trace for several definitions (compute_references) gives each
@@ -432,9 +431,9 @@ TEST(References, SharedTraceRejectsMixedWeightings) {
   EmbreeScene es(s);
   const GBuffer g = probe({0, 0, 0}, {0, 1, 0}, 4);
   const std::vector<AoDefinition> mixed = {{Weighting::cosine}, {Weighting::uniform}};
-  EXPECT_THROW(compute_references(es, g, settings(Weighting::cosine, SamplerKind::sobol, 16),
-                                  mixed),
-               InputError);
+  EXPECT_THROW(
+      compute_references(es, g, settings(Weighting::cosine, SamplerKind::sobol, 16), mixed),
+      InputError);
 }
 
 }  // namespace

@@ -239,8 +239,8 @@ class PacketTracer {
                         (range == RayRange::bounded || !defs[0].bounded())),
         rays_(occlusion_only_ ? &ray_ : &hit_.ray) {
     const glm::vec3 o = in.position + in.geometric_normal * in.offset;
-    tfar_ = range == RayRange::bounded && defs[0].bounded() ? static_cast<float>(defs[0].dmax)
-                                                             : kInf;
+    tfar_ =
+        range == RayRange::bounded && defs[0].bounded() ? static_cast<float>(defs[0].dmax) : kInf;
     RTCRay16& r = *rays_;
     for (int k = 0; k < 16; ++k) {
       r.org_x[k] = o.x, r.org_y[k] = o.y, r.org_z[k] = o.z;
@@ -408,8 +408,8 @@ std::vector<TracedAo> trace(const EmbreeScene& es, const GBuffer& g, const AoTra
             for (uint32_t batch = 0;; ++batch) {
               for (int rep = 0; rep < replicates; ++rep) {
                 const auto replicate = static_cast<uint32_t>(batch * replicates + rep);
-                evaluate_replicate(es.handle(), context, s, defs, range, k, replicate, m, in,
-                                   frame, directions, sums, traced);
+                evaluate_replicate(es.handle(), context, s, defs, range, k, replicate, m, in, frame,
+                                   directions, sums, traced);
                 used += m;
               }
               if (s.target_stderr <= 0.0 || sums[0].acc.standard_error() <= s.target_stderr ||
