@@ -66,7 +66,9 @@ void run_reference(const Options& o) {
   if (frame.moves_objects) posed = posed_scene(base, frame);
   const Scene& scene = posed ? *posed : base;
   const Camera camera = frame_camera(frame, w, h);
-  if (view.sequence) s = frame_reference_settings(s, o.frame);
+  // A frame that poses what the frame before it did has that frame's reference (seed + j, j the
+  // first frame of the unchanged run; issue 42), so it is one cache entry.
+  if (view.sequence) s = frame_reference_settings(s, unchanged_since(base, view, o.frame));
   const std::string key = reference_cache_key(scene, camera, s);
   const std::string cached = reference_cache_path(key);
   auto served = [&] {

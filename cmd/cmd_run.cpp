@@ -16,6 +16,7 @@
 #include "harness/sweep/suite_runner.h"
 #include "reports/gbuffer_gallery.h"
 #include "reports/suite_report.h"
+#include "reports/viewer.h"
 
 namespace aoeval {
 
@@ -47,6 +48,7 @@ RunOutcome run_suite_with_report(const SuiteRunOptions& o) {
   stages_ms["wall"] = outcome.wall_ms;
   record_run_context(run, stages_ms);
   outcome.rows = run.report.entries.size();
+  outcome.references = run.references;
   outcome.skipped = run.skipped;
   outcome.suite = run.report.suite;
   outcome.stages = std::move(run.stages);
@@ -70,6 +72,10 @@ void add_run_command(CLI::App& app) {
                   "SLURM_ARRAY_TASK_COUNT (merge the shards with `aoeval merge`)");
   cmd->add_option("--shard-plan", o.shard_plan,
                   "with --shard: the cost-balanced plan's shard (written by --slurm)");
+  static bool viewer_exact = false;
+  cmd->add_flag("--viewer-exact", viewer_exact,
+                "the viewer's data as the EXRs' float32s, exactly (default: compact, float16 where "
+                "that keeps every value within 1e-3, deflated; about 10x smaller)");
   static ClusterOptions c;
   add_cluster_options(cmd, c);
   cmd->add_flag("--resume", c.resume,
@@ -80,6 +86,7 @@ void add_run_command(CLI::App& app) {
           "--resume: `aoeval run` resumes only with --slurm (a single-machine run "
           "is one pass; use `aoeval sweep --resume` for an interruptible one)");
     check_cluster_options(cmd, c);
+    if (viewer_exact) set_default_viewer_data(ViewerData::exact);
     if (c.slurm || c.references_only) {
       Suite suite = load_suite(o.suite);
       std::vector<SuiteOverride> overrides;
@@ -111,6 +118,10 @@ void add_run_command(CLI::App& app) {
     const RunOutcome run = run_suite_with_report(o);
     std::fprintf(stderr, "run %s: time by stage\n%s", run.suite.c_str(),
                  run.stages.table(run.wall_ms).c_str());
+    std::fprintf(stderr, "run %s: %llu references traced in %llu passes, %.3f Grays\n",
+                 run.suite.c_str(), static_cast<unsigned long long>(run.references.references),
+                 static_cast<unsigned long long>(run.references.traces),
+                 static_cast<double>(run.references.rays) / 1e9);
     std::fprintf(stderr, "run %s: %zu rows (%zu skipped) in %.0f s\n", run.suite.c_str(), run.rows,
                  run.skipped, run.wall_ms / 1000.0);
     std::printf("%s\n", run.page.c_str());

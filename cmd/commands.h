@@ -49,6 +49,7 @@ struct RunOutcome {
   size_t rows = 0, skipped = 0;
   double wall_ms = 0.0;
   StageTimes stages;
+  EvaluationSession::ReferenceCounts references;
 };
 RunOutcome run_suite_with_report(const SuiteRunOptions& options);
 

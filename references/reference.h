@@ -21,10 +21,19 @@ namespace aoeval {
 using ReferenceSettings = AoTraceSettings;
 using ReferenceImage = TracedAo;
 
-// The ground truth: trace_ao with the reference's settings.
+// The ground truth: trace_ao_definitions with the reference's settings and its one definition,
+// the same bits as when it shares its rays with other definitions (compute_references).
 inline ReferenceImage compute_reference(const EmbreeScene& scene, const GBuffer& gbuffer,
                                         const ReferenceSettings& settings) {
-  return trace_ao(scene, gbuffer, settings);
+  return std::move(trace_ao_definitions(scene, gbuffer, settings, {settings.definition})[0]);
+}
+
+// Several definitions of one weighting from one trace (settings.definition ignored): image i is
+// compute_reference of definitions[i], bit for bit.
+inline std::vector<ReferenceImage> compute_references(
+    const EmbreeScene& scene, const GBuffer& gbuffer, const ReferenceSettings& settings,
+    const std::vector<AoDefinition>& definitions) {
+  return trace_ao_definitions(scene, gbuffer, settings, definitions);
 }
 
 // Frame k of a sequence (CONTRACT §10) is traced with seed + k, so that consecutive frames'

@@ -5,7 +5,10 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <cstring>
+#include <limits>
 
+#include "base/errors.h"
 #include "references/reference.h"
 #include "scenes/analytic_scenes.h"
 #include "scenes/generators/generators.h"
@@ -360,6 +363,77 @@ TEST(AoDefinition, RayValuesAtTheEnds) {
   AoDefinition unbounded;
   unbounded.falloff = Falloff::linear;
   EXPECT_THROW(validate_definition(unbounded), InputError);
+}
+
+}  // namespace
+}  // namespace aoeval
+
+namespace aoeval {
+namespace {
+
+// Bit-for-bit equality of two float vectors (EXPECT_EQ on floats would equate +0 and -0).
+bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+bool same_bits(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec3)) == 0;
+}
+
+// Issue 42, must-show 3: one trace for several definitions (compute_references) gives each
+// definition the very bits of its own trace (compute_reference), for both weightings, falloffs
+// none, linear, sqrt, exp and power:3, and three ranges (0.3 and 0.85 cut the tree's hits in the
+// middle of their spread; one is unbounded), with a sampler over replicates (sobol) and one over
+// samples (random). A small tree over a floor seen through a camera gives every distance.
+TEST(References, SharedTraceIsEachDefinitionsOwnTraceBitForBit) {
+  Scene s = scene_of({generated("floor", "plane", {{"size", {20, 20}}}),
+                      generated("tree", "tree", {{"depth", 3}, {"leaves_per_twig", 4}})});
+  EmbreeScene es(s);
+  View v;
+  v.eye = {0.0f, 2.0f, 6.0f};
+  v.target = {0.0f, 1.5f, 0.0f};
+  const GBuffer g = render_gbuffer(es, make_camera(v, 40, 32));
+  const double inf = std::numeric_limits<double>::infinity();
+  for (auto w : kWeightings) {
+    std::vector<AoDefinition> defs = {{w, inf, Falloff::none}};
+    for (double dmax : {0.3, 0.85})
+      for (Falloff f : {Falloff::none, Falloff::linear, Falloff::sqrt, Falloff::exp})
+        defs.push_back({w, dmax, f});
+    defs.push_back({w, 0.85, Falloff::power(3.0)});
+    for (auto sampler : {SamplerKind::sobol, SamplerKind::random}) {
+      const ReferenceSettings st = settings(w, sampler, 64);
+      const std::vector<ReferenceImage> shared = compute_references(es, g, st, defs);
+      ASSERT_EQ(shared.size(), defs.size());
+      for (size_t d = 0; d < defs.size(); ++d) {
+        ReferenceSettings one = st;
+        one.definition = defs[d];
+        const ReferenceImage alone = compute_reference(es, g, one);
+        const std::string what = defs[d].label() + " " + sampler_name(sampler);
+        EXPECT_TRUE(same_bits(shared[d].ao, alone.ao)) << what;
+        EXPECT_TRUE(same_bits(shared[d].stderr_ao, alone.stderr_ao)) << what;
+        EXPECT_TRUE(same_bits(shared[d].bent, alone.bent)) << what;
+        EXPECT_TRUE(same_bits(shared[d].bent_stderr, alone.bent_stderr)) << what;
+        EXPECT_TRUE(same_bits(shared[d].spp, alone.spp)) << what;
+        // One pass: the shared trace sent the rays one definition alone sends.
+        EXPECT_EQ(shared[d].rays_traced, alone.rays_traced) << what;
+      }
+      // The definitions do differ on this scene (else equality would prove nothing): each
+      // bounded one is lighter than the unbounded one, and the falloffs of one range differ.
+      for (size_t d = 1; d < defs.size(); ++d)
+        EXPECT_FALSE(same_bits(shared[d].ao, shared[0].ao)) << defs[d].label();
+      EXPECT_FALSE(same_bits(shared[1].ao, shared[2].ao));
+      EXPECT_FALSE(same_bits(shared[2].ao, shared[3].ao));
+    }
+  }
+}
+
+TEST(References, SharedTraceRejectsMixedWeightings) {
+  Scene s = scene_of({generated("floor", "plane", {{"size", {20, 20}}})});
+  EmbreeScene es(s);
+  const GBuffer g = probe({0, 0, 0}, {0, 1, 0}, 4);
+  const std::vector<AoDefinition> mixed = {{Weighting::cosine}, {Weighting::uniform}};
+  EXPECT_THROW(
+      compute_references(es, g, settings(Weighting::cosine, SamplerKind::sobol, 16), mixed),
+      InputError);
 }
 
 }  // namespace

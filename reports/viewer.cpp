@@ -1,8 +1,13 @@
 #include "reports/viewer.h"
 
+#include <zlib.h>
+
+#include <atomic>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
@@ -39,6 +44,20 @@ void append_little_endian(std::vector<unsigned char>& out, float v) {
   for (int k = 0; k < 4; ++k) out.push_back(static_cast<unsigned char>(bits >> (8 * k)));
 }
 
+// The first line of a data script: which encoding it holds, so that a page written with the
+// other one rewrites it.
+std::string data_header(ViewerData data) {
+  return data == ViewerData::exact ? "// aoeval viewer data: exact float32\n"
+                                   : "// aoeval viewer data: compact\n";
+}
+
+bool starts_with_header(const fs::path& target, const std::string& header) {
+  std::ifstream in(target, std::ios::binary);
+  std::string first(header.size(), '\0');
+  in.read(first.data(), static_cast<std::streamsize>(first.size()));
+  return in && first == header;
+}
+
 bool newer_than_all(const fs::path& target, const fs::path& dir,
                     const std::vector<std::string>& sources) {
   std::error_code ec;
@@ -52,6 +71,84 @@ bool newer_than_all(const fs::path& target, const fs::path& dir,
 }
 
 }  // namespace
+
+namespace {
+std::atomic<ViewerData> g_default_viewer_data{ViewerData::compact};
+}  // namespace
+
+ViewerData default_viewer_data() {
+  return g_default_viewer_data.load();
+}
+void set_default_viewer_data(ViewerData data) {
+  g_default_viewer_data.store(data);
+}
+
+uint16_t float_to_half(float f) {
+  uint32_t x;
+  std::memcpy(&x, &f, sizeof x);
+  const auto sign = static_cast<uint16_t>((x >> 16) & 0x8000u);
+  x &= 0x7fffffffu;
+  if (x >= 0x47800000u)  // |f| >= 65536 (or inf, NaN): the callers keep such planes in float32
+    return static_cast<uint16_t>(sign | (x > 0x7f800000u ? 0x7e00u : 0x7c00u));
+  if (x < 0x38800000u) {  // below 2^-14: a subnormal half, |f| / 2^-24 rounded (to even)
+    float a;
+    std::memcpy(&a, &x, sizeof a);
+    return static_cast<uint16_t>(sign | static_cast<uint16_t>(std::nearbyint(a * 16777216.0f)));
+  }
+  // Normal: rebias the exponent, keep 10 mantissa bits, round to nearest even (a carry out of the
+  // mantissa moves to the next exponent, as it should).
+  uint32_t h = ((x >> 23) - 127 + 15) << 10 | (x & 0x7fffffu) >> 13;
+  const uint32_t rest = x & 0x1fffu;
+  if (rest > 0x1000u || (rest == 0x1000u && (h & 1u))) ++h;
+  return static_cast<uint16_t>(sign | h);
+}
+
+float half_to_float(uint16_t h) {
+  const uint32_t sign = static_cast<uint32_t>(h & 0x8000u) << 16, e = (h >> 10) & 0x1fu,
+                 m = h & 0x3ffu;
+  float v;
+  if (e == 0) {
+    v = std::ldexp(static_cast<float>(m), -24);
+  } else if (e == 31) {
+    v = m ? std::numeric_limits<float>::quiet_NaN() : std::numeric_limits<float>::infinity();
+  } else {
+    const uint32_t bits = (e - 15 + 127) << 23 | m << 13;
+    std::memcpy(&v, &bits, sizeof v);
+  }
+  uint32_t bits;
+  std::memcpy(&bits, &v, sizeof bits);
+  bits |= sign;
+  std::memcpy(&v, &bits, sizeof v);
+  return v;
+}
+
+static std::vector<unsigned char> pack_plane(const float* values, size_t n, bool& half) {
+  half = true;
+  // float16 only where it holds every value within 1e-3 (see ViewerData); NaN stays float32.
+  for (size_t k = 0; k < n && half; ++k) half = std::fabs(values[k]) <= kViewerHalfRange;
+  const size_t size = half ? 2 : 4;
+  std::vector<unsigned char> shuffled(n * size);
+  for (size_t k = 0; k < n; ++k) {
+    uint32_t bits;
+    if (half) {
+      bits = float_to_half(values[k]);
+    } else {
+      std::memcpy(&bits, &values[k], sizeof bits);
+    }
+    for (size_t b = 0; b < size; ++b)
+      shuffled[b * n + k] = static_cast<unsigned char>(bits >> (8 * b));
+  }
+  return shuffled;
+}
+
+static std::vector<unsigned char> deflate_bytes(const std::vector<unsigned char>& in) {
+  uLongf size = compressBound(static_cast<uLong>(in.size()));
+  std::vector<unsigned char> out(size);
+  if (compress2(out.data(), &size, in.data(), static_cast<uLong>(in.size()), 6) != Z_OK)
+    throw std::runtime_error("viewer data: zlib compress2 failed");
+  out.resize(size);
+  return out;
+}
 
 std::string base64(const unsigned char* data, size_t n) {
   static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -94,7 +191,7 @@ const std::vector<std::string>& gbuffer_viewer_channels() {
 
 std::string write_viewer_data(const std::string& page_dir, const std::vector<std::string>& exrs,
                               const std::vector<std::string>& channels,
-                              const std::vector<int>& frame_numbers, double fps) {
+                              const std::vector<int>& frame_numbers, double fps, ViewerData data) {
   if (exrs.empty()) throw InputError("viewer data: no EXR given");
   if (!frame_numbers.empty() && frame_numbers.size() != exrs.size())
     throw std::invalid_argument("write_viewer_data: one frame number per EXR");
@@ -103,9 +200,12 @@ std::string write_viewer_data(const std::string& page_dir, const std::vector<std
   if (stem.ends_with(".exr")) stem.resize(stem.size() - 4);
   const std::string name = file_stem_for(stem), rel = "viewer-data/" + name + ".js";
   const fs::path target = fs::path(page_dir) / rel;
-  if (newer_than_all(target, page_dir, exrs)) return rel;
+  const std::string header = data_header(data);
+  if (newer_than_all(target, page_dir, exrs) && starts_with_header(target, header)) return rel;
+  const bool compact = data == ViewerData::compact;
   nlohmann::json record;
   nlohmann::json planes = nlohmann::json::object(), masks = nlohmann::json::array();
+  nlohmann::json kinds = nlohmann::json::object();  // compact: "h" (float16) or "f" per plane
   int w = 0, h = 0;
   for (size_t f = 0; f < exrs.size(); ++f) {
     const std::string path = (fs::path(page_dir) / exrs[f]).string();
@@ -126,10 +226,24 @@ std::string write_viewer_data(const std::string& page_dir, const std::vector<std
     const int a = channel_index(image, "A", path);
     std::vector<unsigned char> mask(n);
     for (size_t k = 0; k < n; ++k) mask[k] = pixels[k * nc + a] > 0.5f;  // as every reader does
-    masks.push_back(base64(mask.data(), n));
+    if (compact) {
+      const std::vector<unsigned char> z = deflate_bytes(mask);
+      masks.push_back(base64(z.data(), z.size()));
+    } else {
+      masks.push_back(base64(mask.data(), n));
+    }
     for (const auto& c : channels) {
       const int ci = image.spec().channelindex(c);
       if (ci < 0) continue;
+      if (compact) {
+        std::vector<float> values(n);
+        for (size_t k = 0; k < n; ++k) values[k] = pixels[k * nc + ci];
+        bool half = false;
+        const std::vector<unsigned char> z = deflate_bytes(pack_plane(values.data(), n, half));
+        planes[c].push_back(base64(z.data(), z.size()));
+        kinds[c].push_back(half ? "h" : "f");
+        continue;
+      }
       std::vector<unsigned char> bytes;
       bytes.reserve(4 * n);
       for (size_t k = 0; k < n; ++k) append_little_endian(bytes, pixels[k * nc + ci]);
@@ -137,8 +251,18 @@ std::string write_viewer_data(const std::string& page_dir, const std::vector<std
     }
   }
   // A channel only some frames have would misalign frames: keep channels every frame has.
-  for (auto it = planes.begin(); it != planes.end();)
-    it = it->size() == exrs.size() ? std::next(it) : planes.erase(it);
+  for (auto it = planes.begin(); it != planes.end();) {
+    if (it->size() == exrs.size()) {
+      ++it;
+      continue;
+    }
+    kinds.erase(it.key());
+    it = planes.erase(it);
+  }
+  if (compact) {
+    record["encoding"] = "shuffled-deflate";
+    record["kinds"] = kinds;
+  }
   record["w"] = w;
   record["h"] = h;
   record["frames"] = exrs.size();
@@ -147,7 +271,7 @@ std::string write_viewer_data(const std::string& page_dir, const std::vector<std
   record["source"] = exrs;
   if (!frame_numbers.empty()) record["frame_numbers"] = frame_numbers;
   if (fps > 0.0) record["fps"] = fps;
-  write_text(target.string(), "(window.AOEVAL_DATA=window.AOEVAL_DATA||{})[" +
+  write_text(target.string(), header + "(window.AOEVAL_DATA=window.AOEVAL_DATA||{})[" +
                                   nlohmann::json(name).dump() + "]=" + record.dump() + ";\n");
   return rel;
 }
@@ -162,10 +286,10 @@ Html viewer_html(const ViewerSpec& spec, const Html& static_html) {
 }
 
 Html compare_viewer(const std::string& page_dir, const std::string& a_exr, const std::string& b_exr,
-                    const std::string& labels, const Html& static_html) {
+                    const std::string& labels, const Html& static_html, ViewerData data) {
   ViewerSpec spec;
-  spec.a = write_viewer_data(page_dir, {a_exr}, reference_viewer_channels());
-  spec.b = write_viewer_data(page_dir, {b_exr}, estimate_viewer_channels());
+  spec.a = write_viewer_data(page_dir, {a_exr}, reference_viewer_channels(), {}, 0.0, data);
+  spec.b = write_viewer_data(page_dir, {b_exr}, estimate_viewer_channels(), {}, 0.0, data);
   spec.labels = labels;
   return viewer_html(spec, static_html);
 }

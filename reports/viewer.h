@@ -4,6 +4,7 @@
 // images), and writes the viewer element around a page's static images. Reads EXRs; runs nothing.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -21,16 +22,34 @@ const std::vector<std::string>& reference_viewer_channels();
 const std::vector<std::string>& estimate_viewer_channels();
 const std::vector<std::string>& gbuffer_viewer_channels();
 
+// How the viewer's data holds the EXRs' floats (issue 42: the default suite's float32 data as
+// base64 text was 695 MB). compact: each plane byte-shuffled and deflated (zlib), the viewer
+// inflating it with the browser's DecompressionStream; a plane whose values all lie within
+// +-kViewerHalfRange as float16 (AO, its stderr, normals: probe values within 4.9e-4 of the EXR's
+// floats, 1e-3 promised), any other (depth) as float32, exact. exact: every plane float32 (the
+// EXRs' floats, bit for bit; `--viewer-exact`).
+enum class ViewerData { compact, exact };
+inline constexpr float kViewerHalfRange = 2.0f;
+// The encoding the page writers use: compact unless the command asked for `--viewer-exact`
+// (set once, before any page is written: the pages' writers, deep in reports/, do not each carry
+// it).
+ViewerData default_viewer_data();
+void set_default_viewer_data(ViewerData data);
+// Round to nearest even, as IEEE does; half_to_float is exact. For the viewer's data and its test.
+uint16_t float_to_half(float f);
+float half_to_float(uint16_t h);
+
 // Writes <page_dir>/viewer-data/<name>.js holding `channels` (those the files have) and the
-// coverage mask of each frame's EXR (one file per frame; all the same size), as base64 of the
-// little-endian float32s, exactly the EXRs' floats. Rewritten only when older than an EXR.
+// coverage mask of each frame's EXR (one file per frame; all the same size), encoded as `data`
+// says (base64 of the planes). Rewritten when older than an EXR or written in the other encoding.
 // `exrs` are relative to `page_dir`; returns the script's path relative to it. InputError naming
 // the file when an EXR is unreadable, lacks A, or differs in size from frame 0. A sequence's
 // kept frames give `frame_numbers` (the sequence frame of each EXR: the viewer's slider and
 // aoevalProbe's frame argument use them) and `fps` (its play speed).
 std::string write_viewer_data(const std::string& page_dir, const std::vector<std::string>& exrs,
                               const std::vector<std::string>& channels,
-                              const std::vector<int>& frame_numbers = {}, double fps = 0.0);
+                              const std::vector<int>& frame_numbers = {}, double fps = 0.0,
+                              ViewerData data = default_viewer_data());
 
 // The viewer element around `static_html` (what a page shows without JavaScript). kind "compare":
 // `a` the reference's data script, `b` the estimate's, `labels` their names ("reference,
@@ -45,7 +64,8 @@ Html viewer_html(const ViewerSpec& spec, const Html& static_html);
 // The whole of it for a pair of EXRs (relative to `page_dir`): data scripts, then the element.
 // For pages that show an EXR pair as images (the dashboard's new | baseline | difference).
 Html compare_viewer(const std::string& page_dir, const std::string& a_exr, const std::string& b_exr,
-                    const std::string& labels, const Html& static_html);
+                    const std::string& labels, const Html& static_html,
+                    ViewerData data = default_viewer_data());
 
 // Base64 (RFC 4648, with padding) of `n` bytes.
 std::string base64(const unsigned char* data, size_t n);

@@ -2,6 +2,7 @@
 // bit for bit; and the leaderboard's marks. The browser test (browser_test/check_viewer.js) checks
 // the same floats through element.aoevalProbe in Chromium.
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include <cstring>
 #include <filesystem>
@@ -69,7 +70,8 @@ TEST(Viewer, AssetsAreBuiltIn) {
   for (const auto& a : viewer_assets()) EXPECT_EQ(read_file(dir / "viewer" / a.name), a.content);
 }
 
-// A 5x3 reference with awkward floats (denormal, negative zero, NaN, 1/3) survives exactly.
+// A 5x3 reference with awkward floats (denormal, negative zero, NaN, 1/3) survives exactly
+// (`--viewer-exact`).
 TEST(Viewer, DataScriptsHoldTheExrFloatsExactly) {
   const fs::path dir = testutil::test_temp_dir("viewer");
   const int w = 5, h = 3;
@@ -91,11 +93,15 @@ TEST(Viewer, DataScriptsHoldTheExrFloatsExactly) {
       image.setpixel(x, y, px);
     }
   write_exr((dir / "ref.exr").string(), image, {});
-  const std::string rel = write_viewer_data(dir.string(), {"ref.exr"}, reference_viewer_channels());
+  const auto exact = [&](const std::vector<std::string>& exrs,
+                         const std::vector<std::string>& channels) {
+    return write_viewer_data(dir.string(), exrs, channels, {}, 0.0, ViewerData::exact);
+  };
+  const std::string rel = exact({"ref.exr"}, reference_viewer_channels());
   EXPECT_EQ(rel, "viewer-data/" + file_stem_for("ref") + ".js");
   const std::string js = read_file(dir / rel);
-  const std::string prefix =
-      "(window.AOEVAL_DATA=window.AOEVAL_DATA||{})[\"" + file_stem_for("ref") + "\"]=";
+  const std::string prefix = "// aoeval viewer data: exact float32\n(window.AOEVAL_DATA=window.AOEVAL_DATA||{})[\"" +
+                             file_stem_for("ref") + "\"]=";
   ASSERT_EQ(js.substr(0, prefix.size()), prefix);
   const auto record =
       nlohmann::json::parse(js.substr(prefix.size(), js.size() - prefix.size() - 2));
@@ -115,22 +121,26 @@ TEST(Viewer, DataScriptsHoldTheExrFloatsExactly) {
   const auto mask = unbase64(record["mask"][0].get<std::string>());
   ASSERT_EQ(mask.size(), size_t(w * h));
   for (int k = 0; k < w * h; ++k) EXPECT_EQ(mask[k], k % w == 4 ? 0 : 1) << k;
-  // Up to date: not rewritten (a marker survives); a newer EXR rewrites it.
-  std::ofstream(dir / rel) << "marker";
-  write_viewer_data(dir.string(), {"ref.exr"}, reference_viewer_channels());
-  EXPECT_EQ(read_file(dir / rel), "marker");
+  // Up to date: not rewritten (a marker after the header survives); a newer EXR rewrites it, and
+  // so does a page asking for the other encoding.
+  const std::string header = "// aoeval viewer data: exact float32\n";
+  std::ofstream(dir / rel) << header << "marker";
+  exact({"ref.exr"}, reference_viewer_channels());
+  EXPECT_EQ(read_file(dir / rel), header + "marker");
   fs::last_write_time(dir / "ref.exr", fs::last_write_time(dir / rel) + std::chrono::seconds(2));
-  write_viewer_data(dir.string(), {"ref.exr"}, reference_viewer_channels());
+  exact({"ref.exr"}, reference_viewer_channels());
   EXPECT_EQ(read_file(dir / rel).substr(0, prefix.size()), prefix);
+  write_viewer_data(dir.string(), {"ref.exr"}, reference_viewer_channels());
+  EXPECT_EQ(read_file(dir / rel).substr(0, 32), "// aoeval viewer data: compact\n(");
   // Two frames of different sizes, and a file without coverage, are input errors.
   OIIO::ImageSpec small(2, 2, 2, OIIO::TypeDesc::FLOAT);
   small.channelnames = {"AO", "A"};
   write_exr((dir / "small.exr").string(), OIIO::ImageBuf(small), {});
-  EXPECT_THROW(write_viewer_data(dir.string(), {"ref.exr", "small.exr"}, {"AO"}), InputError);
+  EXPECT_THROW(exact({"ref.exr", "small.exr"}, {"AO"}), InputError);
   OIIO::ImageSpec no_a(2, 2, 1, OIIO::TypeDesc::FLOAT);
   no_a.channelnames = {"AO"};
   write_exr((dir / "no_a.exr").string(), OIIO::ImageBuf(no_a), {});
-  EXPECT_THROW(write_viewer_data(dir.string(), {"no_a.exr"}, {"AO"}), InputError);
+  EXPECT_THROW(exact({"no_a.exr"}, {"AO"}), InputError);
   // The element: the static image inside, the scripts named.
   ViewerSpec v;
   v.a = "viewer-data/ref.js";
@@ -146,6 +156,87 @@ TEST(Viewer, DataScriptsHoldTheExrFloatsExactly) {
   EXPECT_NE(pair.find("data-a=\"" + ref_js + "\" data-b=\"" + ref_js + "\""), std::string::npos)
       << pair;
   EXPECT_NE(pair.find("data-labels=\"baseline,new\""), std::string::npos);
+}
+
+// zlib-inflates a compact plane (the page does it with DecompressionStream('deflate')).
+std::vector<unsigned char> inflate(const std::vector<unsigned char>& z, size_t size) {
+  std::vector<unsigned char> out(size);
+  uLongf n = size;
+  EXPECT_EQ(uncompress(out.data(), &n, z.data(), static_cast<uLong>(z.size())), Z_OK);
+  EXPECT_EQ(n, size);
+  return out;
+}
+
+// Issue 42: the compact default. A plane within +-2 (AO_stderr, and AO without its NaN) is
+// float16, within 1e-3 of the EXR's floats (4.9e-4 at most); a plane with a NaN or a value beyond
+// 2 (depth) stays float32, exact; masks are deflated bytes. Planes are byte-shuffled.
+TEST(Viewer, CompactDataIsWithinOneThousandthAndSmaller) {
+  const fs::path dir = testutil::test_temp_dir("viewer_compact");
+  const int w = 64, h = 48, n = w * h;
+  OIIO::ImageSpec spec(w, h, 4, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"AO", "AO_stderr", "Z", "A"};
+  OIIO::ImageBuf image(spec);
+  std::vector<float> ao(n), sd(n), z(n);
+  for (int k = 0; k < n; ++k) {
+    ao[k] = 0.5f + 0.5f * std::sin(0.05f * static_cast<float>(k));
+    sd[k] = 1e-6f * static_cast<float>(k);
+    z[k] = 3.0f + 0.01f * static_cast<float>(k);
+  }
+  ao[7] = 1.9999f;
+  ao[8] = -0.0f;
+  for (int k = 0; k < n; ++k) {
+    const float px[4] = {ao[k], sd[k], z[k], k % 3 ? 1.0f : 0.0f};
+    image.setpixel(k % w, k / w, px);
+  }
+  write_exr((dir / "ref.exr").string(), image, {});
+  const std::string rel = write_viewer_data(dir.string(), {"ref.exr"}, {"AO", "AO_stderr", "Z"});
+  const std::string js = read_file(dir / rel);
+  const size_t eq = js.find("]=");
+  ASSERT_NE(eq, std::string::npos);
+  const auto record = nlohmann::json::parse(js.substr(eq + 2, js.size() - eq - 4));
+  EXPECT_EQ(record["encoding"], "shuffled-deflate");
+  EXPECT_EQ(record["kinds"]["AO"][0], "h");
+  EXPECT_EQ(record["kinds"]["AO_stderr"][0], "h");
+  EXPECT_EQ(record["kinds"]["Z"][0], "f");
+  for (const auto& [name, want] : {std::pair{"AO", ao}, std::pair{"AO_stderr", sd}}) {
+    const auto u = inflate(unbase64(record["channels"][name][0].get<std::string>()), 2u * n);
+    double worst = 0.0;
+    for (int k = 0; k < n; ++k) {
+      const auto bits = static_cast<uint16_t>(u[k] | u[n + k] << 8);
+      worst = std::max(worst, std::fabs(double(half_to_float(bits)) - want[k]));
+    }
+    EXPECT_LE(worst, 4.9e-4) << name;
+  }
+  const auto zu = inflate(unbase64(record["channels"]["Z"][0].get<std::string>()), 4u * n);
+  for (int k = 0; k < n; ++k) {
+    uint32_t bits = 0, want_bits;
+    for (int b = 0; b < 4; ++b) bits |= uint32_t(zu[b * n + k]) << (8 * b);
+    std::memcpy(&want_bits, &z[k], 4);
+    ASSERT_EQ(bits, want_bits) << "Z pixel " << k;
+  }
+  const auto mask = inflate(unbase64(record["mask"][0].get<std::string>()), n);
+  for (int k = 0; k < n; ++k) ASSERT_EQ(mask[k], k % 3 ? 1 : 0) << k;
+  // Smaller than the exact form.
+  const fs::path exact_dir = testutil::test_temp_dir("viewer_exact");
+  fs::copy_file(dir / "ref.exr", exact_dir / "ref.exr");
+  write_viewer_data(exact_dir.string(), {"ref.exr"}, {"AO", "AO_stderr", "Z"}, {}, 0.0,
+                    ViewerData::exact);
+  EXPECT_LT(2 * js.size(), read_file(exact_dir / rel).size());
+}
+
+// float16 conversion: exact for representable values, round to nearest even between them.
+TEST(Viewer, HalfFloatsRoundToNearestEven) {
+  for (float v : {0.0f, 1.0f, -2.0f, 0.5f, 65504.0f, 6.103515625e-05f, 5.9604645e-08f})
+    EXPECT_EQ(half_to_float(float_to_half(v)), v) << v;
+  EXPECT_EQ(float_to_half(-0.0f), 0x8000);
+  // Halfway between two halves (steps of 1/1024 at 1): to the even one.
+  EXPECT_EQ(half_to_float(float_to_half(1.0f + 1.0f / 2048.0f)), 1.0f);
+  EXPECT_EQ(half_to_float(float_to_half(1.0f + 3.0f / 2048.0f)), 1.0f + 2.0f / 1024.0f);
+  EXPECT_EQ(half_to_float(float_to_half(1.0f + 3.0f / 4096.0f)), 1.0f + 1.0f / 1024.0f);
+  for (int k = 0; k <= 20000; ++k) {  // every value in [0, 2]: within half a step
+    const float v = 2.0f * static_cast<float>(k) / 20000.0f;
+    EXPECT_LE(std::fabs(half_to_float(float_to_half(v)) - v), 4.8829e-4f) << v;
+  }
 }
 
 ResultRow scored(const std::string& estimator, const std::string& scene, double err, double ms) {

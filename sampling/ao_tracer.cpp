@@ -12,6 +12,7 @@
 #include <glm/matrix.hpp>
 #include <limits>
 #include <numbers>
+#include <span>
 
 #include "base/errors.h"
 
@@ -211,22 +212,35 @@ struct PixelSums {
   }
 };
 
+// How a trace's rays end. `bounded`: each ray stops at the one definition's dmax, any hit for
+// falloff none (rtcOccluded), the closest for the others: the least work for one definition (the
+// raytraced and rtao estimators, whose cost is timed). `shared`: the closest hit with no bound
+// (rtcIntersect, tfar = infinity), from which every definition's value follows (ray_value(t): a hit
+// at t >= dmax is a miss for it); a lone unbounded definition with falloff none only asks whether
+// anything is hit, which rtcOccluded answers with the same bits (both accept exactly the hits the
+// same triangle tests accept). The references trace `shared`, alone or several definitions at once
+// (trace_ao_definitions), so one definition's bits are the same whichever others share its rays:
+// the Embree calls are the same calls.
+enum class RayRange { bounded, shared };
+
 // Traces one pixel's directions in packets of 16: they share an origin, so a packet traverses the
 // top of the BVH together. Directions are written straight into the packet's lanes as they are
 // generated; the origin, range and mask are written once per pixel. Each traced packet's values go
-// to the pixel's sums at once, in lane (= sample) order.
+// to every definition's sums at once, in lane (= sample) order.
 class PacketTracer {
  public:
-  PacketTracer(RTCScene scene, RTCIntersectContext& context, const AoDefinition& def,
-               const PixelInput& in, PixelSums& sums)
+  PacketTracer(RTCScene scene, RTCIntersectContext& context, std::span<const AoDefinition> defs,
+               RayRange range, const PixelInput& in, std::span<PixelSums> sums)
       : scene_(scene),
         context_(context),
-        def_(def),
+        defs_(defs),
         sums_(sums),
-        occlusion_only_(def.falloff == Falloff::none),
+        occlusion_only_(defs.size() == 1 && defs[0].falloff == Falloff::none &&
+                        (range == RayRange::bounded || !defs[0].bounded())),
         rays_(occlusion_only_ ? &ray_ : &hit_.ray) {
     const glm::vec3 o = in.position + in.geometric_normal * in.offset;
-    tfar_ = def.bounded() ? static_cast<float>(def.dmax) : kInf;
+    tfar_ =
+        range == RayRange::bounded && defs[0].bounded() ? static_cast<float>(defs[0].dmax) : kInf;
     RTCRay16& r = *rays_;
     for (int k = 0; k < 16; ++k) {
       r.org_x[k] = o.x, r.org_y[k] = o.y, r.org_z[k] = o.z;
@@ -263,37 +277,43 @@ class PacketTracer {
     for (int k = 0; k < 16; ++k) valid[k] = k < lanes_ ? -1 : 0;
     traced += static_cast<uint64_t>(lanes_);
     const RTCRay16& r = *rays_;
-    // Summed in a local copy, which the compiler keeps in registers (the pixel's sums behind a
-    // reference stay in memory, a store and a load per addition).
-    PixelSums local = sums_;
     if (occlusion_only_) {
       for (int k = 0; k < 16; ++k) ray_.tfar[k] = tfar_;
       rtcOccluded16(valid, scene_, &context_, &ray_);
+      // Summed in a local copy, which the compiler keeps in registers (the pixel's sums behind a
+      // reference stay in memory, a store and a load per addition).
+      PixelSums local = sums_[0];
       for (int k = 0; k < lanes_; ++k)
         local.occlusion(glm::vec3(r.dir_x[k], r.dir_y[k], r.dir_z[k]), ray_.tfar[k] >= 0.0f);
+      sums_[0] = local;
     } else {
       for (int k = 0; k < 16; ++k) {
         hit_.ray.tfar[k] = tfar_;
         hit_.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
       }
       rtcIntersect16(valid, scene_, &context_, &hit_);
-      for (int k = 0; k < lanes_; ++k) {
-        const glm::vec3 w(r.dir_x[k], r.dir_y[k], r.dir_z[k]);
-        if (hit_.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID)
-          local.unoccluded(w);
-        else
-          local.partly_occluded(w, def_.ray_value(hit_.ray.tfar[k]));
+      // Each definition's values from the same hit distances, in sample order per definition.
+      for (size_t d = 0; d < defs_.size(); ++d) {
+        const AoDefinition& def = defs_[d];
+        PixelSums local = sums_[d];
+        for (int k = 0; k < lanes_; ++k) {
+          const glm::vec3 w(r.dir_x[k], r.dir_y[k], r.dir_z[k]);
+          if (hit_.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID)
+            local.unoccluded(w);
+          else
+            local.partly_occluded(w, def.ray_value(hit_.ray.tfar[k]));
+        }
+        sums_[d] = local;
       }
     }
-    sums_ = local;
     lanes_ = 0;
   }
 
  private:
   RTCScene scene_;
   RTCIntersectContext& context_;
-  const AoDefinition& def_;
-  PixelSums& sums_;
+  std::span<const AoDefinition> defs_;
+  std::span<PixelSums> sums_;
   bool occlusion_only_;
   RTCRay16* rays_;  // the packet's rays: ray_, or hit_'s rays when distances are needed
   float tfar_ = kInf;
@@ -312,13 +332,14 @@ bool all_above(const uint8_t* above) {
 }
 
 // One replicate of one pixel: m directions, traced in packets, their values summed in sample
-// order. Directions below the geometric surface are occluded at distance 0 and not traced.
+// order into every definition's sums. Directions below the geometric surface are occluded at
+// distance 0 and not traced.
 void evaluate_replicate(RTCScene scene, RTCIntersectContext& context, const AoTraceSettings& s,
-                        uint64_t pixel, uint32_t replicate, uint32_t m, const PixelInput& in,
-                        const Frame& frame, ReplicateDirections& d, PixelSums& sums,
-                        uint64_t& traced) {
+                        std::span<const AoDefinition> defs, RayRange range, uint64_t pixel,
+                        uint32_t replicate, uint32_t m, const PixelInput& in, const Frame& frame,
+                        ReplicateDirections& d, std::span<PixelSums> sums, uint64_t& traced) {
   make_directions(s, pixel, replicate, m, in, frame, d);
-  PacketTracer tracer(scene, context, s.definition, in, sums);
+  PacketTracer tracer(scene, context, defs, range, in, sums);
   for (uint32_t i = 0; i < m;) {
     // Sixteen directions above the surface in a row (nearly always): one copy into the packet.
     if (tracer.empty() && m - i >= 16 && all_above(d.above.data() + i)) {
@@ -329,34 +350,40 @@ void evaluate_replicate(RTCScene scene, RTCIntersectContext& context, const AoTr
     if (d.above[i])
       tracer.add(d.x[i], d.y[i], d.z[i], traced);
     else
-      sums.occluded();
+      for (PixelSums& one : sums) one.occluded();
     ++i;
   }
   tracer.flush(traced);
-  sums.end_replicate(m);
+  for (PixelSums& one : sums) one.end_replicate(m);
 }
 
-}  // namespace
-
-TracedAo trace_ao(const EmbreeScene& es, const GBuffer& g, const AoTraceSettings& s) {
+void check_settings(const AoTraceSettings& s) {
   if (s.spp < 1) throw InputError("--spp: must be at least 1");
   if (s.target_stderr > 0.0 && s.max_spp < s.spp)
     throw InputError("--max-spp: must be at least --spp (" + std::to_string(s.spp) + ")");
   if (s.spp % replicates_of(s) != 0)
     throw InputError("replicates: " + std::to_string(replicates_of(s)) + " does not divide " +
                      std::to_string(s.spp) + " rays per pixel");
-  validate_definition(s.definition);
+}
+
+// The trace of `defs` (one weighting; s.definition is defs[0]) from one set of rays: one image per
+// definition, each with its own mean, standard error and bent normal. Adaptive sampling
+// (target_stderr) stops on the first definition's standard error.
+std::vector<TracedAo> trace(const EmbreeScene& es, const GBuffer& g, const AoTraceSettings& s,
+                            std::span<const AoDefinition> defs, RayRange range) {
   const auto start = std::chrono::steady_clock::now();
-  TracedAo r;
-  r.width = g.width;
-  r.height = g.height;
   const size_t n = g.pixel_count();
-  r.ao.assign(n, 0.0f);
-  r.stderr_ao.assign(n, 0.0f);
-  r.bent.assign(n, glm::vec3(0.0f));
-  r.bent_stderr.assign(n, 0.0f);
-  r.coverage = g.coverage;
-  r.spp.assign(n, 0.0f);
+  std::vector<TracedAo> out(defs.size());
+  for (TracedAo& r : out) {
+    r.width = g.width;
+    r.height = g.height;
+    r.ao.assign(n, 0.0f);
+    r.stderr_ao.assign(n, 0.0f);
+    r.bent.assign(n, glm::vec3(0.0f));
+    r.bent_stderr.assign(n, 0.0f);
+    r.coverage = g.coverage;
+    r.spp.assign(n, 0.0f);
+  }
   const float extent = scene_extent_of(es);
   const int replicates = replicates_of(s);
   const auto m = static_cast<uint32_t>(s.spp / replicates);
@@ -368,6 +395,7 @@ TracedAo trace_ao(const EmbreeScene& es, const GBuffer& g, const AoTraceSettings
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
         ReplicateDirections directions;
+        std::vector<PixelSums> sums;
         uint64_t traced = 0, samples = 0;
         for (int j = rows.begin(); j < rows.end(); ++j) {
           for (int i = 0; i < g.width; ++i) {
@@ -375,36 +403,69 @@ TracedAo trace_ao(const EmbreeScene& es, const GBuffer& g, const AoTraceSettings
             if (!g.covered(k)) continue;
             const PixelInput in = pixel_input(g, k, s, extent);
             const Frame frame = make_frame(in.normal);
-            PixelSums sums(replicated);
+            sums.assign(defs.size(), PixelSums(replicated));
             long used = 0;
             for (uint32_t batch = 0;; ++batch) {
               for (int rep = 0; rep < replicates; ++rep) {
                 const auto replicate = static_cast<uint32_t>(batch * replicates + rep);
-                evaluate_replicate(es.handle(), context, s, k, replicate, m, in, frame, directions,
-                                   sums, traced);
+                evaluate_replicate(es.handle(), context, s, defs, range, k, replicate, m, in, frame,
+                                   directions, sums, traced);
                 used += m;
               }
-              if (s.target_stderr <= 0.0 || sums.acc.standard_error() <= s.target_stderr ||
+              if (s.target_stderr <= 0.0 || sums[0].acc.standard_error() <= s.target_stderr ||
                   used + s.spp > s.max_spp)
                 break;
             }
             samples += static_cast<uint64_t>(used);
-            r.ao[k] = static_cast<float>(sums.acc.mean());
-            r.stderr_ao[k] = static_cast<float>(sums.acc.standard_error());
-            const glm::dvec3 bent = sums.bent_sum();
-            const double len = glm::length(bent);
-            r.bent[k] = len > 0.0 ? glm::vec3(bent / len) : glm::vec3(0.0f);
-            r.bent_stderr[k] = static_cast<float>(sums.bent_acc.angular_stderr_deg());
-            r.spp[k] = static_cast<float>(used);
+            for (size_t d = 0; d < defs.size(); ++d) {
+              TracedAo& r = out[d];
+              r.ao[k] = static_cast<float>(sums[d].acc.mean());
+              r.stderr_ao[k] = static_cast<float>(sums[d].acc.standard_error());
+              const glm::dvec3 bent = sums[d].bent_sum();
+              const double len = glm::length(bent);
+              r.bent[k] = len > 0.0 ? glm::vec3(bent / len) : glm::vec3(0.0f);
+              r.bent_stderr[k] = static_cast<float>(sums[d].bent_acc.angular_stderr_deg());
+              r.spp[k] = static_cast<float>(used);
+            }
           }
         }
         total_traced += traced;
         total_samples += samples;
       });
-  r.rays_traced = total_traced;
-  r.samples = total_samples;
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return r;
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (TracedAo& r : out) {
+    r.rays_traced = total_traced;
+    r.samples = total_samples;
+    r.seconds = seconds;
+  }
+  return out;
+}
+
+}  // namespace
+
+TracedAo trace_ao(const EmbreeScene& es, const GBuffer& g, const AoTraceSettings& s) {
+  check_settings(s);
+  validate_definition(s.definition);
+  return std::move(trace(es, g, s, std::span(&s.definition, 1), RayRange::bounded)[0]);
+}
+
+std::vector<TracedAo> trace_ao_definitions(const EmbreeScene& es, const GBuffer& g,
+                                           const AoTraceSettings& settings,
+                                           const std::vector<AoDefinition>& definitions) {
+  if (definitions.empty()) return {};
+  check_settings(settings);
+  for (const AoDefinition& d : definitions) {
+    validate_definition(d);
+    if (d.weighting != definitions[0].weighting)
+      throw InputError("reference definitions: " + d.label() + " and " + definitions[0].label() +
+                       " draw different directions (one trace per weighting)");
+  }
+  if (definitions.size() > 1 && settings.target_stderr > 0.0)
+    throw InputError("--target-stderr: adaptive sampling traces one definition at a time");
+  AoTraceSettings s = settings;
+  s.definition = definitions[0];
+  return trace(es, g, s, definitions, RayRange::shared);
 }
 
 std::vector<BareRay> generate_traced_rays(const GBuffer& g, const AoTraceSettings& s,

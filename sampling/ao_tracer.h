@@ -68,9 +68,25 @@ struct TracedAo {
 };
 
 // Deterministic: the same settings give the same bits whatever the thread count (each pixel draws
-// from its own stream and sums in a fixed order).
+// from its own stream and sums in a fixed order). Each ray stops at the definition's dmax (any hit
+// for falloff none): the least work for one definition, what the raytraced and rtao estimators
+// time.
 TracedAo trace_ao(const EmbreeScene& scene, const GBuffer& gbuffer,
                   const AoTraceSettings& settings);
+
+// The references' trace (issue 42): every definition of `definitions` (one weighting, so one set
+// of directions; settings.definition is ignored) from the same rays, one image each with its own
+// standard error and bent normal. Every ray finds its closest hit with no bound and each definition
+// reads its value from that distance (AoDefinition::ray_value: a hit at or beyond its dmax is a
+// miss for it), so a definition's image is the same bits whichever definitions share the trace,
+// alone included (a lone unbounded `none` asks rtcOccluded whether anything is hit, which accepts
+// exactly the hits rtcIntersect does). Bounded definitions thus cost a closest-hit ray each rather
+// than trace_ao's any-hit ray to dmax; in a suite they share the unbounded true-AO trace anyway.
+// rays_traced, samples and seconds are the shared trace's, in every image. InputError for mixed
+// weightings or adaptive sampling (target_stderr) with more than one definition.
+std::vector<TracedAo> trace_ao_definitions(const EmbreeScene& scene, const GBuffer& gbuffer,
+                                           const AoTraceSettings& settings,
+                                           const std::vector<AoDefinition>& definitions);
 
 // Fills `rays` with every traced occlusion ray of the reference (same directions, same origins),
 // for the throughput benchmark's bare Embree loop. Random sampler only.

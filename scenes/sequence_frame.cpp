@@ -36,6 +36,18 @@ SequenceFrame sequence_frame(const Scene& scene, const View& view, int k) {
   return f;
 }
 
+bool same_pose(const SequenceFrame& a, const SequenceFrame& b) {
+  return a.view.eye == b.view.eye && a.view.target == b.view.target && a.jitter == b.jitter &&
+         a.motion == b.motion;
+}
+
+int unchanged_since(const Scene& scene, const View& view, int k) {
+  const SequenceFrame last = sequence_frame(scene, view, k);
+  int j = k;
+  while (j > 0 && same_pose(sequence_frame(scene, view, j - 1), last)) --j;
+  return j;
+}
+
 Camera frame_camera(const SequenceFrame& frame, int width, int height) {
   Camera c = make_camera(frame.view, width, height);
   c.jitter = frame.jitter;

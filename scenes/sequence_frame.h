@@ -26,6 +26,12 @@ struct SequenceFrame {
 // Frame `k` of `view` (a view without a sequence has one frame, 0). InputError naming the view and
 // the frame range when k is outside it.
 SequenceFrame sequence_frame(const Scene& scene, const View& view, int k);
+// Whether two frames pose the same geometry and see it through the same camera (eye, target,
+// jitter and every object's motion equal): their G-buffers and references are the same.
+bool same_pose(const SequenceFrame& a, const SequenceFrame& b);
+// The first frame j <= k such that frames j..k all pose what frame k does: frame k's reference is
+// frame j's (issue 42: a frame that does not change is traced once, with frame j's seed).
+int unchanged_since(const Scene& scene, const View& view, int k);
 // The frame's camera at a resolution (the view's own when 0), jitter included.
 Camera frame_camera(const SequenceFrame& frame, int width = 0, int height = 0);
 // `base` with the frame's object motions applied to meshes and tree proxies; its content_hash()

@@ -8,6 +8,7 @@ repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
 # Debian packages aoeval needs. Everything comes from apt; nothing is downloaded from elsewhere.
 # python3-numpy and python3-openimageio: the shipped Python plug-ins (plugins/examples).
+# zlib1g-dev: the report viewer's compact data is deflated (reports/viewer.h).
 packages=(
   build-essential cmake ninja-build pkg-config clang-format fonts-dejavu-core
   libembree-dev libtbb-dev libglm-dev
@@ -16,7 +17,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3
   libgtest-dev libgmock-dev libbenchmark-dev libnlopt-cxx-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-tools glslang-dev
-  spirv-tools python3-matplotlib ccache python3-numpy python3-openimageio
+  spirv-tools python3-matplotlib ccache python3-numpy python3-openimageio zlib1g-dev
 )
 # test.sh also drives Debian's chromium headless for the browser test of the reports (node comes
 # from the machine, or Debian's nodejs + npm where it has none).

@@ -119,10 +119,55 @@ Camera EvaluationSession::frame_camera_of(const std::string& name, const View& v
   return frame_camera(sequence_frame(scene(name).scene, view, frame), w, h);
 }
 
-ReferenceSettings EvaluationSession::frame_settings(const View& view, int frame,
-                                                    const AoDefinition& definition) const {
+int EvaluationSession::reference_frame(const std::string& name, const View& view, int frame) {
+  if (!view.sequence) return frame;
+  return unchanged_since(scene(name).scene, view, frame);
+}
+
+ReferenceSettings EvaluationSession::frame_settings(const std::string& name, const View& view,
+                                                    int frame, const AoDefinition& definition) {
   const ReferenceSettings s = reference_spec_.settings(definition);
-  return view.sequence ? frame_reference_settings(s, frame) : s;
+  return view.sequence ? frame_reference_settings(s, reference_frame(name, view, frame)) : s;
+}
+
+void EvaluationSession::plan_references(const EvaluationRequest& req) {
+  const EstimatorInfo& e = *req.estimator;
+  AoDefinition definition;
+  try {
+    definition =
+        e.definition(resolve_params(e.name, e.params, req.overrides, "estimator " + e.name));
+  } catch (const InputError&) {
+    return;  // the point's own run reports it
+  }
+  std::lock_guard<std::recursive_mutex> lock(cache_mutex_);
+  std::vector<AoDefinition>& planned =
+      planned_[req.scene + "|" + req.view + "|" + std::to_string(req.width) + "x" +
+               std::to_string(req.height)];
+  for (const AoDefinition& d : {definition, true_ao_definition()})
+    if (std::find(planned.begin(), planned.end(), d) == planned.end()) planned.push_back(d);
+}
+
+std::vector<AoDefinition> EvaluationSession::planned_definitions(const std::string& name,
+                                                                 const View& view, int w, int h) {
+  std::lock_guard<std::recursive_mutex> lock(cache_mutex_);
+  const Scene& base = scene(name).scene;
+  std::vector<AoDefinition> out;
+  // A request names its view and size as the user wrote them: "" is the scene's first view, 0 its
+  // own size.
+  for (const std::string& v : {view.name, std::string()}) {
+    if (v.empty() && (base.views.empty() || base.views.front().name != view.name)) continue;
+    for (const std::string& size :
+         {std::to_string(w) + "x" + std::to_string(h), std::to_string(w) + "x0",
+          "0x" + std::to_string(h), std::string("0x0")}) {
+      if (size[0] == '0' && view.width != w) continue;
+      if (size.ends_with("x0") && view.height != h) continue;
+      const auto it = planned_.find(name + "|" + v + "|" + size);
+      if (it == planned_.end()) continue;
+      for (const AoDefinition& d : it->second)
+        if (std::find(out.begin(), out.end(), d) == out.end()) out.push_back(d);
+    }
+  }
+  return out;
 }
 
 namespace {
@@ -155,7 +200,7 @@ void EvaluationSession::compute_missing_reference(const std::string& scene_name,
       const SceneData& s = frame_scene(scene_name, view, k);
       const std::string path = reference_cache_path(
           reference_cache_key(s.content_hash, frame_camera_of(scene_name, view, k, w, h),
-                              frame_settings(view, k, definition)));
+                              frame_settings(scene_name, view, k, definition)));
       if (fs::exists(path)) return;  // read when scored (a damaged entry is recomputed then)
     }
   }
@@ -178,17 +223,78 @@ const ReferenceImage& EvaluationSession::reference(const std::string& scene_name
   const int k = still_frame(view);
   const SceneData& s = frame_scene(scene_name, view, k);
   const GBuffer& g = gbuffer(scene_name, view, w, h);
-  ReferenceImage image = reference_image(s, view, g.camera, g, frame_settings(view, k, definition));
+  ReferenceImage image =
+      reference_image(s, view, g.camera, g, frame_settings(scene_name, view, k, definition),
+                      planned_definitions(scene_name, view, w, h));
   std::lock_guard<std::recursive_mutex> lock(cache_mutex_);
   return references_.emplace(key, std::move(image)).first->second;
 }
 
+ReferenceImage EvaluationSession::trace_references(const SceneData& s, const View& view,
+                                                   const Camera& camera, const GBuffer& g,
+                                                   const ReferenceSettings& settings,
+                                                   const std::vector<AoDefinition>& companions) {
+  // The definitions traced with this one: the companions of its weighting whose cache entries do
+  // not exist yet (adaptive references trace one definition at a time).
+  std::vector<AoDefinition> batch = {settings.definition};
+  std::vector<std::string> keys = {reference_cache_key(s.content_hash, camera, settings)};
+  if (settings.target_stderr <= 0.0)
+    for (const AoDefinition& d : companions) {
+      if (d.weighting != settings.definition.weighting ||
+          std::find(batch.begin(), batch.end(), d) != batch.end())
+        continue;
+      ReferenceSettings other = settings;
+      other.definition = d;
+      const std::string key = reference_cache_key(s.content_hash, camera, other);
+      if (disk_cache_ ? fs::exists(reference_cache_path(key)) : untaken_.count(key) != 0) continue;
+      batch.push_back(d);
+      keys.push_back(key);
+    }
+  std::vector<ReferenceImage> traced;
+  {
+    const auto timer = stages_.time("reference compute");
+    traced = compute_references(*s.embree, g, settings, batch);
+  }
+  {
+    std::lock_guard<std::recursive_mutex> lock(cache_mutex_);
+    counts_.traces += 1;
+    counts_.references += batch.size();
+    counts_.rays += traced[0].rays_traced;
+  }
+  // Without a disk cache the companions wait in memory for their one request.
+  if (!disk_cache_) {
+    std::lock_guard<std::recursive_mutex> lock(cache_mutex_);
+    for (size_t i = 1; i < batch.size(); ++i) untaken_[keys[i]] = std::move(traced[i]);
+  }
+  // The companions' entries, each complete before it is renamed into place (write_exr is atomic):
+  // a shard that traced the same entry meanwhile wrote the same bits.
+  for (size_t i = 1; disk_cache_ && i < batch.size(); ++i) {
+    const auto timer = stages_.time("reference write (cache)");
+    ReferenceSettings other = settings;
+    other.definition = batch[i];
+    const OIIO::ImageBuf written = reference_to_image(traced[i], false);
+    Attributes attributes = reference_attributes(s.scene, s.content_hash, view, camera, other);
+    add_cache_attributes(attributes, keys[i], written);
+    write_exr(reference_cache_path(keys[i]), written, attributes);
+  }
+  return std::move(traced[0]);
+}
+
 ReferenceImage EvaluationSession::reference_image(const SceneData& s, const View& view,
                                                   const Camera& camera, const GBuffer& g,
-                                                  const ReferenceSettings& settings) {
+                                                  const ReferenceSettings& settings,
+                                                  const std::vector<AoDefinition>& companions) {
   if (!disk_cache_) {
-    const auto timer = stages_.time("reference compute");
-    return compute_reference(*s.embree, g, settings);
+    {
+      std::lock_guard<std::recursive_mutex> lock(cache_mutex_);
+      const auto it = untaken_.find(reference_cache_key(s.content_hash, camera, settings));
+      if (it != untaken_.end()) {
+        ReferenceImage image = std::move(it->second);
+        untaken_.erase(it);
+        return image;
+      }
+    }
+    return trace_references(s, view, camera, g, settings, companions);
   }
   const std::string cache_key = reference_cache_key(s.content_hash, camera, settings);
   const std::string path = reference_cache_path(cache_key);
@@ -204,11 +310,7 @@ ReferenceImage EvaluationSession::reference_image(const SceneData& s, const View
         return hit.has_value();
       },
       [&] {
-        ReferenceImage r;
-        {
-          const auto timer = stages_.time("reference compute");
-          r = compute_reference(*s.embree, g, settings);
-        }
+        const ReferenceImage r = trace_references(s, view, camera, g, settings, companions);
         const auto timer = stages_.time("reference write (cache)");
         const OIIO::ImageBuf written = reference_to_image(r, false);
         Attributes attributes =
@@ -320,6 +422,7 @@ void EvaluationSession::fill_identity(Measurement& m, const EvaluationRequest& r
 Measurement EvaluationSession::measure(const EvaluationRequest& req) {
   Measurement m;
   fill_identity(m, req);
+  plan_references(req);  // its matched and true references share their rays
   if (m.view->sequence) {
     measure_sequence(m, req.seed_per_frame);
     return m;

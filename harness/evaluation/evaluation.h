@@ -102,16 +102,39 @@ class EvaluationSession {
   const SceneData& scene(const std::string& name);
   // Frame k of a view: the scene posed for it (the scene itself when no object moves), cached.
   const SceneData& frame_scene(const std::string& name, const View& view, int frame);
-  // Frame k's camera (jitter included) and reference settings (seed + k for sequence views).
+  // Frame k's camera (jitter included) and reference settings (seed + j for sequence views, where
+  // j = reference_frame(): a frame that does not change from frame k - 1 has frame k - 1's
+  // reference, traced once; issue 42).
   Camera frame_camera_of(const std::string& name, const View& view, int frame, int w, int h);
-  ReferenceSettings frame_settings(const View& view, int frame, const AoDefinition& d) const;
+  int reference_frame(const std::string& name, const View& view, int frame);
+  ReferenceSettings frame_settings(const std::string& name, const View& view, int frame,
+                                   const AoDefinition& d);
+  // Declares the references a request will ask for (its definition and true AO), so that the
+  // first trace of a (scene, view, frame, size, weighting) traces every declared definition of
+  // that weighting at once and writes each one's cache entry (issue 42). Runners declare all
+  // their points before running any; measure() declares its own request in any case.
+  void plan_references(const EvaluationRequest& request);
+  // The definitions declared for a view at a size (view "" and size 0 of requests resolved).
+  std::vector<AoDefinition> planned_definitions(const std::string& scene, const View& view, int w,
+                                                int h);
+  // What the session traced: passes over the rays, the reference images they gave (a pass gives
+  // one per definition it shares its rays with) and the rays.
+  struct ReferenceCounts {
+    uint64_t traces = 0, references = 0, rays = 0;
+  };
+  ReferenceCounts reference_counts() {
+    std::lock_guard<std::recursive_mutex> lock(cache_mutex_);
+    return counts_;
+  }
   // Where one image stands for a view (gbuffer(), reference(), mosaics, the gallery), a sequence
   // view is its last frame: the state a screenshot after the sequence shows.
   static int still_frame(const View& view) { return view.frame_count() - 1; }
   // The reference of a G-buffer `g` of scene `s` seen by `camera`: from the disk cache (keyed by
   // the scene's geometry, the camera and the settings) or computed and stored there.
+  // `companions`: definitions to trace with it when it is traced (their cache entries written too).
   ReferenceImage reference_image(const SceneData& s, const View& view, const Camera& camera,
-                                 const GBuffer& g, const ReferenceSettings& settings);
+                                 const GBuffer& g, const ReferenceSettings& settings,
+                                 const std::vector<AoDefinition>& companions = {});
   const GBuffer& gbuffer(const std::string& scene, const View& view, int width, int height);
   const ReferenceImage& reference(const std::string& scene, const View& view, int width, int height,
                                   const AoDefinition& definition);
@@ -151,6 +174,15 @@ class EvaluationSession {
   std::map<std::string, SceneData> scenes_;
   std::map<std::string, GBuffer> gbuffers_;
   std::map<std::string, ReferenceImage> references_;
+  std::map<std::string, std::vector<AoDefinition>> planned_;  // "scene|view|WxH" as requested
+  ReferenceCounts counts_;
+  // Without a disk cache: images traced as companions, by cache key, until asked for once.
+  std::map<std::string, ReferenceImage> untaken_;
+  // Traces `settings`' reference with those companions of its weighting not yet in the disk cache,
+  // writes the companions' entries and returns the asked one.
+  ReferenceImage trace_references(const SceneData& s, const View& view, const Camera& camera,
+                                  const GBuffer& g, const ReferenceSettings& settings,
+                                  const std::vector<AoDefinition>& companions);
   std::vector<float> last_estimate_;
   StageTimes stages_;
   // FLIP's reference side of each reference scored against (flip::prepare_reference).

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 
 namespace aoeval {
@@ -24,15 +25,35 @@ void Progress::step(const std::string& what) {
   if (enabled_) draw(what);
 }
 
-void Progress::draw(const std::string& what) {
+void Progress::note(std::string text) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  note_ = std::move(text);
+}
+
+std::string Progress::line(size_t done, size_t total, double elapsed_s, const std::string& note,
+                           const std::string& what) {
   const int width = 30;
-  const int filled = total_ ? static_cast<int>(width * done_ / total_) : width;
-  const double elapsed =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const int filled = total ? static_cast<int>(width * std::min(done, total) / total) : width;
   std::string bar(static_cast<size_t>(filled), '#');
   bar.resize(width, '.');
-  std::fprintf(stderr, "\r\033[K%s [%s] %zu/%zu %.0fs %s", task_.c_str(), bar.c_str(), done_,
-               total_, elapsed, what.c_str());
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "[%s] %zu/%zu %.0fs", bar.c_str(), done, total, elapsed_s);
+  std::string out = buf;
+  if (done > 0 && done < total) {
+    std::snprintf(buf, sizeof buf, ", ~%.0fs left",
+                  elapsed_s / static_cast<double>(done) * static_cast<double>(total - done));
+    out += buf;
+  }
+  if (!note.empty()) out += ", " + note;
+  if (!what.empty()) out += "  " + what;
+  return out;
+}
+
+void Progress::draw(const std::string& what) {
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  std::fprintf(stderr, "\r\033[K%s %s", task_.c_str(),
+               line(done_, total_, elapsed, note_, what).c_str());
   std::fflush(stderr);
 }
 

@@ -90,6 +90,9 @@ void EvaluationSession::measure_sequence(Measurement& m, bool seed_per_frame) {
   GBuffer prev_g;
   SequenceFrame prev_f;
   const std::vector<int> keep = kept_sequence_frames(seq.frames);
+  ReferenceImage matched;                     // frame k's references ...
+  std::optional<ReferenceImage> truth_owned;  // ... (truth: when it is not the matched one)
+  int prev_ref_frame = -1;                    // ... and the frame they were traced for
   size_t next_kept = 0;
   try {
     for (int k = 0; k < seq.frames; ++k) {
@@ -157,13 +160,22 @@ void EvaluationSession::measure_sequence(Measurement& m, bool seed_per_frame) {
                             : result.pass_ms.count("total_ms") != 0 ? "gpu-timestamps"
                                                                     : "wall";
 
-      // Scoring: this frame's references (cached per frame: its geometry, camera and seed + k).
-      const ReferenceImage matched =
-          reference_image(s, view, camera, g, frame_settings(view, k, definition));
-      std::optional<ReferenceImage> truth_owned;
-      if (!true_is_matched)
-        truth_owned =
-            reference_image(s, view, camera, g, frame_settings(view, k, true_ao_definition()));
+      // Scoring: this frame's references (cached per frame: its geometry, camera and seed + j).
+      // A frame that poses what frame k - 1 did has frame k - 1's references (j is the first
+      // frame of the unchanged run, reference_frame()): traced once, kept from the last frame.
+      const int ref_frame = reference_frame(m.scene, view, k);
+      const bool repeats = k > 0 && ref_frame == prev_ref_frame;
+      if (!repeats) {
+        const std::vector<AoDefinition> companions = planned_definitions(m.scene, view, w, h);
+        matched = reference_image(s, view, camera, g, frame_settings(m.scene, view, k, definition),
+                                  companions);
+        truth_owned.reset();
+        if (!true_is_matched)
+          truth_owned =
+              reference_image(s, view, camera, g,
+                              frame_settings(m.scene, view, k, true_ao_definition()), companions);
+      }
+      prev_ref_frame = ref_frame;
       const ReferenceImage& truth = truth_owned ? *truth_owned : matched;
       if (next_kept < keep.size() && keep[next_kept] == k) {  // for the report (kept_sequence.h)
         const auto timer = stages_.time("estimate EXR");
@@ -174,8 +186,8 @@ void EvaluationSession::measure_sequence(Measurement& m, bool seed_per_frame) {
             estimate_attributes(s.scene, s.content_hash, view, camera, e, params, m.derived);
         kf.attributes.emplace_back("aoeval:frame", std::to_string(k));
         if (disk_cache_)
-          kf.reference_cache = reference_cache_path(
-              reference_cache_key(s.content_hash, camera, frame_settings(view, k, definition)));
+          kf.reference_cache = reference_cache_path(reference_cache_key(
+              s.content_hash, camera, frame_settings(m.scene, view, k, definition)));
         m.kept_frames.push_back(std::move(kf));
         ++next_kept;
       }
@@ -202,6 +214,7 @@ void EvaluationSession::measure_sequence(Measurement& m, bool seed_per_frame) {
         tf.disoccluded = g.disoccluded.data();
         tf.prev_jitter_x = k > 0 ? prev_g.camera.jitter.x : 0.0f;
         tf.prev_jitter_y = k > 0 ? prev_g.camera.jitter.y : 0.0f;
+        tf.ref_repeats_previous = repeats;
         scorer.add_frame(tf);
         frame_row.update(to_json(metrics, prefix));
         return to_json(metrics, prefix);

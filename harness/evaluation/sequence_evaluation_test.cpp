@@ -96,5 +96,29 @@ TEST(SequenceEvaluation, ConstantDoesNotFlicker) {
   EXPECT_EQ(row.metrics["converge_frames"], 0);
 }
 
+// Issue 42, must-show 4: nothing changes between the frames of the static sequence, so its
+// reference is traced once (frame 0's, with seed + 0) and every frame scores against it. The
+// constant estimator repeats itself and so does the reference: d = 0 at every pixel and no
+// reference noise is removed (the frames share it), so temporal_rmse_excess is exactly 0. A
+// bounded raytraced point then asks two definitions (its own and true AO) of the same static
+// view: one more trace, shared by both.
+TEST(SequenceEvaluation, StaticSequenceTracesOneReference) {
+  const std::string scene = static_sequence_scene();
+  EvaluationSession session(ReferenceSpec{}, TimingSpec{0, 1}, false);
+  const ResultRow row = run(session, scene, "constant", nlohmann::json::object());
+  EXPECT_EQ(session.reference_counts().traces, 1u);
+  EXPECT_EQ(session.reference_counts().references, 1u);  // constant's definition is true AO
+  EXPECT_EQ(row.metrics["temporal_rmse"].get<double>(), 0.0);
+  EXPECT_EQ(row.metrics["temporal_rmse_excess"].get<double>(), 0.0);
+  EXPECT_EQ(row.true_metrics["temporal_rmse_excess"].get<double>(), 0.0);
+  const View& view = session.scene(scene).scene.view("still");
+  for (int k = 0; k < 8; ++k) EXPECT_EQ(session.reference_frame(scene, view, k), 0) << k;
+
+  EvaluationSession bounded(ReferenceSpec{}, TimingSpec{0, 1}, false);
+  run(bounded, scene, "raytraced", {{"rays", 4}, {"dmax", 0.5}, {"falloff", "linear"}});
+  EXPECT_EQ(bounded.reference_counts().traces, 1u);
+  EXPECT_EQ(bounded.reference_counts().references, 2u);
+}
+
 }  // namespace
 }  // namespace aoeval

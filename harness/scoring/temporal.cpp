@@ -89,7 +89,10 @@ double TemporalScorer::add_frame(const TemporalFrame& f) {
           const double d = (f.est[p] - est_then) - (f.ref[p] - ref_then);
           temporal_.n += 1.0;
           temporal_.err2 += d * d;
-          temporal_.noise += var + var_then;
+          // An unchanged frame's reference is frame k - 1's (traced once): their difference
+          // holds no reference noise, so none is removed (CONTRACT §10's terms are for
+          // independent references).
+          if (!f.ref_repeats_previous) temporal_.noise += var + var_then;
         }
       }
       if (age[p] >= 0) {

@@ -11,7 +11,9 @@
 //   temporal_rmse_excess      sqrt(max(0, temporal_rmse^2 - mean(stderr_k(p)^2 + v_{k-1}))), where
 //                             v_{k-1} = sum_i w_i^2 stderr_{k-1,i}^2 is the variance of the
 //                             bilinear read of ref_{k-1} (= stderr_{k-1}(p - m)^2 at a pixel
-//                             centre): the flicker the estimate adds beyond the reference's noise
+//                             centre): the flicker the estimate adds beyond the reference's noise;
+//                             0 instead of that sum in a frame whose reference is frame k - 1's
+//                             (TemporalFrame::ref_repeats_previous: no independent noise)
 //   converge_frames           the first frame k with r_j <= 1.1 steady_rmse_excess for every j >= k
 //   settle_frames             over trajectories (below) that stay visible from age 0 through
 //                             age 12 and whose reference stays within 0.02 + 3 sqrt(se_g^2 +
@@ -53,6 +55,12 @@ struct TemporalFrame {
   const float* motion = nullptr;       // interleaved x, y per pixel (null: zero motion)
   const float* disoccluded = nullptr;  // 1 where disoccluded (null: none)
   float prev_jitter_x = 0.0f, prev_jitter_y = 0.0f;  // frame k - 1's sample offset (ages' lookup)
+  // `ref` is frame k - 1's reference itself, not an independent trace: the frame did not change
+  // (same posed geometry and camera), so it was traced once (issue 42). Then ref_k - ref_{k-1} is
+  // exactly 0 and holds no reference noise, and temporal_rmse_excess removes none for this frame:
+  // CONTRACT §10's stderr_k^2 + stderr_{k-1}^2 is the variance of the difference of two
+  // independent references only. (Each frame's own rmse_excess still removes stderr_k^2.)
+  bool ref_repeats_previous = false;
 };
 
 class TemporalScorer {

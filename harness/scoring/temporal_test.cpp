@@ -62,6 +62,25 @@ TEST(TemporalScores, FlickerIsTheFrameToFrameDifferenceLessTheReferenceNoise) {
   EXPECT_NEAR(j["temporal_rmse_excess"].get<double>(), std::sqrt(0.04 - 2e-4), 1e-6);
 }
 
+// Issue 42: a frame that did not change reuses frame k - 1's reference (traced once). The same
+// alternating estimate as above: d = +-0.2, and with the reference repeated nothing is removed,
+// so the excess is the whole 0.2 (sqrt(0.04 - 2e-4) = 0.1995 when the frames were independent).
+TEST(TemporalScores, RepeatedReferenceRemovesNoNoise) {
+  TemporalScorer repeated, independent;
+  for (int k = 0; k < 5; ++k) {
+    Frame f = frame_of(9, k % 2 ? 0.6f : 0.4f, 0.5f, 0.01f);
+    TemporalFrame v = f.view(3, 3);
+    independent.add_frame(v);
+    v.ref_repeats_previous = k > 0;
+    repeated.add_frame(v);
+  }
+  EXPECT_NEAR(repeated.scores()["temporal_rmse_excess"].get<double>(), 0.2, 1e-6);
+  EXPECT_NEAR(independent.scores()["temporal_rmse_excess"].get<double>(), std::sqrt(0.04 - 2e-4),
+              1e-6);
+  // Each frame's own rmse_excess still removes its reference's noise (0.1^2 - 0.01^2).
+  EXPECT_NEAR(repeated.frame_rmse_excess()[1], std::sqrt(0.01 - 1e-4), 1e-6);
+}
+
 TEST(TemporalScores, MotionReadsThePreviousFrameBilinearlyAndDisocclusionAges) {
   // A ramp est = ref = x moving right by 0.5 px per frame: reading frame k-1 at p - motion finds
   // the same values, so d = 0 (a read without motion would see 0.5 per frame).

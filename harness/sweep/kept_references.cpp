@@ -48,7 +48,7 @@ std::string KeptReferences::keep(EvaluationSession& session, const std::string& 
   copy(reference_cache_path(
            reference_cache_key(session.frame_scene(scene_name, view, k).content_hash,
                                session.gbuffer(scene_name, view, w, h).camera,
-                               session.frame_settings(view, k, definition))),
+                               session.frame_settings(scene_name, view, k, definition))),
        rel);
   return rel;
 }

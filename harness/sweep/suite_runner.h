@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "base/default_paths.h"
+#include "harness/evaluation/evaluation.h"
 #include "harness/results/run_recorder.h"
 #include "harness/results/stage_times.h"
 #include "harness/results/suite_record.h"
@@ -41,7 +42,9 @@ struct SuiteRun {
   std::vector<GalleryEntry> gallery;  // the G-buffer EXRs written under <out>/gbuffers/
   size_t skipped = 0;                 // rows whose status is not "ok"
   StageTimes stages;                  // where the runner's time went (the page's is added later)
-  std::string database;               // the SQLite store the rows went to
+  // The references its sessions traced: passes over shared rays, images and rays (issue 42).
+  EvaluationSession::ReferenceCounts references;
+  std::string database;  // the SQLite store the rows went to
   // The run's bookkeeping, still holding the folder's lock while the caller writes the pages;
   // record_run_context() finishes it and lets the folder go.
   std::unique_ptr<RunRecorder> recorder;

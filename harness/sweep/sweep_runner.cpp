@@ -138,6 +138,9 @@ int run_sweep(const SweepOptions& o, std::string* out_dir) {
           references.keep(session, p.scene, view, p.width, p.height, true_ao_definition());
     }
   }
+  // Every point's references declared first: each trace serves every definition of its
+  // weighting the sweep asks of that view (issue 42).
+  for (const SweepPoint* p : pending) session.plan_references(evaluation_request(*p));
   Progress progress("sweep " + spec.name, pending.size());
   size_t finished = 0;
   {
@@ -173,6 +176,9 @@ int run_sweep(const SweepOptions& o, std::string* out_dir) {
         const auto timer = runner_stages.time(StageTimes::kWaitingForBackground);  // a full queue
         lane.post(std::move(finish));
       }
+      const EvaluationSession::ReferenceCounts refs = session.reference_counts();
+      progress.note("references " + std::to_string(refs.references) + " traced in " +
+                    std::to_string(refs.traces) + " passes");
       progress.step(p->name);
     }
     // An interrupted sweep still keeps the row of every point it measured.
@@ -195,6 +201,10 @@ int run_sweep(const SweepOptions& o, std::string* out_dir) {
   if (out_dir) *out_dir = out;
   std::fprintf(stderr, "sweep %s: time by stage\n%s", spec.name.c_str(),
                stages.table(wall_ms).c_str());
+  const EvaluationSession::ReferenceCounts refs = session.reference_counts();
+  std::fprintf(stderr, "sweep %s: %llu references traced in %llu passes, %.3f Grays\n",
+               spec.name.c_str(), static_cast<unsigned long long>(refs.references),
+               static_cast<unsigned long long>(refs.traces), static_cast<double>(refs.rays) / 1e9);
   if (interrupt_requested() && finished < pending.size()) {
     std::fprintf(stderr, "sweep %s: interrupted after %zu of %zu points; rerun with --resume\n",
                  spec.name.c_str(), finished, pending.size());

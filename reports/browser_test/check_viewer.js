@@ -3,15 +3,18 @@
 // chromium from file://, and fails on what a reader would see wrong:
 //   - without JavaScript: an image that does not load, no leaderboard, no static mosaic;
 //   - the leaderboard does not sort on a header click;
-//   - element.aoevalProbe(x, y) differs by more than 1e-6 from the EXR floats that exr_samples.py
-//     read with OpenImageIO (reference AO, estimate AO, their float32 difference, AO_stderr);
+//   - element.aoevalProbe(x, y) differs by more than --tolerance (default 1e-6: a page written
+//     with --viewer-exact; 1e-3 for the default compact data, reports/viewer.h) from the EXR floats
+//     that exr_samples.py read with OpenImageIO (reference AO, estimate AO, their float32
+//     difference, AO_stderr);
 //   - wheel zoom, drag pan, the pixel grid, the probe readout, A/B flip (key and hover), exposure
 //     and false colour do not do what they say (state and drawn pixels checked);
 //   - any console error, uncaught exception or failed request.
 // Keeps screenshots: zoomed pixels with grid and probe, the flip, false colour, the leaderboard,
 // the page without JavaScript.
 //
-// usage: node check_viewer.js --screenshots DIR --samples SAMPLES.json [--interact K] PAGE.html
+// usage: node check_viewer.js --screenshots DIR --samples SAMPLES.json [--interact K]
+//        [--tolerance T] PAGE.html
 //   K: the viewer (in the samples' order) whose controls are driven; default 0; -1: none (a
 //   G-buffer gallery: only the probe, the page without JavaScript and console errors are checked).
 'use strict';
@@ -23,12 +26,14 @@ const { chromium } = require('playwright-core');
 const CHROMIUM = process.env.AOEVAL_CHROMIUM || '/usr/bin/chromium';
 const problems = [];
 const fail = (msg) => problems.push(msg);
+let TOLERANCE = 1e-6;  // --tolerance
 
 function args(argv) {
-  const o = { screenshots: null, samples: null, page: null, interact: 0 };
+  const o = { screenshots: null, samples: null, page: null, interact: 0, tolerance: 1e-6 };
   for (let i = 0; i < argv.length; ++i) {
     if (argv[i] === '--screenshots') o.screenshots = argv[++i];
     else if (argv[i] === '--interact') o.interact = Number(argv[++i]);
+    else if (argv[i] === '--tolerance') o.tolerance = Number(argv[++i]);
     else if (argv[i] === '--samples') o.samples = argv[++i];
     else o.page = path.resolve(argv[i]);
   }
@@ -97,7 +102,7 @@ async function probeMatchesExr(page, spec) {
     }
   });
   for (const k of Object.keys(worst))
-    if (!(worst[k] <= 1e-6)) fail(`aoevalProbe ${k} differs from the EXR by ${worst[k]} (${spec.b})`);
+    if (!(worst[k] <= TOLERANCE)) fail(`aoevalProbe ${k} differs from the EXR by ${worst[k]} (${spec.b})`);
   console.log(`probe: ${got.length} covered pixels of ${spec.a}${spec.b ? ' and ' + spec.b : ''}: max |difference| ` +
     Object.entries(worst).map(([k, v]) => `${k} ${v}`).join(', '));
   if (spec.frames) await frameSlider(el, spec);
@@ -119,7 +124,7 @@ async function frameSlider(el, spec) {
   const atLast = spec.samples.filter((p) => p.frame === want);
   for (const p of atLast) {
     const g = await el.evaluate((e, q) => e.aoevalProbe(q.x, q.y), p);
-    if (Math.abs(g.estimate - p.estimate) > 1e-6 || Math.abs(g.reference - p.reference) > 1e-6)
+    if (Math.abs(g.estimate - p.estimate) > TOLERANCE || Math.abs(g.reference - p.reference) > TOLERANCE)
       fail(`frame slider: frame ${want}'s pixel (${p.x}, ${p.y}) probes ${g.estimate}, the EXR holds ${p.estimate}`);
   }
   const shown = await el.$eval('label.av-slider output', (o) => o.textContent).catch(() => '');
@@ -217,6 +222,7 @@ async function interactions(page, el, spec, o) {
 
 async function main() {
   const o = args(process.argv.slice(2));
+  TOLERANCE = o.tolerance;
   fs.mkdirSync(o.screenshots, { recursive: true });
   const samples = JSON.parse(fs.readFileSync(o.samples, 'utf8'));
   const browser = await chromium.launch({

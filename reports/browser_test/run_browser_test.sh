@@ -61,6 +61,8 @@ expect_status 1 "$aoeval" dashboard --db r.sqlite --out dash-fail --config accur
 grep -Eq "REGRESSED raytraced rays=1(,[^ ]*)? scene cornell-box" "$work/out.txt" || { cat "$work/out.txt"; exit 1; }
 # Back to 8 rays: an improvement, no regression.
 expect_status 0 "$aoeval" run --suite tiny.json --out suite-c --db r.sqlite
+# The same run's page with the viewer's exact float32 data (--viewer-exact; issue 42).
+expect_status 0 "$aoeval" run --suite tiny.json --out suite-x --db x.sqlite --viewer-exact
 expect_status 0 "$aoeval" dashboard --db r.sqlite --out dash-pass --config accuracy_only.json
 
 # The checker itself must catch a broken page: a missing image, a console error, no hover swap.
@@ -91,9 +93,14 @@ NODE_PATH="$modules/node_modules" node "$here/check_pages.js" \
   dashboard-pass:dash-pass/index.html
 
 # The viewer (CONTRACT §11). Debian's python3 has python3-openimageio (./test.sh installs it).
+# The default page's data is compact (float16 where that holds every value within 1e-3, deflated;
+# reports/viewer.h): its probe must agree with the EXRs within 1e-3. The --viewer-exact page's
+# must agree exactly (1e-6).
 /usr/bin/python3 "$here/exr_samples.py" suite-b/index.html 100 samples.json
-# First, the probe check must catch viewer data 1e-5 off the EXR (every estimate AO float nudged).
-cp -r suite-b viewer-broken
+/usr/bin/python3 "$here/exr_samples.py" suite-x/index.html 100 samples-x.json
+# First, the probe check must catch viewer data off the EXR (every estimate AO float nudged):
+# 1e-5 off in the exact data, 3e-3 off in the compact data (re-encoded as the writer does).
+cp -r suite-x viewer-broken
 /usr/bin/python3 - viewer-broken/viewer-data/runs__*__estimates__raytraced*.js <<'PY'
 import base64, json, sys
 import numpy as np
@@ -104,18 +111,38 @@ ao = np.frombuffer(base64.b64decode(record["channels"]["AO"][0]), "<f4") + np.fl
 record["channels"]["AO"][0] = base64.b64encode(ao.astype("<f4").tobytes()).decode()
 open(path, "w").write(head + json.dumps(record) + ";\n")
 PY
-set +e
-NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --screenshots "$work/shots" \
-  --samples samples.json viewer-broken/index.html >viewer-checker.txt 2>&1
-checker=$?
-set -e
-if [ "$checker" -ne 1 ] || ! grep -q "aoevalProbe estimate differs" viewer-checker.txt; then
-  echo "browser_test: the viewer checker missed estimate data 1e-5 off the EXR (exit $checker):"
-  cat viewer-checker.txt
-  exit 1
-fi
-NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" \
+cp -r suite-b viewer-broken-compact
+/usr/bin/python3 - viewer-broken-compact/viewer-data/runs__*__estimates__raytraced*.js <<'PY'
+import base64, json, sys, zlib
+import numpy as np
+path = sys.argv[1]
+text = open(path).read()
+head, record = text[:text.index("]=") + 2], json.loads(text[text.index("]=") + 2:].rstrip().rstrip(";"))
+assert record["encoding"] == "shuffled-deflate" and record["kinds"]["AO"][0] == "h"
+u = np.frombuffer(zlib.decompress(base64.b64decode(record["channels"]["AO"][0])), np.uint8)
+n = u.size // 2
+ao = u.reshape(2, n).T.copy().view("<f2").ravel().astype(np.float32) + np.float32(3e-3)
+shuffled = ao.astype("<f2").view(np.uint8).reshape(n, 2).T.copy().tobytes()
+record["channels"]["AO"][0] = base64.b64encode(zlib.compress(shuffled)).decode()
+open(path, "w").write(head + json.dumps(record) + ";\n")
+PY
+for broken in "viewer-broken samples-x.json 1e-6" "viewer-broken-compact samples.json 1e-3"; do
+  set -- $broken
+  set +e
+  NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --screenshots "$work/shots" \
+    --tolerance "$3" --samples "$2" "$1/index.html" >viewer-checker.txt 2>&1
+  checker=$?
+  set -e
+  if [ "$checker" -ne 1 ] || ! grep -q "aoevalProbe estimate differs" viewer-checker.txt; then
+    echo "browser_test: the viewer checker missed estimate data off the EXR in $1 (exit $checker):"
+    cat viewer-checker.txt
+    exit 1
+  fi
+done
+NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --tolerance 1e-3 \
   --screenshots "$build/test-artifacts" --samples samples.json suite-b/index.html
+NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --tolerance 1e-6 --interact -1 \
+  --screenshots "$work/shots" --samples samples-x.json suite-x/index.html
 # A sequence sweep's page (CONTRACT §10-11): its viewers hold every kept frame; aoevalProbe(x, y,
 # frame) equals each frame's EXR floats, and the frame slider shows the frame it is moved to.
 cat >slide.json <<'JSON'
@@ -137,11 +164,11 @@ expect_status 0 "$aoeval" sweep seq.json --out seq --db seq.sqlite
 grep -q '<section class="sequence" ' seq/index.html || { echo "browser_test: no sequence section"; exit 1; }
 /usr/bin/python3 "$here/exr_samples.py" seq/index.html 60 seq-samples.json
 grep -q '"frames"' seq-samples.json || { echo "browser_test: the sequence page has no multi-frame viewer"; exit 1; }
-NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --interact -1 \
+NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --interact -1 --tolerance 1e-3 \
   --screenshots "$build/test-artifacts" --samples seq-samples.json seq/index.html
 # The G-buffer gallery's viewers: Z and N under the probe equal the EXR's.
 /usr/bin/python3 "$here/exr_samples.py" suite-b/gbuffers/index.html 100 gbuffer-samples.json
-NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --interact -1 \
+NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --interact -1 --tolerance 1e-3 \
   --screenshots "$build/test-artifacts" --samples gbuffer-samples.json suite-b/gbuffers/index.html
 # The sequence video plays what it holds (CONTRACT §10): chromium's own APNG decoder draws its first
 # and last frames (by index, through ImageDecoder: no waiting on time) and the reference and

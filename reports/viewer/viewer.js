@@ -8,6 +8,11 @@
 // [base64 of little-endian float32 per frame]}, mask: [base64 of one byte per pixel per frame]}
 // and, for a sequence's kept frames, frame_numbers (the sequence frame of each) and fps;
 // a viewer loads its scripts only when it is opened, so the page paints as fast as without it.
+// The default data is compact (reports/viewer.h, ViewerData; issue 42): encoding
+// "shuffled-deflate", every plane and mask zlib-deflated, each plane's bytes shuffled (all first
+// bytes, then all second bytes, ...) and, as kinds: {CH: ["h" or "f" per frame]} says, float16
+// (values within 1e-3 of the EXR's) or float32 (exact). load() inflates them all with the
+// browser's DecompressionStream when the viewer opens; `--viewer-exact` writes the plain form.
 //
 // Markup (reports/viewer.cpp writes it): <div class="aoeval-viewer" data-kind="compare|gbuffer"
 // data-a="viewer-data/REF.js" data-b="viewer-data/EST.js" data-labels="reference,estimate">
@@ -18,12 +23,11 @@
 (function () {
   const DATA = (window.AOEVAL_DATA = window.AOEVAL_DATA || {});
   const pending = {};
-  // Loads one data script once; resolves with its record.
+  // Loads one data script once; resolves with its record, compact planes already decoded.
   function load(src) {
     const name = src.replace(/^.*\//, '').replace(/\.js$/, '');
-    if (DATA[name]) return Promise.resolve(DATA[name]);
     if (!pending[name])
-      pending[name] = new Promise(function (resolve, reject) {
+      pending[name] = (DATA[name] ? Promise.resolve(DATA[name]) : new Promise(function (resolve, reject) {
         const s = document.createElement('script');
         s.src = src;
         s.onload = function () {
@@ -32,8 +36,54 @@
         };
         s.onerror = function () { reject(new Error(src + ' did not load')); };
         document.head.appendChild(s);
-      });
+      })).then(decodeRecord);
     return pending[name];
+  }
+
+  // Compact data (see the top): inflate, unshuffle and widen every plane to a Float32Array and
+  // every mask to a Uint8Array, in place, once.
+  async function inflate(b64) {
+    const stream = new Blob([bytes(b64)]).stream().pipeThrough(new DecompressionStream('deflate'));
+    return new Uint8Array(await new Response(stream).arrayBuffer());
+  }
+  let HALF = null;  // float16 bits -> value, all 65536 of them
+  function halfTable() {
+    if (HALF) return HALF;
+    HALF = new Float32Array(65536);
+    for (let h = 0; h < 65536; ++h) {
+      const s = h & 0x8000 ? -1 : 1, e = (h >> 10) & 31, m = h & 1023;
+      HALF[h] = e === 0 ? s * m * Math.pow(2, -24) : e === 31 ? (m ? NaN : s * Infinity)
+        : s * (1024 + m) * Math.pow(2, e - 25);
+    }
+    return HALF;
+  }
+  function unpack(u, kind) {
+    const size = kind === 'h' ? 2 : 4, n = u.length / size, out = new Float32Array(n);
+    if (size === 2) {
+      const t = halfTable();
+      for (let i = 0; i < n; ++i) out[i] = t[u[i] | (u[n + i] << 8)];
+    } else {
+      const v = new DataView(new ArrayBuffer(4));
+      for (let i = 0; i < n; ++i) {
+        for (let b = 0; b < 4; ++b) v.setUint8(b, u[b * n + i]);
+        out[i] = v.getFloat32(0, true);
+      }
+    }
+    return out;
+  }
+  async function decodeRecord(rec) {
+    if (rec.encoding !== 'shuffled-deflate' || rec._decoded) return rec;
+    const jobs = [];
+    for (const ch of Object.keys(rec.channels))
+      rec.channels[ch].forEach(function (b64, f) {
+        jobs.push(inflate(b64).then(function (u) { rec.channels[ch][f] = unpack(u, rec.kinds[ch][f]); }));
+      });
+    rec.mask.forEach(function (b64, f) {
+      jobs.push(inflate(b64).then(function (u) { rec.mask[f] = u; }));
+    });
+    await Promise.all(jobs);
+    rec._decoded = true;
+    return rec;
   }
 
   // base64 -> bytes; floats are read little-endian whatever the machine (DataView).
@@ -52,7 +102,8 @@
     const key = '_' + ch + '@' + frame;
     if (!(key in rec)) {
       const list = ch === 'mask' ? rec.mask : rec.channels[ch];
-      rec[key] = list ? (ch === 'mask' ? bytes : floats)(list[Math.min(frame, list.length - 1)]) : null;
+      const v = list ? list[Math.min(frame, list.length - 1)] : null;
+      rec[key] = v === null ? null : typeof v !== 'string' ? v : (ch === 'mask' ? bytes : floats)(v);
     }
     return rec[key];
   }
@@ -246,7 +297,8 @@
     const redraw = function () { if (!queued) { queued = true; requestAnimationFrame(draw); } };
     const repaint = function () { panels.forEach(paint); redraw(); };
 
-    // The values under the cursor (CONTRACT §11): the EXRs' floats, unrounded.
+    // The values under the cursor (CONTRACT §11): the EXRs' floats, unrounded with exact data
+    // (`--viewer-exact`); with the default compact data within 1e-3 of them (float16 planes).
     function probe(x, y, frame) {
       const f = frame === undefined ? st.frame : numbers.indexOf(frame);
       if (!(Number.isInteger(x) && Number.isInteger(y) && x >= 0 && y >= 0 && x < w && y < h))
