@@ -10,6 +10,7 @@
 #include "harness/evaluation/progress.h"
 #include "scenes/corpus.h"
 #include "scenes/embree_scene.h"
+#include "scenes/instances.h"
 
 namespace aoeval {
 
@@ -77,6 +78,9 @@ void show_scene(const std::string& name, bool json) {
       {"file", s.file},
       {"content_hash", hash_hex(s.content_hash())},
       {"triangles", s.triangle_count()},
+      {"instanced_triangles", instanced_triangle_count(s)},
+      {"instances", instance_count(s)},
+      {"copies_bytes_estimate", estimated_bytes(s, true)},
       {"bounds", {{"lower", vec(b.lower)}, {"upper", vec(b.upper)}}},
       {"load_ms", load_ms},
       {"bvh_build_ms", es.build_ms()},
@@ -89,6 +93,7 @@ void show_scene(const std::string& name, bool json) {
                          {"role", role_name(o.role)},
                          {"source", o.source},
                          {"triangles", o.mesh.triangle_count()},
+                         {"instances", o.instances.size()},
                          {"facts", o.facts}};
     if (o.proxy) {
       nlohmann::json shapes = nlohmann::json::array();
@@ -113,6 +118,10 @@ void show_scene(const std::string& name, bool json) {
   }
   std::printf("scene      %s\nfile       %s\nhash       %s\ntriangles  %zu\n", s.name.c_str(),
               s.file.c_str(), hash_hex(s.content_hash()).c_str(), s.triangle_count());
+  if (has_instances(s))
+    std::printf("instanced  %zu triangles as placed (%zu instances); as copies about %.1f GiB\n",
+                instanced_triangle_count(s), instance_count(s),
+                estimated_bytes(s, true) / 1073741824.0);
   std::printf("bounds     [%.3f %.3f %.3f] - [%.3f %.3f %.3f]\n", b.lower.x, b.lower.y, b.lower.z,
               b.upper.x, b.upper.y, b.upper.z);
   std::printf("load       %.1f ms (parse, read or generate, transform)\n", load_ms);
@@ -124,6 +133,9 @@ void show_scene(const std::string& name, bool json) {
   for (const auto& o : s.objects) {
     std::printf("  %-16s %-7s %10zu tris  %s\n", o.name.c_str(), role_name(o.role),
                 o.mesh.triangle_count(), o.source.c_str());
+    if (!o.instances.empty())
+      std::printf("  %-16s instances %zu (%zu triangles as placed)\n", "", o.instances.size(),
+                  o.instances.size() * o.mesh.triangle_count());
     if (!o.facts.empty()) std::printf("  %-16s facts %s\n", "", o.facts.dump().c_str());
     if (o.proxy)
       std::printf("  %-16s proxy %s (%zu shape(s))\n", "", o.proxy->type.c_str(),

@@ -1,5 +1,8 @@
 #include "scenes/embree_scene.h"
 
+#include "base/input_limits.h"
+#include "scenes/instances.h"
+
 #include <pmmintrin.h>
 #include <xmmintrin.h>
 
@@ -63,7 +66,31 @@ long long embree_allocated_bytes() {
   return g_embree_bytes.load();
 }
 
+namespace {
+
+RTCGeometry triangle_geometry(RTCDevice device, const TriangleMesh& mesh, RTCBuildQuality q) {
+  RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  rtcSetGeometryBuildQuality(geom, q);
+  // Embree reads vertex buffers with 16-byte loads, so it owns padded copies.
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                               RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                               mesh.positions.size()));
+  std::memcpy(vertices, mesh.positions.data(), mesh.positions.size() * 3 * sizeof(float));
+  auto* indices = static_cast<unsigned*>(
+      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                              3 * sizeof(unsigned), mesh.triangles.size()));
+  std::memcpy(indices, mesh.triangles.data(), mesh.triangles.size() * 3 * sizeof(unsigned));
+  rtcCommitGeometry(geom);
+  return geom;
+}
+
+}  // namespace
+
 EmbreeScene::EmbreeScene(const Scene& scene, BuildQuality quality) : source_(scene) {
+  // Refused up front, before Embree allocates: the prototypes' triangles and the placements.
+  if (has_instances(scene))
+    check_scene_memory(scene, estimated_bytes(scene, false), available_memory_bytes(),
+                       "the instanced scene");
   RTCDevice device = embree_device();
   const long long bytes_before = embree_allocated_bytes();
   const auto start = std::chrono::steady_clock::now();
@@ -75,22 +102,36 @@ EmbreeScene::EmbreeScene(const Scene& scene, BuildQuality quality) : source_(sce
                             : quality == BuildQuality::medium ? RTC_BUILD_QUALITY_MEDIUM
                                                               : RTC_BUILD_QUALITY_HIGH;
   rtcSetSceneBuildQuality(scene_, q);
+  // Top-level geometry IDs are the G-buffer's object ids (instances.h PlacementIds): a plain
+  // object's triangles, or one RTC_GEOMETRY_TYPE_INSTANCE per placement of an instanced object
+  // over its prototype scene (one level of instancing, Embree 3).
+  const PlacementIds ids(scene);
   for (size_t i = 0; i < scene.objects.size(); ++i) {
-    const TriangleMesh& mesh = scene.objects[i].mesh;
-    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    rtcSetGeometryBuildQuality(geom, q);
-    // Embree reads vertex buffers with 16-byte loads, so it owns padded copies.
-    auto* vertices = static_cast<float*>(
-        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                3 * sizeof(float), mesh.positions.size()));
-    std::memcpy(vertices, mesh.positions.data(), mesh.positions.size() * 3 * sizeof(float));
-    auto* indices = static_cast<unsigned*>(
-        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                3 * sizeof(unsigned), mesh.triangles.size()));
-    std::memcpy(indices, mesh.triangles.data(), mesh.triangles.size() * 3 * sizeof(unsigned));
-    rtcCommitGeometry(geom);
-    rtcAttachGeometryByID(scene_, geom, static_cast<unsigned>(i));
-    rtcReleaseGeometry(geom);
+    const SceneObject& object = scene.objects[i];
+    if (object.instances.empty()) {
+      RTCGeometry geom = triangle_geometry(device, object.mesh, q);
+      rtcAttachGeometryByID(scene_, geom, static_cast<unsigned>(ids.first[i]));
+      rtcReleaseGeometry(geom);
+      continue;
+    }
+    RTCScene prototype = rtcNewScene(device);
+    prototypes_.push_back(prototype);
+    rtcSetSceneFlags(prototype, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(prototype, q);
+    RTCGeometry mesh = triangle_geometry(device, object.mesh, q);
+    rtcAttachGeometryByID(prototype, mesh, 0);
+    rtcReleaseGeometry(mesh);
+    rtcCommitScene(prototype);
+    for (size_t k = 0; k < object.instances.size(); ++k) {
+      RTCGeometry inst = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+      rtcSetGeometryInstancedScene(inst, prototype);
+      rtcSetGeometryTimeStepCount(inst, 1);
+      rtcSetGeometryTransform(inst, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR,
+                              &object.instances[k][0][0]);
+      rtcCommitGeometry(inst);
+      rtcAttachGeometryByID(scene_, inst, static_cast<unsigned>(ids.first[i] + k));
+      rtcReleaseGeometry(inst);
+    }
   }
   rtcCommitScene(scene_);
   check_device(device, "building the Embree scene");
@@ -101,6 +142,7 @@ EmbreeScene::EmbreeScene(const Scene& scene, BuildQuality quality) : source_(sce
 
 EmbreeScene::~EmbreeScene() {
   if (scene_) rtcReleaseScene(scene_);
+  for (RTCScene p : prototypes_) rtcReleaseScene(p);
 }
 
 }  // namespace aoeval

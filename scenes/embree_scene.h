@@ -1,5 +1,7 @@
 // Embree scene building, in one place for the G-buffer, the reference and object-space
-// estimators. One triangle geometry per scene object, geomID = object index.
+// estimators. One triangle geometry per plain scene object and one Embree instance per placement
+// of an instanced object; the top-level geomID (instID[0] for an instance hit) is the G-buffer's
+// object id (scenes/instances.h PlacementIds; = object index in a scene without instances).
 #pragma once
 
 #include <embree3/rtcore.h>
@@ -8,6 +10,7 @@
 
 #include <atomic>
 #include <cstddef>
+#include <vector>
 
 #include "scenes/scene.h"
 
@@ -34,6 +37,11 @@ RTCDevice embree_device();
 // Bytes Embree has allocated, as reported by its memory monitor.
 long long embree_allocated_bytes();
 
+// The G-buffer object id of a hit: the instance's top-level ID, or the plain geometry's.
+inline unsigned hit_placement(const RTCHit& hit) {
+  return hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? hit.instID[0] : hit.geomID;
+}
+
 enum class BuildQuality { low, medium, high };
 
 class EmbreeScene {
@@ -51,6 +59,7 @@ class EmbreeScene {
  private:
   const Scene& source_;
   RTCScene scene_ = nullptr;
+  std::vector<RTCScene> prototypes_;  // one per instanced object
   double build_ms_ = 0.0;
   long long memory_bytes_ = 0;
 };

@@ -4,12 +4,14 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <glm/matrix.hpp>
 #include <limits>
 #include <nlohmann/json.hpp>
 
 #include "base/errors.h"
 #include "base/input_limits.h"
 #include "base/version.h"
+#include "scenes/instances.h"
 
 namespace aoeval {
 
@@ -35,6 +37,39 @@ Camera make_camera(const View& view, int width, int height) {
   return c;
 }
 
+namespace {
+
+struct PlacedObject {
+  const glm::mat4* matrix = nullptr;
+  glm::mat3 normal_matrix{1.0f};
+  bool mirrored = false;  // negative determinant: the copies swap the winding
+};
+
+// Where the ray org + t dir crosses the plane of (p0, p1, p2), as barycentrics (u, v) of p1 and p2;
+// left unchanged when the ray is parallel to the plane to double precision.
+void world_barycentrics(const glm::vec3& org, const glm::vec3& dir, const glm::vec3& p0,
+                        const glm::vec3& p1, const glm::vec3& p2, float& u, float& v) {
+  const glm::dvec3 d(dir), e1 = glm::dvec3(p1) - glm::dvec3(p0),
+                           e2 = glm::dvec3(p2) - glm::dvec3(p0);
+  const glm::dvec3 pv = glm::cross(d, e2);
+  const double det = glm::dot(e1, pv);
+  if (!(std::fabs(det) > 1e-300)) return;
+  const glm::dvec3 tv = glm::dvec3(org) - glm::dvec3(p0);
+  const glm::dvec3 qv = glm::cross(tv, e1);
+  const double uu = glm::dot(tv, pv) / det, vv = glm::dot(d, qv) / det;
+  if (!std::isfinite(uu) || !std::isfinite(vv)) return;
+  u = static_cast<float>(uu);
+  v = static_cast<float>(vv);
+}
+
+glm::vec3 world_point(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2, float u,
+                      float v) {
+  const double uu = u, vv = v, ww = 1.0 - uu - vv;
+  return glm::vec3(ww * glm::dvec3(p0) + uu * glm::dvec3(p1) + vv * glm::dvec3(p2));
+}
+
+}  // namespace
+
 GBuffer render_gbuffer(const EmbreeScene& es, const Camera& camera) {
   GBuffer g;
   g.width = camera.width;
@@ -49,6 +84,14 @@ GBuffer render_gbuffer(const EmbreeScene& es, const Camera& camera) {
   g.geometric_normal.assign(n, glm::vec3(0.0f));
   g.object_id.assign(n, -1.0f);
   const Scene& scene = es.scene();
+  const PlacementIds ids(scene);
+  std::vector<PlacedObject> placements(ids.count);  // by id; matrix null for a plain object
+  for (size_t i = 0; i < scene.objects.size(); ++i)
+    for (size_t k = 0; k < scene.objects[i].instances.size(); ++k) {
+      const glm::mat4& m = scene.objects[i].instances[k];
+      placements[ids.first[i] + k] = {&m, placement_normal_matrix(m),
+                                      glm::determinant(glm::mat3(m)) < 0.0f};
+    }
 
   parallel_for_embree(tbb::blocked_range2d<int>(0, g.height, 8, 0, g.width, 8), [&](const auto& r) {
     RTCIntersectContext context;
@@ -67,20 +110,48 @@ GBuffer render_gbuffer(const EmbreeScene& es, const Camera& camera) {
         rh.ray.tfar = std::numeric_limits<float>::infinity();
         rh.ray.mask = 0xFFFFFFFFu;
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
         rtcIntersect1(es.handle(), &context, &rh);
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
 
-        const TriangleMesh& mesh = scene.objects[rh.hit.geomID].mesh;
-        const glm::uvec3 tri = mesh.triangles[rh.hit.primID];
-        const float u = rh.hit.u, v = rh.hit.v, w = 1.0f - u - v;
-        const glm::vec3 p0 = mesh.positions[tri.x], p1 = mesh.positions[tri.y],
-                        p2 = mesh.positions[tri.z];
-        // Barycentric interpolation puts P on the triangle's plane, more exactly than eye + t*dir.
-        const glm::vec3 p = w * p0 + u * p1 + v * p2;
+        const unsigned id = hit_placement(rh.hit);
+        const size_t object = ids.object_of(id);
+        const SceneObject& o = scene.objects[object];
+        const TriangleMesh& mesh = o.mesh;
+        glm::uvec3 tri = mesh.triangles[rh.hit.primID];
+        glm::vec3 p0 = mesh.positions[tri.x], p1 = mesh.positions[tri.y],
+                  p2 = mesh.positions[tri.z];
+        const PlacedObject* placed = nullptr;
+        if (!o.instances.empty()) {
+          // The world-space triangle, by the same float operations as the object's copies
+          // (instances.h scene_as_copies), winding included.
+          placed = &placements[id];
+          if (placed->mirrored) {
+            std::swap(tri.y, tri.z);
+            std::swap(p1, p2);
+          }
+          p0 = place_point(*placed->matrix, p0);
+          p1 = place_point(*placed->matrix, p1);
+          p2 = place_point(*placed->matrix, p2);
+        }
+        // Barycentrics recomputed in world space, in double (Moller-Trumbore 1997): Embree's u, v
+        // of an instance hit come from the ray in the prototype's space and differ in the last bits
+        // from a copy's, so both take these; P then lies on the triangle's plane to float
+        // precision.
+        float u = rh.hit.u, v = rh.hit.v;
+        world_barycentrics(camera.eye, dir, p0, p1, p2, u, v);
+        const float w = 1.0f - u - v;
+        const glm::vec3 p = world_point(p0, p1, p2, u, v);
         glm::vec3 ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
         glm::vec3 ns = ng;
         if (!mesh.normals.empty()) {
-          glm::vec3 s = w * mesh.normals[tri.x] + u * mesh.normals[tri.y] + v * mesh.normals[tri.z];
+          glm::vec3 n0 = mesh.normals[tri.x], n1 = mesh.normals[tri.y], n2 = mesh.normals[tri.z];
+          if (placed) {
+            n0 = glm::normalize(placed->normal_matrix * n0);
+            n1 = glm::normalize(placed->normal_matrix * n1);
+            n2 = glm::normalize(placed->normal_matrix * n2);
+          }
+          glm::vec3 s = w * n0 + u * n1 + v * n2;
           float len = glm::length(s);
           if (len > 1e-12f && std::isfinite(len)) ns = s / len;
         }
@@ -94,7 +165,7 @@ GBuffer render_gbuffer(const EmbreeScene& es, const Camera& camera) {
         g.position[k] = p;
         g.normal[k] = ns;
         g.geometric_normal[k] = ng;
-        g.object_id[k] = static_cast<float>(rh.hit.geomID);
+        g.object_id[k] = static_cast<float>(id);
       }
     }
   });

@@ -14,6 +14,7 @@
 #include "base/hash.h"
 #include "base/json_reader.h"
 #include "scenes/generators/generators.h"
+#include "scenes/instances.h"
 #include "scenes/mesh_io.h"
 
 namespace aoeval {
@@ -42,7 +43,19 @@ size_t Scene::triangle_count() const {
 
 Bounds Scene::bounds() const {
   Bounds b;
-  for (const auto& o : objects) b.extend(o.mesh.bounds());
+  for (const auto& o : objects) b.extend(placed_bounds(o));
+  return b;
+}
+
+Bounds placed_bounds(const SceneObject& o) {
+  const Bounds local = o.mesh.bounds();
+  if (o.instances.empty()) return local;
+  Bounds b;
+  for (const glm::mat4& m : o.instances)
+    for (int corner = 0; corner < 8; ++corner)
+      b.extend(place_point(m, glm::vec3((corner & 1) ? local.upper.x : local.lower.x,
+                                        (corner & 2) ? local.upper.y : local.lower.y,
+                                        (corner & 4) ? local.upper.z : local.lower.z)));
   return b;
 }
 
@@ -51,6 +64,12 @@ uint64_t Scene::content_hash() const {
   for (const auto& o : objects) {
     h = fnv1a_fold(h, aoeval::content_hash(o.mesh));
     h = fnv1a_fold(h, static_cast<uint64_t>(o.role));
+    // Only instanced objects fold in their placements, so every other scene keeps its hash.
+    if (!o.instances.empty()) {
+      Fnv1a f;
+      f.bytes(o.instances.data(), o.instances.size() * sizeof(glm::mat4));
+      h = fnv1a_fold(h, f.h);
+    }
   }
   return h;
 }
@@ -129,11 +148,7 @@ Placement read_placement(JsonReader& object, const Bounds& local_bounds) {
       if (s[i] == 0.0f) tr->fail("scale", "scale components must be non-zero");
     tr->finish();
   }
-  glm::mat4 m = glm::translate(glm::mat4(1.0f), t);
-  m = glm::rotate(m, glm::radians(r.z), glm::vec3(0, 0, 1));
-  m = glm::rotate(m, glm::radians(r.y), glm::vec3(0, 1, 0));
-  m = glm::rotate(m, glm::radians(r.x), glm::vec3(1, 0, 0));
-  m = glm::scale(m, s);
+  const glm::mat4 m = placement_matrix(t, r, s);
   Placement p;
   p.matrix = m * fit;
   p.normal_matrix = glm::transpose(glm::inverse(glm::mat3(p.matrix)));
@@ -174,10 +189,12 @@ TreeProxy read_proxy(JsonReader r) {
   return proxy;
 }
 
-void place_proxy(const Placement& p, TreeProxy& proxy) {
-  glm::mat3 linear(p.matrix);
+}  // namespace
+
+void place_proxy(const glm::mat4& m, TreeProxy& proxy) {
+  glm::mat3 linear(m);
   for (auto& e : proxy.shapes) {
-    e.center = glm::vec3(p.matrix * glm::vec4(e.center, 1.0f));
+    e.center = glm::vec3(m * glm::vec4(e.center, 1.0f));
     for (int a = 0; a < 3; ++a) {
       glm::vec3 axis = linear * (e.axes[a] * e.radii[a]);
       e.radii[a] = glm::length(axis);
@@ -185,6 +202,8 @@ void place_proxy(const Placement& p, TreeProxy& proxy) {
     }
   }
 }
+
+namespace {
 
 // Reads one object; `reader` is consumed. Runs on a worker thread.
 SceneObject load_object(JsonReader reader, const fs::path& scene_dir) {
@@ -240,8 +259,9 @@ SceneObject load_object(JsonReader reader, const fs::path& scene_dir) {
     if (obj.role != Role::tree)
       reader.fail("proxy", "only objects with role \"tree\" take a proxy");
     obj.proxy = read_proxy(*p);
-    place_proxy(placement, *obj.proxy);
+    place_proxy(placement.matrix, *obj.proxy);
   }
+  if (reader.has("instances")) obj.instances = read_instances(reader, obj.mesh.bounds());
   obj.albedo = reader.vec3("albedo", obj.albedo);
   for (int c = 0; c < 3; ++c)
     if (obj.albedo[c] < 0.0f || obj.albedo[c] > 1.0f)
@@ -360,6 +380,9 @@ Scene load_scene_file(const std::string& path) {
       if (scene.objects[i].name == scene.objects[j].name)
         throw InputError(path + ": objects[" + std::to_string(i) +
                          "].name: duplicate object name '" + scene.objects[i].name + "'");
+  if (instance_count(scene) > kMaxInstances)
+    throw InputError(path + ": objects: " + std::to_string(instance_count(scene)) +
+                     " instances in all exceed the limit of " + std::to_string(kMaxInstances));
   std::vector<std::string> object_names;
   for (const auto& o : scene.objects) object_names.push_back(o.name);
   for (const auto& v : scene.views)

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -38,12 +39,23 @@ struct SceneObject {
   TriangleMesh mesh;   // world space
   nlohmann::json facts = nlohmann::json::object();  // generator facts, in the generator's own
                                                     // space (before fit and transform)
-  std::optional<TreeProxy> proxy;                   // from the scene file, world space
-  std::optional<double> density;                    // from the scene file
+  std::optional<TreeProxy> proxy;  // from the scene file, world space (prototype space when
+                                   // instanced)
+  std::optional<double> density;   // from the scene file
   // Diffuse reflectivity (linear RGB), an aoeval extension for the colour-bleeding obscurances of
   // Mendez et al. (their eq. 5-6). Default 0.7 grey.
   glm::vec3 albedo{0.7f};
+  // Issue 45 (scenes/instances.h): when non-empty, `mesh` and `proxy` are the prototype, in its own
+  // space after the object's fit/transform, and each matrix places one copy of it in the world.
+  std::vector<glm::mat4> instances;
 };
+
+// The object's world-space bounds: its mesh's, or the union over its instances of the placed
+// corners of the prototype's bounds.
+Bounds placed_bounds(const SceneObject& object);
+
+// Applies placement `m` to a proxy's shapes (centres and axes; radii follow the axes' lengths).
+void place_proxy(const glm::mat4& m, TreeProxy& proxy);
 
 struct View {
   std::string name;
@@ -64,8 +76,8 @@ struct Scene {
   std::vector<SceneObject> objects;
   std::vector<View> views;
 
-  size_t triangle_count() const;
-  Bounds bounds() const;
+  size_t triangle_count() const;  // unique triangles: an instanced prototype counts once
+  Bounds bounds() const;          // world space, every instance included
   // Hash of the world-space geometry and roles: the key of every cache built on this scene.
   uint64_t content_hash() const;
   // The named view, or the first when `name` is empty; InputError naming the known views otherwise.

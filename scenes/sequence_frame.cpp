@@ -3,12 +3,14 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
 #include "base/errors.h"
+#include "scenes/instances.h"
 
 namespace aoeval {
 
@@ -20,7 +22,8 @@ SequenceFrame sequence_frame(const Scene& scene, const View& view, int k) {
   SequenceFrame f;
   f.index = k;
   f.view = view;
-  f.motion.assign(scene.objects.size(), glm::mat4(1.0f));
+  const PlacementIds ids(scene);
+  f.motion.assign(ids.count, glm::mat4(1.0f));
   if (!view.sequence) return f;
   const Sequence& s = *view.sequence;
   const CameraKey c = camera_at(s, view.eye, view.target, k);
@@ -28,10 +31,13 @@ SequenceFrame sequence_frame(const Scene& scene, const View& view, int k) {
   f.view.target = c.target;
   f.jitter = frame_jitter(s, k);
   for (size_t i = 0; i < scene.objects.size(); ++i) {
-    if (!s.objects.count(scene.objects[i].name)) continue;
-    f.motion[i] = motion_matrix(object_key_at(s, scene.objects[i].name, k),
-                                scene.objects[i].mesh.bounds().center());
-    if (f.motion[i] != glm::mat4(1.0f)) f.moves_objects = true;
+    const SceneObject& o = scene.objects[i];
+    if (!s.objects.count(o.name)) continue;
+    // The pivot: the centre of the object as placed (all its instances).
+    const glm::mat4 m = motion_matrix(object_key_at(s, o.name, k), placed_bounds(o).center());
+    const size_t placements = std::max<size_t>(1, o.instances.size());
+    for (size_t j = 0; j < placements; ++j) f.motion[ids.first[i] + j] = m;
+    if (m != glm::mat4(1.0f)) f.moves_objects = true;
   }
   return f;
 }
@@ -56,10 +62,15 @@ Camera frame_camera(const SequenceFrame& frame, int width, int height) {
 
 Scene posed_scene(const Scene& base, const SequenceFrame& frame) {
   Scene s = base;
+  const PlacementIds ids(s);
   for (size_t i = 0; i < s.objects.size(); ++i) {
-    const glm::mat4& m = frame.motion[i];
+    const glm::mat4& m = frame.motion[ids.first[i]];
     if (m == glm::mat4(1.0f)) continue;
     SceneObject& o = s.objects[i];
+    if (!o.instances.empty()) {  // the prototype stays; every placement moves
+      for (glm::mat4& placement : o.instances) placement = m * placement;
+      continue;
+    }
     const glm::mat3 linear(m);
     const glm::mat3 normal_matrix = glm::transpose(glm::inverse(linear));
     for (auto& v : o.mesh.positions) v = glm::vec3(m * glm::vec4(v, 1.0f));

@@ -17,10 +17,13 @@ namespace aoeval {
 
 struct SequenceFrame {
   int index = 0;
-  View view;                      // eye and target of this frame (the sequence kept)
-  glm::vec2 jitter{0.0f};         // sub-pixel sample offset (Camera::jitter)
-  std::vector<glm::mat4> motion;  // per scene object: world-space motion from its placement
-  bool moves_objects = false;     // some object's motion is not the identity at this frame
+  View view;               // eye and target of this frame (the sequence kept)
+  glm::vec2 jitter{0.0f};  // sub-pixel sample offset (Camera::jitter)
+  // Per G-buffer object id (instances.h PlacementIds; = per scene object without instances): the
+  // world-space motion from its placement. Every instance of an instanced object named in the
+  // sequence's "objects" moves with the whole group (pivot: the centre of all its copies).
+  std::vector<glm::mat4> motion;
+  bool moves_objects = false;  // some object's motion is not the identity at this frame
 };
 
 // Frame `k` of `view` (a view without a sequence has one frame, 0). InputError naming the view and

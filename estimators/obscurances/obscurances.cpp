@@ -12,6 +12,7 @@
 #include "base/errors.h"
 #include "estimators/power_falloff_param.h"
 #include "sampling/ray_offset.h"
+#include "scenes/instances.h"
 
 namespace aoeval {
 
@@ -45,9 +46,10 @@ Hit trace(RTCScene scene, RTCIntersectContext& context, const glm::vec3& o, cons
   rh.ray.tfar = tfar;
   rh.ray.mask = 0xFFFFFFFFu;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(scene, &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return {kInf, RTC_INVALID_GEOMETRY_ID};
-  return {rh.ray.tfar, rh.hit.geomID};
+  return {rh.ray.tfar, hit_placement(rh.hit)};
 }
 
 AoDefinition definition_of(const ObscuranceSettings& s) {
@@ -134,8 +136,10 @@ ObscuranceImage compute_obscurances(const EmbreeScene& es, const GBuffer& g,
     throw InputError("dmax: must be a positive finite distance (eq. 2's range)");
   const AoDefinition def = definition_of(s);
   const Scene& scene = es.scene();
-  std::vector<glm::vec3> albedo;  // R(Q) by geomID (= object index, embree_scene.h)
-  for (const SceneObject& o : scene.objects) albedo.push_back(o.albedo);
+  // R(Q) by placement id (embree_scene.h hit_placement; = object index without instances).
+  std::vector<glm::vec3> albedo;
+  for (const SceneObject& o : scene.objects)
+    albedo.insert(albedo.end(), std::max<size_t>(1, o.instances.size()), o.albedo);
   const glm::vec3 e = scene.bounds().extent();
   const float extent = std::max({e.x, e.y, e.z});
   const auto tfar = static_cast<float>(s.dmax);

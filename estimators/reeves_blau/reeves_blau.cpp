@@ -8,6 +8,7 @@
 
 #include "estimators/tree_proxies/hegeman_model.h"
 #include "estimators/tree_proxies/tree_proxy.h"
+#include "scenes/instances.h"
 
 namespace aoeval {
 
@@ -27,7 +28,7 @@ class ReevesBlauEstimator : public Estimator {
 
   void prepare(const EstimateContext& context) override {
     const Scene& scene = context.scene;
-    tree_of_.assign(scene.objects.size(), -1);
+    tree_of_.assign(PlacementIds(scene).count, -1);  // by G-buffer id
     envelopes_.clear();
     ProxyOptions options;
     options.kind = kind_;
@@ -40,7 +41,7 @@ class ReevesBlauEstimator : public Estimator {
       v.sphere = shape.radii.x == shape.radii.y && shape.radii.y == shape.radii.z;
       v.radius = shape.radii.x;
       v.k = static_cast<float>(attenuation_ > 0.0 ? attenuation_ : e.lambda.front());
-      tree_of_[e.object] = static_cast<int>(envelopes_.size());
+      tree_of_[e.placement] = static_cast<int>(envelopes_.size());
       envelopes_.push_back(v);
     }
     prepared_ = true;

@@ -19,6 +19,7 @@
 #include "estimators/vulkan/raster_gbuffer.h"
 #include "estimators/vulkan/vk_commands.h"
 #include "estimators/vulkan/vk_pipelines.h"
+#include "scenes/instances.h"
 #include "shadowmap_accumulate_comp_spv.h"
 #include "shadowmap_depth_frag_spv.h"
 #include "shadowmap_depth_vert_spv.h"
@@ -64,6 +65,7 @@ class ShadowmapDevice {
  public:
   ShadowmapDevice(vk::Context& vk, const Scene& scene, const ShadowmapSettings& s)
       : vk_(vk), s_(s), timer_(vk, 2 * static_cast<uint32_t>(batches(s)) + 1) {
+    refuse_instances(scene, "estimator 'shadowmap-ao' (shadow maps rasterise world-space copies)");
     const uint32_t atlas_width = static_cast<uint32_t>(s.resolution * s.lights_per_pass);
     if (atlas_width > vk.properties().limits.maxImageDimension2D)
       throw InputError("resolution x lights_per_pass: " + std::to_string(atlas_width) +

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "base/errors.h"
+#include "scenes/instances.h"
 #include "scenes/random.h"
 
 namespace aoeval {
@@ -266,11 +267,13 @@ TreeProxy derive_proxy(const SceneObject& object, const ProxyOptions& options) {
 std::vector<TreeEnvelope> tree_envelopes(const Scene& scene, const ProxyOptions& options,
                                          bool prefer_scene) {
   std::vector<TreeEnvelope> out;
+  const PlacementIds ids(scene);
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const SceneObject& o = scene.objects[i];
     if (o.role != Role::tree) continue;
     TreeEnvelope e;
     e.object = i;
+    e.placement = ids.first[i];
     e.leaves = tree_leaves(o);
     e.from_scene = prefer_scene && o.proxy && proxy_fits(*o.proxy, options.kind);
     e.proxy = e.from_scene ? *o.proxy : derive_proxy(o, options);
@@ -293,7 +296,20 @@ std::vector<TreeEnvelope> tree_envelopes(const Scene& scene, const ProxyOptions&
       for (size_t s = 0; s < shapes; ++s)
         e.lambda.push_back(kLeafProjection * area[s] / shape_volume(e.proxy.shapes[s]));
     }
-    out.push_back(std::move(e));
+    if (o.instances.empty()) {
+      out.push_back(std::move(e));
+      continue;
+    }
+    for (size_t k = 0; k < o.instances.size(); ++k) {
+      const glm::mat4& m = o.instances[k];
+      const double s = std::cbrt(std::fabs(static_cast<double>(glm::determinant(glm::mat3(m)))));
+      TreeEnvelope placed = e;
+      placed.placement = ids.first[i] + k;
+      place_proxy(m, placed.proxy);
+      placed.leaves.area *= s * s;
+      for (double& l : placed.lambda) l *= o.density ? s * s : 1.0 / s;
+      out.push_back(std::move(placed));
+    }
   }
   return out;
 }
@@ -302,7 +318,12 @@ nlohmann::json envelope_to_json(const Scene& scene, const TreeEnvelope& e) {
   nlohmann::json shapes = nlohmann::json::array();
   for (const auto& s : e.proxy.shapes)
     shapes.push_back({{"center", vec_json(s.center)}, {"radii", vec_json(s.radii)}});
-  return {{"object", scene.objects[e.object].name},
+  const SceneObject& o = scene.objects[e.object];
+  const std::string name =
+      o.instances.empty()
+          ? o.name
+          : o.name + "#" + std::to_string(e.placement - PlacementIds(scene).first[e.object]);
+  return {{"object", name},
           {"source", e.from_scene ? "scene" : "derived"},
           {"type", e.proxy.type},
           {"shapes", shapes},

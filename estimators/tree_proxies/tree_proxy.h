@@ -69,8 +69,9 @@ KMeans kmeans(const std::vector<glm::dvec3>& points, const std::vector<double>& 
 
 // What an estimator uses for one tree object.
 struct TreeEnvelope {
-  size_t object = 0;  // index into Scene::objects
-  TreeProxy proxy;    // world space
+  size_t object = 0;     // index into Scene::objects
+  size_t placement = 0;  // the G-buffer's object id (scenes/instances.h PlacementIds)
+  TreeProxy proxy;       // world space
   bool from_scene = false;
   LeafSet leaves;
   // Per shape: lambda = mean number of leaves a ray meets per unit length inside it (§3):
@@ -80,8 +81,11 @@ struct TreeEnvelope {
   std::vector<double> lambda;
 };
 
-// One envelope per tree object, in scene order. `prefer_scene`: use the scene's proxy when it has
-// one of the wanted kind (a sphere also serves as an ellipsoid); otherwise derive it.
+// One envelope per tree placement, in G-buffer id order. `prefer_scene`: use the scene's proxy when
+// it has one of the wanted kind (a sphere also serves as an ellipsoid); otherwise derive it. An
+// instanced tree's envelope is derived once from the prototype and placed per instance (issue 45):
+// shapes by the instance's transform; with s = cbrt|det| its mean scale, the leaf area by s^2 and
+// lambda by 1/s (leaf area over volume) or by s^2 (a scene density times the larger leaf).
 std::vector<TreeEnvelope> tree_envelopes(const Scene& scene, const ProxyOptions& options,
                                          bool prefer_scene);
 

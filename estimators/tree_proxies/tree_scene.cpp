@@ -1,5 +1,11 @@
 #include "estimators/tree_proxies/tree_scene.h"
 
+#include <algorithm>
+#include <map>
+
+#include "base/errors.h"
+#include "scenes/instances.h"
+
 namespace aoeval {
 
 std::vector<ParamSpec> tree_scene_params() {
@@ -34,10 +40,12 @@ TreeSceneOptions tree_scene_options(const ParamSet& p, const ProxyOptions& proxy
 const std::vector<TreeEnvelope>& TreeScene::prepare(const Scene& scene,
                                                     const TreeSceneOptions& options) {
   options_ = options;
-  rules_.assign(scene.objects.size(), {});
+  const PlacementIds ids(scene);
+  rules_.assign(ids.count, {});
   outer_.clear();
   fields_.clear();
   derived_ = {{"proxies", nlohmann::json::array()}};
+  std::map<size_t, TreeProxy> bounding;  // shells: each tree object's leaf bounding sphere
   envelopes_ = tree_envelopes(scene, options.proxy, options.prefer_scene);
   for (const TreeEnvelope& e : envelopes_) {
     derived_["proxies"].push_back(envelope_to_json(scene, e));
@@ -46,17 +54,28 @@ const std::vector<TreeEnvelope>& TreeScene::prepare(const Scene& scene,
     if (options.proxy.kind == ProxyKind::shells) {
       ProxyOptions sphere;
       sphere.kind = ProxyKind::sphere;
-      outer_.push_back(
-          hegeman::make_unit_map(derive_proxy(scene.objects[e.object], sphere).shapes.front()));
+      // Derived once per object (from the prototype when instanced), placed per instance.
+      if (bounding.count(e.object) == 0)
+        bounding[e.object] = derive_proxy(scene.objects[e.object], sphere);
+      TreeProxy outer = bounding[e.object];
+      const SceneObject& o = scene.objects[e.object];
+      if (!o.instances.empty()) place_proxy(o.instances[e.placement - ids.first[e.object]], outer);
+      outer_.push_back(hegeman::make_unit_map(outer.shapes.front()));
     } else {
       outer_.push_back(hegeman::make_unit_map(e.proxy.shapes.front()));
     }
-    rules_[e.object] = {Rule::tree, static_cast<int>(outer_.size() - 1)};
+    rules_[e.placement] = {Rule::tree, static_cast<int>(outer_.size() - 1)};
   }
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const SceneObject& o = scene.objects[i];
-    if (o.role == Role::ground) rules_[i].rule = Rule::ground;
+    const size_t placements = std::max<size_t>(1, o.instances.size());
+    if (o.role == Role::ground)
+      for (size_t k = 0; k < placements; ++k) rules_[ids.first[i] + k].rule = Rule::ground;
     if (o.role != Role::grass) continue;
+    // An instanced field would need a footprint per copy; one clear refusal instead.
+    if (!o.instances.empty())
+      throw InputError("scene '" + scene.name + "': grass object '" + o.name +
+                       "' is instanced; the tree estimators' eq. 9 takes one field per object");
     // Eq. 9's h: the blade height. From the world-space mesh (facts.blade_height is in the
     // generator's own space, so it is wrong for a scaled field) unless given as a parameter.
     const Bounds b = o.mesh.bounds();
@@ -68,7 +87,7 @@ const std::vector<TreeEnvelope>& TreeScene::prepare(const Scene& scene,
     f.x1 = b.upper.x;
     f.z0 = b.lower.z;
     f.z1 = b.upper.z;
-    rules_[i] = {Rule::grass, static_cast<int>(fields_.size())};
+    rules_[ids.first[i]] = {Rule::grass, static_cast<int>(fields_.size())};
     fields_.push_back(f);
   }
   return envelopes_;

@@ -1,5 +1,7 @@
 #include "estimators/vertex_baked/vertex_bake.h"
 
+#include "scenes/instances.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -121,6 +123,9 @@ TriangleMesh subdivide_mesh(const TriangleMesh& mesh, int levels) {
 
 VertexBake bake_vertices(const Scene& scene, const EmbreeScene& embree, const BakeSettings& s) {
   if (s.rays < 1) throw InputError("rays: must be at least 1");
+  // Per-vertex AO belongs to each placed copy's vertices (an instance's neighbours differ), so a
+  // bake of the prototype would be wrong for every instance; instanced scenes are refused.
+  refuse_instances(scene, "per-vertex baking (vertex-baked, shadowmap-ao per-vertex)");
   check_subdivide(scene, s.subdivide);
   const glm::vec3 e = scene.bounds().extent();
   const float extent = std::max({e.x, e.y, e.z});

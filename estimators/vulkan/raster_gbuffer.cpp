@@ -7,6 +7,7 @@
 
 #include "raster_gbuffer_frag_spv.h"
 #include "raster_gbuffer_vert_spv.h"
+#include "scenes/instances.h"
 
 namespace aoeval::vk {
 
@@ -128,6 +129,10 @@ struct RasterGBuffer::Impl {
 
   Impl(Context& ctx, const Scene& scene)
       : context(ctx), bounds(scene.bounds()), pipeline(ctx, pipeline_desc()) {
+    // Instanced draws are not built yet: one clear refusal instead of a G-buffer that lacks them.
+    refuse_instances(scene,
+                     "the Vulkan raster G-buffer (gbuffer=raster; --set gbuffer=embree takes "
+                     "instanced scenes)");
     // One global vertex array (objects concatenated, world space) and one global index array; an
     // object without shading normals gets zeros there and has_normals = 0 (the shader uses Ng).
     std::vector<float> p, n;

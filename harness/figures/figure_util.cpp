@@ -9,6 +9,7 @@
 #include "base/summary.h"
 #include "drawing/error_maps.h"
 #include "estimators/registry.h"
+#include "scenes/instances.h"
 
 namespace aoeval::figures {
 
@@ -61,12 +62,14 @@ std::vector<uint8_t> compared_mask(FigureContext& ctx, const std::string& scene,
   const GBuffer& g = ctx.session->gbuffer(scene, v, w, h);
   const ReferenceImage& ref = ctx.session->reference(scene, v, w, h, definition);
   std::vector<uint8_t> mask(g.pixel_count(), 0);
+  const PlacementIds ids(data.scene);  // G-buffer ids are placements (scenes/instances.h)
   for (size_t k = 0; k < mask.size(); ++k) {
     if (!g.covered(k) || !ref.covered(k)) continue;
     if (only_role >= 0) {
       const int id = static_cast<int>(g.object_id[k]);
-      if (id < 0 || id >= static_cast<int>(data.scene.objects.size()) ||
-          static_cast<int>(data.scene.objects[id].role) != only_role)
+      const size_t object = id < 0 ? ids.first.size() : ids.object_of(static_cast<size_t>(id));
+      if (object >= data.scene.objects.size() ||
+          static_cast<int>(data.scene.objects[object].role) != only_role)
         continue;
     }
     mask[k] = 1;

@@ -1,0 +1,88 @@
+// Tree envelopes of an instanced forest (issue 45): one per placement, in G-buffer id order, equal
+// to the envelopes of the same forest written as copies where the scene gives the proxy, and
+// enclosing every placed leaf where it is derived.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "base/testing/test_temp_dir.h"
+#include "estimators/tree_proxies/tree_proxy.h"
+#include "estimators/tree_proxies/tree_scene.h"
+#include "scenes/instances.h"
+#include "scenes/testing_forest.h"
+
+namespace aoeval {
+namespace {
+
+Scene forest() {
+  return load_scene_file(testutil::write_small_forest(testutil::test_temp_dir("forest")));
+}
+
+TEST(TreeInstances, EnvelopesPerPlacementMatchCopies) {
+  const Scene s = forest();
+  const Scene copies = scene_as_copies(s);
+  ProxyOptions sphere;
+  const auto inst = tree_envelopes(s, sphere, true);
+  const auto flat = tree_envelopes(copies, sphere, true);
+  const PlacementIds ids(s);
+  ASSERT_EQ(inst.size(), 12u);
+  ASSERT_EQ(flat.size(), 12u);
+  for (size_t t = 0; t < inst.size(); ++t) {
+    EXPECT_EQ(inst[t].placement, flat[t].placement);
+    EXPECT_EQ(ids.object_of(inst[t].placement), inst[t].object);
+    const Ellipsoid &a = inst[t].proxy.shapes[0], &b = flat[t].proxy.shapes[0];
+    if (inst[t].object == 1) {  // oak: the scene's proxy and density, placed alike
+      EXPECT_TRUE(inst[t].from_scene);
+      EXPECT_LE(glm::length(a.center - b.center), 1e-5f);
+      EXPECT_NEAR(a.radii.x, b.radii.x, 1e-5f);
+      EXPECT_NEAR(inst[t].lambda[0] / flat[t].lambda[0], 1.0, 1e-4);
+    } else {  // birch: derived from the prototype, placed; it still holds every placed leaf
+      const SceneObject& c = copies.objects[inst[t].placement];
+      const LeafSet leaves = tree_leaves(c);
+      for (size_t tri = leaves.first_triangle; tri < c.mesh.triangle_count(); ++tri)
+        for (int k = 0; k < 3; ++k)
+          EXPECT_LE(glm::length(c.mesh.positions[c.mesh.triangles[tri][k]] - a.center),
+                    a.radii.x * (1.0f + 1e-5f));
+      // Both spheres hold every leaf but are centred on different boxes (the prototype's box,
+      // placed, against the placed leaves' box), so their radii agree only roughly.
+      EXPECT_GE(a.radii.x, b.radii.x * 0.9f);
+      EXPECT_LE(a.radii.x, b.radii.x * 1.5f);
+    }
+  }
+}
+
+TEST(TreeInstances, SceneRulesFollowPlacementIds) {
+  const Scene s = forest();
+  TreeScene scene;
+  ProxyOptions proxy;
+  const TreeSceneOptions options{.proxy = proxy,
+                                 .prefer_scene = true,
+                                 .horizon = true,
+                                 .grass_ground = false,
+                                 .blade_height = 0.0};
+  const auto& envelopes = scene.prepare(s, options);
+  const PlacementIds ids(s);
+  for (size_t t = 0; t < envelopes.size(); ++t) {
+    int called = -1;
+    const glm::vec3 x = envelopes[t].proxy.shapes[0].center;
+    scene.shade(x, glm::vec3(0, 1, 0), static_cast<float>(envelopes[t].placement),
+                [&](size_t tree, const glm::vec3&, const glm::vec3&) {
+                  called = static_cast<int>(tree);
+                  return 1.0f;
+                });
+    EXPECT_EQ(called, static_cast<int>(t));
+  }
+  // A rock (solid) pixel is shaded by the trees only: below 1 near the forest, no self term.
+  bool self = false;
+  const float v =
+      scene.shade(glm::vec3(0, 0.1f, 0), glm::vec3(0, 1, 0), static_cast<float>(ids.first[3] + 1),
+                  [&](size_t, const glm::vec3&, const glm::vec3&) {
+                    self = true;
+                    return 1.0f;
+                  });
+  EXPECT_FALSE(self);
+  EXPECT_LT(v, 1.0f);
+}
+
+}  // namespace
+}  // namespace aoeval
