@@ -15,8 +15,9 @@
 namespace aoeval {
 
 // Bump when the reference's output for the same inputs changes (reference-2: the bent_stderr
-// channel, the bent normal's own noise).
-inline constexpr const char* kReferenceGeneratorVersion = "reference-2";
+// channel, the bent normal's own noise; reference-3: G-buffer hit points from world-space
+// barycentrics, as instances need, and bounded definitions read from one closest-hit trace).
+inline constexpr const char* kReferenceGeneratorVersion = "reference-3";
 
 std::string reference_cache_key(const Scene& scene, const Camera& camera,
                                 const ReferenceSettings& settings);
