@@ -35,13 +35,13 @@ using aoeval::cli_test::spawn_aoeval;
 using aoeval::cli_test::sqlite_strings;
 using aoeval::cli_test::sweep_killed_and_resumed;
 
-constexpr int kPoints = 160;
+constexpr int kPoints = 240;
 
 fs::path temp_dir() {
   return aoeval::testutil::test_temp_dir("faults");
 }
 
-// A sweep of cheap points: the constant estimator at 160 values on a small procedural scene, one
+// A sweep of cheap points: the constant estimator at kPoints values on a small procedural scene, one
 // timed frame each, so a run is many short rows and kills land in every phase of a row's life
 // (estimating, scoring, the SQLite commit, the atomic rewrites of CSV and JSON).
 std::string write_spec(const fs::path& d) {
@@ -64,13 +64,16 @@ TEST(FaultInjection, ThirtyRandomSigkillsThenResumeKeepOneRowPerPointAndOneRunId
   const fs::path out = d / "out", db = d / "r.sqlite";
   std::mt19937 rng(20261201);
   // Kill after 0, 1 or 2 new rows (a third of the kills land while the process starts up or
-  // computes the reference), then after a random 0-30 ms: anywhere in a row's life.
+  // computes the reference), then after a random 0-4 ms: anywhere in a row's life (a row takes
+  // 1-2 ms here since rows are appended, not rewritten; a longer delay let a launch run so many
+  // rows that the 160-point sweep finished after 24 kills). 240 points leave room for the 36 kills
+  // at two or three rows a launch, and a slower (loaded) machine only makes launches shorter.
   KillCount count;
   ASSERT_NO_FATAL_FAILURE(sweep_killed_and_resumed("fault injection", spec, out, db, d, cache, rng,
                                                    {.max_kills = 36,
                                                     .max_launches = 1000,
                                                     .max_wait_rows = 2,
-                                                    .max_delay_us = 30000,
+                                                    .max_delay_us = 4000,
                                                     .polls = 3000},
                                                    &count));
   EXPECT_GE(count.kills, 30);
@@ -127,9 +130,9 @@ TEST(FaultInjection, EmptyShardsUnwritableDatabasesAndLaggingCsv) {
   const fs::path d = temp_dir();
   const std::string spec = write_spec(d), cache = (d / "cache").string();
   const std::string env = "AOEVAL_CACHE=" + cache + " ";
-  // 160 points, shard 170/200: none of them.
+  // kPoints (240) points, shard 250/300: none of them.
   const Result empty = aoeval::cli_test::run_aoeval(env,
-                                                    "sweep " + spec + " --shard 170/200 --out " +
+                                                    "sweep " + spec + " --shard 250/300 --out " +
                                                         (d / "empty").string() + " --db " +
                                                         (d / "r.sqlite").string(),
                                                     d);
@@ -144,7 +147,7 @@ TEST(FaultInjection, EmptyShardsUnwritableDatabasesAndLaggingCsv) {
   EXPECT_FALSE(fs::exists(d / "nodb")) << "the output folder was made before the database failed";
 
   const fs::path out = d / "lag";
-  const std::string sweep = "sweep " + spec + " --shard 0/40 --out " + out.string() + " --db " +
+  const std::string sweep = "sweep " + spec + " --shard 0/60 --out " + out.string() + " --db " +
                             (d / "r.sqlite").string();
   ASSERT_EQ(aoeval::cli_test::run_aoeval(env, sweep, d).code, 0);
   const std::string csv = slurp(out / "results.csv");
@@ -220,7 +223,7 @@ TEST(FaultInjection, DamagedResultsDatabasesAreRejectedByteIdentical) {
   const fs::path db = d / "good.sqlite";
   const Result sweep = aoeval::cli_test::run_aoeval(
       "AOEVAL_CACHE=" + cache + " ",
-      "sweep " + spec + " --shard 0/40 --out " + (d / "out").string() + " --db " + db.string(), d);
+      "sweep " + spec + " --shard 0/60 --out " + (d / "out").string() + " --db " + db.string(), d);
   ASSERT_EQ(sweep.code, 0) << sweep.err;
   const std::string good = slurp(db);
   ASSERT_GT(good.size(), 4096u);

@@ -54,7 +54,7 @@ async function visit(browser, file, bypassCSP, marker) {
     }
     for (const s of document.querySelectorAll('script')) {
       const src = s.getAttribute('src') || '';
-      if (!/^(viewer\/(viewer|report)\.js|dashboard\.js|viewer-data\/[A-Za-z0-9._-]+\.js)$/.test(src))
+      if (!/^(viewer\/(viewer|report|colour_maps)\.js|dashboard\.js|viewer-data\/[A-Za-z0-9._-]+\.js)$/.test(src))
         bad.push(`<script src="${src}">${s.textContent.slice(0, 60)}`);
     }
     for (const img of document.querySelectorAll('img'))
