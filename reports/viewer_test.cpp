@@ -100,8 +100,9 @@ TEST(Viewer, DataScriptsHoldTheExrFloatsExactly) {
   const std::string rel = exact({"ref.exr"}, reference_viewer_channels());
   EXPECT_EQ(rel, "viewer-data/" + file_stem_for("ref") + ".js");
   const std::string js = read_file(dir / rel);
-  const std::string prefix = "// aoeval viewer data: exact float32\n(window.AOEVAL_DATA=window.AOEVAL_DATA||{})[\"" +
-                             file_stem_for("ref") + "\"]=";
+  const std::string prefix =
+      "// aoeval viewer data: exact float32\n(window.AOEVAL_DATA=window.AOEVAL_DATA||{})[\"" +
+      file_stem_for("ref") + "\"]=";
   ASSERT_EQ(js.substr(0, prefix.size()), prefix);
   const auto record =
       nlohmann::json::parse(js.substr(prefix.size(), js.size() - prefix.size() - 2));
@@ -239,7 +240,9 @@ TEST(Viewer, HalfFloatsRoundToNearestEven) {
   }
 }
 
-ResultRow scored(const std::string& estimator, const std::string& scene, double err, double ms) {
+// A row whose matched and true scores are the same number (one definition); `true_err` apart.
+ResultRow scored(const std::string& estimator, const std::string& scene, double err, double ms,
+                 double true_err = -1.0) {
   ResultRow r;
   r.estimator = estimator;
   r.run_name = estimator + "/scene:" + scene + "/view:main/8x8";
@@ -247,6 +250,7 @@ ResultRow scored(const std::string& estimator, const std::string& scene, double 
   r.view = "main";
   r.width = r.height = 8;
   r.metrics = {{"rmse_excess", err}};
+  r.true_metrics = {{"rmse_excess", true_err < 0.0 ? err : true_err}};
   r.time_ms_median = ms;
   return r;
 }
@@ -273,6 +277,37 @@ TEST(Leaderboard, MarksTheBestPerSceneAndSkippedRows) {
   EXPECT_EQ(html.find("<td class=\"best\" data-v=\"0.2\""), std::string::npos);
   for (auto& e : entries) e.featured = false;
   EXPECT_TRUE(leaderboard_html(entries, {"box"}).empty());
+}
+
+// One truth to rank on: a bounded estimator that is close to its own bounded reference (matched
+// 0.034) but far from true AO (0.388) is not starred above one that is close to true AO (0.060);
+// its matched score is still shown beside. A sequence point ranks by its steady state.
+TEST(Leaderboard, RanksOnTrueAoWithTheMatchedScoreBeside) {
+  std::vector<SuiteReportEntry> entries(4);
+  entries[0].row = scored("hbao-split-cpu", "box", 0.034, 2.0, 0.388);
+  entries[1].row = scored("rtao", "box", 0.059, 9.0, 0.060);
+  entries[2].row = scored("gtao", "walk", 0.5, 1.0);
+  entries[3].row = scored("rtao", "walk", 0.01, 9.0);
+  entries[2].row.metrics.update({{"seq_frames", 24}, {"steady_rmse_excess", 0.03}});
+  entries[2].row.true_metrics.update({{"seq_frames", 24}, {"steady_rmse_excess", 0.04}});
+  entries[3].row.metrics.update({{"seq_frames", 24}, {"steady_rmse_excess", 0.07}});
+  entries[3].row.true_metrics.update({{"seq_frames", 24}, {"steady_rmse_excess", 0.08}});
+  for (auto& e : entries) e.featured = true;
+  const std::string html = leaderboard_html(entries, {"box", "walk"}).str();
+  EXPECT_NE(html.find("<td data-v=\"0.388\"><a href=\"#mosaic-hbao-split-cpu-scene-box"),
+            std::string::npos)
+      << html;
+  EXPECT_NE(html.find("<td data-v=\"0.034\">0.034</td>"), std::string::npos) << html;
+  EXPECT_NE(html.find("<td class=\"best\" data-v=\"0.06\"><a href=\"#mosaic-rtao-scene-box"),
+            std::string::npos)
+      << html;
+  // The sequence: gtao's steady 0.04 beats rtao's 0.08, though gtao's last frame (0.5) is worse.
+  EXPECT_NE(html.find("<td class=\"best\" data-v=\"0.04\"><a href=\"#mosaic-gtao-scene-walk"),
+            std::string::npos)
+      << html;
+  EXPECT_NE(html.find("<td data-v=\"0.08\"><a href=\"#mosaic-rtao-scene-walk"), std::string::npos)
+      << html;
+  EXPECT_NE(html.find(">true</th><th data-sort=\"2\">matched</th>"), std::string::npos) << html;
 }
 
 }  // namespace
