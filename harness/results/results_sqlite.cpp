@@ -14,106 +14,15 @@
 #include "base/errors.h"
 #include "base/summary.h"
 #include "harness/results/results_store.h"
+#include "harness/results/sqlite_statement.h"
 
 namespace aoeval {
 
 namespace fs = std::filesystem;
 
+using namespace sqlite_detail;
+
 namespace {
-
-std::string quote_identifier(const std::string& name) {
-  std::string q = "\"";
-  for (char c : name) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
-
-[[noreturn]] void fail(sqlite3* db, const std::string& path, const std::string& what) {
-  throw std::runtime_error("results database " + path + ": " + what + ": " +
-                           (db ? sqlite3_errmsg(db) : "out of memory"));
-}
-
-// A prepared statement, finalized on scope exit.
-class Statement {
- public:
-  Statement(sqlite3* db, const std::string& path, const std::string& sql) : db_(db), path_(path) {
-    if (sqlite3_prepare_v2(db, sql.c_str(), -1, &stmt_, nullptr) != SQLITE_OK) {
-      fail(db, path, "cannot prepare \"" + sql + "\"");
-    }
-  }
-  ~Statement() { sqlite3_finalize(stmt_); }
-  Statement(const Statement&) = delete;
-  Statement& operator=(const Statement&) = delete;
-  sqlite3_stmt* get() const { return stmt_; }
-  void bind_text(int i, const std::string& v) {
-    sqlite3_bind_text(stmt_, i, v.c_str(), static_cast<int>(v.size()), SQLITE_TRANSIENT);
-  }
-  // Binds a flat value: null -> NULL (+Inf in metric columns: psnr of identical images), bool ->
-  // 0/1, numbers as they are, arrays and objects as JSON text.
-  void bind_json(int i, const nlohmann::json& v, const std::string& column) {
-    if (v.is_null()) {
-      if (is_metric_column(column)) {
-        sqlite3_bind_double(stmt_, i, HUGE_VAL);
-      } else {
-        sqlite3_bind_null(stmt_, i);
-      }
-    } else if (v.is_boolean()) {
-      sqlite3_bind_int(stmt_, i, v.get<bool>() ? 1 : 0);
-    } else if (v.is_number_integer()) {
-      sqlite3_bind_int64(stmt_, i, v.get<sqlite3_int64>());
-    } else if (v.is_number()) {
-      sqlite3_bind_double(stmt_, i, v.get<double>());
-    } else {
-      bind_text(i, v.is_string() ? v.get<std::string>() : v.dump());
-    }
-  }
-  bool step() {  // true: a row is ready; false: done
-    const int rc = sqlite3_step(stmt_);
-    if (rc == SQLITE_ROW) return true;
-    if (rc == SQLITE_DONE) return false;
-    fail(db_, path_, "statement failed");
-  }
-  std::string text(int i) const {
-    const auto* t = reinterpret_cast<const char*>(sqlite3_column_text(stmt_, i));
-    return t ? std::string(t, static_cast<size_t>(sqlite3_column_bytes(stmt_, i))) : "";
-  }
-
- private:
-  sqlite3* db_;
-  std::string path_;
-  sqlite3_stmt* stmt_ = nullptr;
-};
-
-void exec(sqlite3* db, const std::string& path, const std::string& sql) {
-  char* message = nullptr;
-  if (sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &message) != SQLITE_OK) {
-    const std::string m = message ? message : "unknown error";
-    sqlite3_free(message);
-    throw std::runtime_error("results database " + path + ": " + sql + ": " + m);
-  }
-}
-
-// BEGIN IMMEDIATE (takes the write lock up front, waiting up to the busy timeout), rolled back
-// unless committed.
-class Transaction {
- public:
-  Transaction(sqlite3* db, const std::string& path) : db_(db), path_(path) {
-    exec(db, path, "BEGIN IMMEDIATE");
-  }
-  ~Transaction() {
-    if (!done_) sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
-  }
-  Transaction(const Transaction&) = delete;
-  Transaction& operator=(const Transaction&) = delete;
-  void commit() {
-    exec(db_, path_, "COMMIT");
-    done_ = true;
-  }
-
- private:
-  sqlite3* db_;
-  std::string path_;
-  bool done_ = false;
-};
 
 std::string column_type(const std::string& column) {
   static const std::set<std::string> integers = {"width", "height", "repetitions", "pixels",
@@ -268,6 +177,7 @@ SqliteStore::SqliteStore(const std::string& path, Mode mode) : path_(path) {
     // every earlier row of its run, quadratic in a sweep's points. Added to older files too (an
     // index changes no row).
     exec(db_, path_, "CREATE INDEX IF NOT EXISTS results_run_name ON results (run_id, run_name)");
+    create_point_tables();
     t.commit();
   } catch (...) {
     sqlite3_close(db_);
@@ -302,9 +212,22 @@ std::vector<std::string> SqliteStore::columns() {
 }
 
 void SqliteStore::add(const ResultRow& row) {
+  Transaction t(db_, path_);
+  insert_row(row);
+  t.commit();
+}
+
+void SqliteStore::add(const PointRecord& record) {
+  Transaction t(db_, path_);
+  insert_row(record.row);
+  replace_frames(record.row, record.frames);
+  replace_images(record.row, record.images);
+  t.commit();
+}
+
+void SqliteStore::insert_row(const ResultRow& row) {
   const nlohmann::json flat = flatten(row);
   const std::vector<std::string> wanted = result_columns({row});
-  Transaction t(db_, path_);
   // Inside the transaction: another process may have added columns since our last look.
   const std::vector<std::string> have = columns();
   const std::set<std::string> present(have.begin(), have.end());
@@ -341,7 +264,6 @@ void SqliteStore::add(const ResultRow& row) {
   const std::string values[] = {row.run_id, row.machine, row.device, row.git_commit, row.timestamp};
   for (int i = 0; i < 5; ++i) run.bind_text(i + 1, values[i]);
   run.step();
-  t.commit();
 }
 
 std::vector<ResultRow> SqliteStore::select_rows(const std::string& sql, const std::string& bound) {

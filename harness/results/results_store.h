@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/results/point_record.h"
 #include "harness/results/result_row.h"
 
 struct sqlite3;
@@ -103,7 +104,15 @@ class ResultsFolder {
   void set_context(const RunContext& context) { context_ = context; }
   // Appends `row` (replacing, in place, a row with the same run_name) and writes it to the files
   // as FolderWrites says.
+  // Leaves the point's frames and images as they are (a row taken back from the files by resume).
   void add(const ResultRow& row);
+  // The row, its frames and its images in one transaction; the frames and images stored earlier
+  // for the same run_id and run_name are replaced.
+  void add(const PointRecord& record);
+  // A point's frames (in frame order) and kept images (in the order stored); none when the file
+  // has no such table.
+  std::vector<FrameRow> frames_of(const std::string& run_id, const std::string& run_name);
+  std::vector<KeptImage> images_of(const std::string& run_id, const std::string& run_name);
   // Appends `row` when no row has its run_name, without writing the files (resume's repair).
   void merge(const ResultRow& row);
   // Rewrites both files from the rows held (JSON first, then CSV; each atomically), then removes
@@ -139,6 +148,15 @@ class ResultsFolder {
 //   results(id INTEGER PRIMARY KEY AUTOINCREMENT, <identifying_columns()>, <measured_columns()>,
 //           then one column per parameter and per pass, added by ALTER TABLE ADD COLUMN when a
 //           row brings a new name)
+//   frames(run_id, run_name, frame, <frame_columns()>)   a sequence point's frames
+//   (point_record.h),
+//           one line per frame, metric columns REAL (one added by ALTER TABLE when a frame brings
+//           a key the table lacks)
+//   images(run_id, run_name, role, path)   the images a point kept, paths relative to its run's
+//           output folder
+// frames and images are created in every file opened for writing (a file of an earlier build
+// gains them, empty; the schema version is unchanged, readers of it ignore them); a reader of a
+// file without them finds no frames and no images.
 // A psnr of +infinity (JSON null) is stored as REAL Inf; an absent value as NULL.
 class SqliteStore {
  public:
@@ -160,7 +178,15 @@ class SqliteStore {
   void add_run(const RunContext& context);  // replaces a run already present
   // One transaction. A row with the same run_id and run_name is replaced, so storing a row twice
   // (a sweep killed between its SQLite commit and its file write, then resumed) keeps one.
+  // Leaves the point's frames and images as they are (a row taken back from the files by resume).
   void add(const ResultRow& row);
+  // The row, its frames and its images in one transaction; the frames and images stored earlier
+  // for the same run_id and run_name are replaced.
+  void add(const PointRecord& record);
+  // A point's frames (in frame order) and kept images (in the order stored); none when the file
+  // has no such table.
+  std::vector<FrameRow> frames_of(const std::string& run_id, const std::string& run_name);
+  std::vector<KeptImage> images_of(const std::string& run_id, const std::string& run_name);
 
   std::vector<ResultRow> all_rows();  // in insertion order
   std::vector<ResultRow> rows_of_run(const std::string& run_id);
@@ -171,6 +197,12 @@ class SqliteStore {
 
  private:
   std::vector<ResultRow> select_rows(const std::string& sql, const std::string& bound);
+  void insert_row(const ResultRow& row);  // inside a transaction (results_sqlite.cpp)
+  // Inside a transaction (results_sqlite_frames.cpp).
+  void create_point_tables();
+  void replace_frames(const ResultRow& row, const std::vector<FrameRow>& frames);
+  void replace_images(const ResultRow& row, const std::vector<KeptImage>& images);
+  bool has_table(const std::string& name);
   void open_read_only();
   std::string path_;
   sqlite3* db_ = nullptr;

@@ -1,6 +1,7 @@
 // The run bookkeeping of every runner (run_recorder.h).
 #include "harness/results/run_recorder.h"
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <set>
@@ -65,11 +66,22 @@ ResultRow RunRecorder::stamped(ResultRow row) const {
 }
 
 ResultRow RunRecorder::record(ResultRow row, StageTimes* stages) {
-  row = stamped(std::move(row));
+  PointRecord point;
+  point.row = std::move(row);
+  return record(std::move(point), stages);
+}
+
+ResultRow RunRecorder::record(PointRecord record, StageTimes* stages) {
+  record.row = stamped(std::move(record.row));
+  const ResultRow& row = record.row;
+  if (!row.estimate_file.empty() &&
+      std::none_of(record.images.begin(), record.images.end(),
+                   [](const KeptImage& i) { return i.role == "estimate"; }))
+    record.images.insert(record.images.begin(), KeptImage{"estimate", row.estimate_file});
   {
     std::optional<StageTimes::Scope> timer;
     if (stages) timer.emplace(*stages, "results SQLite");
-    store_.add(row);
+    store_.add(record);
   }
   {
     std::optional<StageTimes::Scope> timer;

@@ -80,6 +80,11 @@ class RunRecorder {
   // says; a row of the same run_name replaced); returns the stamped row. With `stages`, the two
   // writes are timed as "results SQLite" and "results CSV + JSON".
   ResultRow record(ResultRow row, StageTimes* stages = nullptr);
+  // The same for a whole point: its row, frames and kept images go to SQLite in one transaction
+  // (the row's estimate_file among the images as role "estimate" when the record does not name
+  // it), then the row to the files. A sequence point's frames.csv is written by its runner before
+  // this call (kept_sequence.h), so a committed row has it.
+  ResultRow record(PointRecord record, StageTimes* stages = nullptr);
   // Rows that already carry their identity (merge: each keeps the machine, device and commit of
   // the shard that measured it; the caller sets their run_id): appended to the files as they are,
   // a row whose run_name is already held skipped, the files written once, then the run and every
