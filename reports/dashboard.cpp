@@ -268,6 +268,10 @@ Dashboard build_dashboard(const DashboardOptions& o) {
       }
     }
     judge(rep, t, delta);
+    if (rep.before && rep.after && rep.before->status == "ok" && rep.after->status == "ok")
+      rep.frames = frame_change(store.frames_of(before->run_id, rep.before->run_name),
+                                store.frames_of(after->run_id, rep.after->run_name), t,
+                                same_reference(*rep.before, *rep.after));
   }
   std::stable_sort(d.rows.begin(), d.rows.end(), [](const RowReport& x, const RowReport& y) {
     if (severity_rank(x.verdict) != severity_rank(y.verdict))
@@ -359,6 +363,16 @@ bool dashboard_fails(const Dashboard& d) {
   return d.regressed > 0 || d.changes_failing > 0;
 }
 
+std::string frames_phrase(const FrameChange& f) {
+  if (f.changed == 0)
+    return f.figure + " unchanged on all " + std::to_string(f.compared) + " frames compared";
+  char most[160];
+  std::snprintf(most, sizeof most, "; most at frame %d: %.4g -> %.4g)", f.largest_frame,
+                f.largest_before, f.largest_after);
+  return f.figure + " changed on frame" + (f.changed > 1 ? "s " : " ") + spans_text(f.spans) +
+         " (" + std::to_string(f.changed) + " of " + std::to_string(f.compared) + " frames" + most;
+}
+
 std::vector<std::string> console_lines(const Dashboard& d) {
   std::vector<std::string> out;
   auto row_name = [](const RowReport& rep) {
@@ -397,6 +411,9 @@ std::vector<std::string> console_lines(const Dashboard& d) {
   }
   for (const auto& rep : d.rows)
     if (rep.changed) out.push_back("CHANGED " + row_name(rep) + " " + change_phrase(*rep.change));
+  for (const auto& rep : d.rows)
+    if (rep.frames && rep.frames->changed > 0)
+      out.push_back("FRAMES " + row_name(rep) + " " + frames_phrase(*rep.frames));
   for (const auto& s : d.steps) {
     char numbers[200];
     std::snprintf(numbers, sizeof numbers, ": %s %.4f -> %.4f", s.figure.c_str(), s.before,

@@ -33,6 +33,7 @@
 
 #include "base/default_paths.h"
 #include "harness/results/results_store.h"
+#include "reports/frame_change.h"
 #include "reports/image_change.h"
 #include "reports/regression.h"
 
@@ -73,6 +74,9 @@ struct RowReport {
   double change_limit = 0.0;  // change_threshold(): what |mean_shift| had to exceed
   bool changed = false, change_fails = false;
   std::string params_text;  // "rays=1,seed=7,...": differing from defaults first
+  // A sequence point's frames against the baseline's (frame_change.h), both read from the
+  // history's frames table; none for a still view or a history without frames.
+  std::optional<FrameChange> frames;
 };
 
 // One step of one series over the history (CONTRACT §12 STEP lines).
@@ -120,8 +124,12 @@ Dashboard build_dashboard(const DashboardOptions& options);
 // hbao-split R=0.4,Nd=8,... scene bunny view main 320x240: rmse_excess 0.012 -> 0.020 (threshold
 // 0.0006)"), per changed row ("CHANGED vo-loos R=0.5,... scene bunny view main 160x120: darker by
 // 0.050 mean AO on 97 % of pixels") and per step ("STEP <run name> at run <run_id> (<commit>):
-// rmse_excess 0.0210 -> 0.0341").
+// rmse_excess 0.0210 -> 0.0341"), and per sequence row whose frames changed ("FRAMES raytraced
+// rays=4,... scene dragon view walk 160x120: rmse_excess changed on frames 12-20 (...)").
 std::vector<std::string> console_lines(const Dashboard& d);
+// "rmse_excess changed on frames 12-20 (9 of 48 frames; most at frame 15: 0.0123 -> 0.0456)", or
+// "rmse_excess unchanged on all 48 frames".
+std::string frames_phrase(const FrameChange& f);
 // True when the dashboard's exit status is 1: a regression, or a change under change_action fail.
 bool dashboard_fails(const Dashboard& d);
 // "Ns 16 -> 8, alpha 0.1 -> 0.41": the keys whose values differ ("(none)" where one side lacks

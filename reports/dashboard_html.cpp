@@ -129,6 +129,12 @@ Html change_line(const RowReport& rep) {
          << text((rep.changed ? change_phrase(c) + "; " : std::string()) + line) << "</p>\n";
 }
 
+// One line on a sequence point's frames against the baseline's (frame_change.h).
+Html frames_line(const RowReport& rep) {
+  if (!rep.frames) return {};
+  return Html("<p class=\"frames\">frames: ") << text(frames_phrase(*rep.frames)) << "</p>\n";
+}
+
 Html group_anchor(const std::string& estimator, const std::string& scene) {
   std::string a = "group-" + estimator + "-" + scene;
   for (char& ch : a)
@@ -260,6 +266,8 @@ std::string dashboard_html(const Dashboard& d) {
         what += (what.empty() ? "" : "; ") + c.figure + " " + to_string(c.verdict);
     if (!rep.params_change.empty()) what += (what.empty() ? "" : "; ") + rep.params_change;
     if (rep.changed) what += (what.empty() ? "" : "; ") + change_phrase(*rep.change);
+    if (rep.frames && rep.frames->changed > 0)
+      what += (what.empty() ? "" : "; ") + frames_phrase(*rep.frames);
     h << "<tr class=\"" << css_class(rep.verdict) << "\"><td><a href=\"#row-" << anchors[&rep]
       << "\">" << text(to_string(rep.verdict)) << "</a></td><td>" << text(rep.estimator)
       << "</td><td>" << text(rep.scene) << "</td><td>" << text(rep.view) << "</td><td>"
@@ -296,7 +304,7 @@ std::string dashboard_html(const Dashboard& d) {
         h << "<p>code changed: <code>" << text(rep->code_change) << "</code></p>\n";
       if (!rep->note.empty()) h << "<p class=\"note\">" << text(rep->note) << "</p>\n";
       if (!rep->checks.empty()) h << checks_table(*rep);
-      h << change_line(*rep) << images(*rep) << "</article>\n";
+      h << change_line(*rep) << frames_line(*rep) << images(*rep) << "</article>\n";
     }
     h << "</section>\n";
   }

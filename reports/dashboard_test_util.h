@@ -51,6 +51,7 @@ struct FakeRow {
   nlohmann::json defaults = nlohmann::json::object();
   nlohmann::json more_metrics = nlohmann::json::object();  // e.g. the sequence keys
   std::string aoeval_version = "0.1.0";
+  std::vector<FrameRow> frames;  // a sequence point's, stored with its row (point_record.h)
 };
 
 struct History {
@@ -99,7 +100,7 @@ struct History {
       r.time_ms_median = f.time_ms;
       r.estimate_file = "estimates/" + file_stem_for(r.run_name) + ".exr";
       write_estimate(dir / run_id / r.estimate_file, f.base, 0.2, f.scale);
-      store.add(r);
+      store.add(PointRecord{.row = r, .frames = f.frames, .images = {}});
     }
     return run_id;
   }
