@@ -20,6 +20,22 @@ struct SuiteReportEntry {
   std::string true_reference_exr;  // the unbounded cosine reference ("true AO")
 };
 
+// The entry's point record (point_record.h): its row, `frames`, and its images: the estimate
+// (from the row, by the recorder), then `sequence_images` (kept_sequence.h), the mosaic, the
+// matched and the true reference (roles "mosaic", "reference", "true reference"), those it has.
+inline PointRecord point_record(const SuiteReportEntry& entry, std::vector<FrameRow> frames,
+                                std::vector<KeptImage> sequence_images) {
+  PointRecord record{.row = entry.row, .frames = std::move(frames), .images = {}};
+  record.images = std::move(sequence_images);
+  const std::pair<const char*, const std::string*> kept[] = {
+      {"mosaic", &entry.mosaic_png},
+      {"reference", &entry.reference_exr},
+      {"true reference", &entry.true_reference_exr}};
+  for (const auto& [role, path] : kept)
+    if (!path->empty()) record.images.push_back({role, *path});
+  return record;
+}
+
 struct SuiteReport {
   std::string suite;       // "default"
   std::string suite_file;  // where it was read from

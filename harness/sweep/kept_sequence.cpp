@@ -13,9 +13,10 @@ namespace aoeval {
 
 namespace fs = std::filesystem;
 
-void keep_sequence(const std::string& out, const std::string& base, const SweepPoint& p,
-                   const Measurement& m, EvaluationSession& session, KeptReferences& references,
-                   bool keep_frames) {
+std::vector<KeptImage> keep_sequence(const std::string& out, const std::string& base,
+                                     const SweepPoint& p, const Measurement& m,
+                                     EvaluationSession& session, KeptReferences& references,
+                                     bool keep_frames) {
   // The point's folder relative to <out>: where frames.csv goes.
   const fs::path dir_rel =
       fs::path(frames_csv_path(base.empty() ? "." : base, p.name)).parent_path().lexically_normal();
@@ -27,13 +28,18 @@ void keep_sequence(const std::string& out, const std::string& base, const SweepP
                              {"width", m.width},
                              {"height", m.height}};
   nlohmann::json kept = nlohmann::json::array();
+  std::vector<KeptImage> images;
   for (const KeptFrame& f : keep_frames ? m.kept_frames : std::vector<KeptFrame>{}) {
     const std::string estimate = (dir_rel / frame_file_name(f.frame)).string();
     write_exr((fs::path(out) / estimate).string(), f.estimate, f.attributes);
     nlohmann::json entry = {{"frame", f.frame}, {"estimate", estimate}};
-    if (!f.reference_cache.empty())
-      entry["reference"] = references.keep_frame(session, p.scene, view, m.width, m.height,
-                                                 definition, f.frame, f.reference_cache);
+    images.push_back({frame_image_role(f.frame, "estimate"), estimate});
+    if (!f.reference_cache.empty()) {
+      const std::string reference = references.keep_frame(session, p.scene, view, m.width, m.height,
+                                                          definition, f.frame, f.reference_cache);
+      entry["reference"] = reference;
+      images.push_back({frame_image_role(f.frame, "reference"), reference});
+    }
     kept.push_back(entry);
     BackgroundLane::checkpoint();  // a timed frame loop may wait for no more than one frame
   }
@@ -59,6 +65,7 @@ void keep_sequence(const std::string& out, const std::string& base, const SweepP
   manifest["settle_excess_by_age"] = settle;
   write_text((fs::path(out) / dir_rel / "sequence.json").string(), manifest.dump(1) + "\n");
   write_text((fs::path(out) / dir_rel / "frames.csv").string(), frames_csv(m.frames));
+  return images;
 }
 
 }  // namespace aoeval

@@ -17,16 +17,21 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "harness/evaluation/evaluation.h"
+#include "harness/results/point_record.h"
 #include "harness/sweep/kept_references.h"
 #include "harness/sweep/sweep_spec.h"
 
 namespace aoeval {
 
 // `keep_frames` false (a sweep's --no-estimates): sequence.json and frames.csv only, no EXRs.
-void keep_sequence(const std::string& out, const std::string& base, const SweepPoint& p,
-                   const Measurement& m, EvaluationSession& session, KeptReferences& references,
-                   bool keep_frames = true);
+// Returns the images kept, paths relative to <out> (roles "frame KKKK estimate" and "frame KKKK
+// reference", point_record.h), for the point's record.
+std::vector<KeptImage> keep_sequence(const std::string& out, const std::string& base,
+                                     const SweepPoint& p, const Measurement& m,
+                                     EvaluationSession& session, KeptReferences& references,
+                                     bool keep_frames = true);
 
 }  // namespace aoeval

@@ -56,9 +56,9 @@ class RunImages {
       : out_(std::move(out)), run_dir_(std::move(run_dir)), references_(out_) {}
 
   // A sequence point's kept frames, references and manifest (kept_sequence.h).
-  void keep_sequence(EvaluationSession& session, const SweepPoint& p, const Measurement& m,
-                     const std::string& run_dir) {
-    aoeval::keep_sequence(out_, run_dir, p, m, session, references_);
+  std::vector<KeptImage> keep_sequence(EvaluationSession& session, const SweepPoint& p,
+                                       const Measurement& m, const std::string& run_dir) {
+    return aoeval::keep_sequence(out_, run_dir, p, m, session, references_);
   }
   // The reference EXR for (scene, view, resolution, definition) under references/.
   std::string reference(EvaluationSession& session, const std::string& scene_name, const View& view,
@@ -162,7 +162,8 @@ Measurement measure_point(const SuitePoint& sp, EvaluationSession& session) {
 // it was scored against (on the background lane, while the next point's estimator gets ready).
 SuiteReportEntry finish_point(const SuitePoint& sp, Measurement& measured,
                               EvaluationSession& session, RunImages& images, const std::string& out,
-                              const std::string& run_dir, StageTimes& stages) {
+                              const std::string& run_dir, StageTimes& stages,
+                              std::vector<KeptImage>& sequence_images) {
   const SweepPoint& p = sp.point;
   const std::string estimate_rel = run_dir + "/estimates/" + file_stem_for(p.name) + ".exr";
   SuiteReportEntry entry;
@@ -178,7 +179,7 @@ SuiteReportEntry finish_point(const SuitePoint& sp, Measurement& measured,
   if (row.status != "ok") return entry;
   if (!measured.frames.empty()) {  // before the row is committed: a committed row has its frames
     const auto timer = stages.time("sequence frames kept");
-    images.keep_sequence(session, p, measured, run_dir);
+    sequence_images = images.keep_sequence(session, p, measured, run_dir);
   }
   row.estimate_file = estimate_rel;
   const AoDefinition definition = p.estimator->definition(measured.params);
@@ -303,10 +304,13 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
       }
       auto measured = std::make_shared<Measurement>(measure_point(sp, session));
       auto finish = [&, measured, sp_ptr = &sp, session_ptr = &session] {
-        SuiteReportEntry entry =
-            finish_point(*sp_ptr, *measured, *session_ptr, images, out, run_dir, result.stages);
+        std::vector<KeptImage> sequence_images;
+        SuiteReportEntry entry = finish_point(*sp_ptr, *measured, *session_ptr, images, out,
+                                              run_dir, result.stages, sequence_images);
         skipped += entry.row.status != "ok";
-        entry.row = recorder->record(std::move(entry.row), &result.stages);
+        entry.row = recorder->record(
+            point_record(entry, frame_rows(measured->frames), std::move(sequence_images)),
+            &result.stages);
         report.entries.push_back(std::move(entry));
       };
       {

@@ -165,11 +165,19 @@ int run_sweep(const SweepOptions& o, std::string* out_dir) {
           entry.true_reference_exr =
               references.keep(session, p->scene, view, p->width, p->height, true_ao_definition());
         }
+        std::vector<KeptImage> sequence_images;
         if (!measured->frames.empty()) {  // before the row: a committed row has its frames
           const auto timer = runner_stages.time("sequence frames kept");
-          keep_sequence(out, "", *p, *measured, session, references, o.keep_estimates);
+          sequence_images =
+              keep_sequence(out, "", *p, *measured, session, references, o.keep_estimates);
         }
-        recorder.record(row, &runner_stages);  // stamped with the run; SQLite, then the files
+        SuiteReportEntry entry;  // the kept references, when the sweep keeps them
+        if (const auto k = kept.find(row.run_name); k != kept.end()) entry = k->second;
+        entry.row = row;
+        // Stamped with the run; SQLite (row, frames, images), then the files.
+        recorder.record(
+            point_record(entry, frame_rows(measured->frames), std::move(sequence_images)),
+            &runner_stages);
         ++finished;
       };
       {

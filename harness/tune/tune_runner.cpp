@@ -143,8 +143,13 @@ int run_tune(const TuneOptions& o) {
   std::map<std::string, TrialRecord> records;  // by overrides.dump()
   size_t computed = 0, reused = 0, retimed = 0;
 
+  // The frames of the point measure_and_score measured last: its record's, when store_row stores
+  // its row (the frames.csv written beside it holds the same).
+  std::vector<FrameRow> last_frames;
   auto store_row = [&](ResultRow row) {
-    row = recorder.record(std::move(row));  // stamped with the run; SQLite, then the files
+    PointRecord point{.row = std::move(row), .frames = std::move(last_frames), .images = {}};
+    last_frames.clear();
+    row = recorder.record(std::move(point));  // stamped with the run; SQLite, then the files
     stored[row.run_name] = row;
     return row;
   };
@@ -154,6 +159,7 @@ int run_tune(const TuneOptions& o) {
     Measurement measured = s.measure(evaluation_request(p));
     if (!measured.frames.empty())
       write_text(frames_csv_path(out, p.name), frames_csv(measured.frames));
+    last_frames = frame_rows(measured.frames);
     return s.score(measured);
   };
   Progress progress("tune " + spec.name, static_cast<size_t>(spec.evaluations));
