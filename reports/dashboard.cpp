@@ -268,10 +268,12 @@ Dashboard build_dashboard(const DashboardOptions& o) {
       }
     }
     judge(rep, t, delta);
-    if (rep.before && rep.after && rep.before->status == "ok" && rep.after->status == "ok")
-      rep.frames = frame_change(store.frames_of(before->run_id, rep.before->run_name),
-                                store.frames_of(after->run_id, rep.after->run_name), t,
+    if (rep.before && rep.after && rep.before->status == "ok" && rep.after->status == "ok") {
+      rep.before_frames = store.frames_of(before->run_id, rep.before->run_name);
+      rep.after_frames = store.frames_of(after->run_id, rep.after->run_name);
+      rep.frames = frame_change(rep.before_frames, rep.after_frames, t,
                                 same_reference(*rep.before, *rep.after));
+    }
   }
   std::stable_sort(d.rows.begin(), d.rows.end(), [](const RowReport& x, const RowReport& y) {
     if (severity_rank(x.verdict) != severity_rank(y.verdict))

@@ -77,6 +77,7 @@ struct RowReport {
   // A sequence point's frames against the baseline's (frame_change.h), both read from the
   // history's frames table; none for a still view or a history without frames.
   std::optional<FrameChange> frames;
+  std::vector<FrameRow> before_frames, after_frames;  // as read, for the per-frame chart
 };
 
 // One step of one series over the history (CONTRACT §12 STEP lines).

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "reports/dashboard.h"
+#include "reports/frame_chart.h"
 #include "reports/html.h"
 
 namespace aoeval {
@@ -132,7 +133,9 @@ Html change_line(const RowReport& rep) {
 // One line on a sequence point's frames against the baseline's (frame_change.h).
 Html frames_line(const RowReport& rep) {
   if (!rep.frames) return {};
-  return Html("<p class=\"frames\">frames: ") << text(frames_phrase(*rep.frames)) << "</p>\n";
+  return Html("<p class=\"frames\">frames: ")
+         << text(frames_phrase(*rep.frames)) << "</p>\n"
+         << frame_chart(rep.before_frames, rep.after_frames, "time_ms");
 }
 
 Html group_anchor(const std::string& estimator, const std::string& scene) {

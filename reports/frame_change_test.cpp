@@ -85,5 +85,33 @@ TEST(Dashboard, TwoRunsOfASequencePointNameTheFrameRangeThatChanged) {
   EXPECT_NE(slurp(d.page).find("rmse_excess changed on frames 12-20"), std::string::npos);
 }
 
+// Must-show 5's per-frame report section: the dashboard's time-by-frame chart of a sequence point,
+// both runs' frames from the store: one polyline each, a point per frame, the top label the
+// largest frame time (frame 30 of the new run: 2.5 ms).
+TEST(Dashboard, ASequencePointsFrameTimesAreChartedFromTheStore) {
+  History h("frame_chart");
+  h.add_rows("r1", "2024-01-01T00:00:00Z", {walk(frames(48, 0.02))});
+  auto slower = frames(48, 0.02);
+  slower[30].time_ms = 2.5;
+  h.add_rows("r2", "2024-01-02T00:00:00Z", {walk(slower)});
+  const std::string page = slurp(build_dashboard(h.options()).page);
+  const auto chart = page.find("<figure class=\"frame-chart\">");
+  ASSERT_NE(chart, std::string::npos);
+  const std::string svg = page.substr(chart, page.find("</figure>", chart) - chart);
+  for (const char* run : {"class=\"baseline\"", "class=\"new\""}) {
+    const auto at = svg.find(run);
+    ASSERT_NE(at, std::string::npos) << run;
+    const auto points = svg.find("points=\"", at);
+    const std::string list = svg.substr(points, svg.find("\"/>", points) - points);
+    EXPECT_EQ(std::count(list.begin(), list.end(), ','), 48) << run;
+  }
+  EXPECT_NE(svg.find("text-anchor=\"end\" font-size=\"10\">2.5</text>"), std::string::npos);
+  EXPECT_NE(svg.find("frame 47</text>"), std::string::npos);
+  // The new run's frame 30 at x = 56 + 416 * 30 / 47, the top (y = 8); frame 0 of both at 1 ms
+  // of 2.5 (y = 62).
+  EXPECT_NE(svg.find("321.5,8.0"), std::string::npos) << svg;
+  EXPECT_NE(svg.find("56.0,62.0"), std::string::npos) << svg;
+}
+
 }  // namespace
 }  // namespace aoeval
