@@ -131,6 +131,15 @@ TEST(SequenceKill, TenRandomSigkillsThenResumeEqualAnUninterruptedRun) {
   EXPECT_EQ(db_names.size(), kPoints) << "rows lost or duplicated in SQLite";
   EXPECT_EQ(std::set<std::string>(db_names.begin(), db_names.end()), names);
   EXPECT_EQ(sqlite_strings(db, "SELECT DISTINCT run_id FROM results").size(), 1u);
+  // Every point's frames in SQLite, committed with its row (issue 46): all 8 of each point, no
+  // point's frames twice, and the kept frames' images by role.
+  const auto with_frames = sqlite_strings(
+      db, "SELECT run_name FROM frames GROUP BY run_name HAVING count(*) = " +
+              std::to_string(kFrames) + " AND count(DISTINCT frame) = " + std::to_string(kFrames));
+  EXPECT_EQ(std::set<std::string>(with_frames.begin(), with_frames.end()), names);
+  EXPECT_EQ(sqlite_strings(db, "SELECT frame FROM frames").size(), kPoints * kFrames);
+  EXPECT_EQ(sqlite_strings(db, "SELECT path FROM images WHERE role LIKE 'frame % estimate'").size(),
+            kPoints * kFrames);
 
   // The same values as the uninterrupted run: every column but the timings and identities, every
   // line of frames.csv but its times, the same manifest, every kept frame on disk.
