@@ -237,7 +237,7 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
       moment2_[p] = static_cast<float>(x * x);
       length_[p] = 1.0f;
       reset_[p] = 1;
-      if (s.antilag > 0.0) {
+      if (s.antilag > 0.0) {  // the fast history starts with this frame's window mean
         fast[p] = box.mean[p];
         fast_var[p] = box.var[p] / box.n[p];
         fast_length[p] = 1.0f;
@@ -251,30 +251,22 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
     const double qx = i + 0.5 - mx, qy = j + 0.5 - my;
     const BilinearTaps taps = bilinear_taps(qx, qy, g.width, g.height, valid);
     if (taps.taps == 0) return start_afresh();
-    double h = 0.0, m1 = 0.0, m2 = 0.0, len = 0.0;
-    for (int t = 0; t < taps.taps; ++t) {
-      const double w = taps.weight[t] / taps.total;
-      const int q = taps.index[t];
-      h += w * history_[q];
-      m1 += w * prev_moment1_[q];
-      m2 += w * prev_moment2_[q];
-      len += w * prev_length_[q];
-    }
+    // The bilinear read of one of frame k - 1's buffers over the valid taps (weights renormalised).
+    const auto read = [&](const std::vector<float>& image) {
+      double sum = 0.0;
+      for (int t = 0; t < taps.taps; ++t) sum += taps.weight[t] / taps.total * image[taps.index[t]];
+      return sum;
+    };
+    double h = read(history_), len = read(prev_length_);
+    const double m1 = read(prev_moment1_), m2 = read(prev_moment2_);
     double sharp = 0.0;
     if (s.history_read == HistoryRead::catmull_rom &&
         catmull_rom_read(history_, qx, qy, g.width, g.height, valid, &sharp))
       h = sharp;
     // Anti-lag (step 5b): the fast history of the window mean against the raw history's at q.
     if (antilag) {
-      double hbar = 0.0, f = 0.0, fvar = 0.0, flen = 0.0;
-      for (int t = 0; t < taps.taps; ++t) {
-        const double w = taps.weight[t] / taps.total;
-        const int q = taps.index[t];
-        hbar += w * prev_box_[q];
-        f += w * prev_fast_[q];
-        fvar += w * prev_fast_var_[q];
-        flen += w * prev_fast_length_[q];
-      }
+      const double hbar = read(prev_box_), flen = read(prev_fast_length_);
+      double f = read(prev_fast_), fvar = read(prev_fast_var_);
       const double a = std::max(1.0 / (flen + 1.0), 1.0 / s.antilag_frames);
       f = a * box.mean[p] + (1.0 - a) * f;
       fvar = a * a * box.var[p] / box.n[p] + (1.0 - a) * (1.0 - a) * fvar;
@@ -287,10 +279,6 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
         len *= (tau / d) * (tau / d);
         h += (f - hbar) * (1.0 - tau / d);
       }
-    } else if (s.antilag > 0.0) {  // the first frame with anti-lag on: the fast history starts
-      fast[p] = box.mean[p];
-      fast_var[p] = box.var[p] / box.n[p];
-      fast_length[p] = 1.0f;
     }
     // Neighbourhood clamp of the history (step 5).
     if (s.clamp) {
