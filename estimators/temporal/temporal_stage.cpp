@@ -49,6 +49,10 @@ std::vector<ParamSpec> temporal_params(const TemporalDefaults& d) {
       int_param("antilag_radius", d.antilag_radius, 0, 16, Spacing::linear, "pixels",
                 "temporal stage: the anti-lag window is (2 antilag_radius + 1)^2 pixels (its mean "
                 "low-passes the noise the comparison must ignore)"),
+      int_param("antilag_frames", d.antilag_frames, 1, 64, Spacing::log, "frames",
+                "temporal stage: anti-lag compares the slow history with a fast history of the "
+                "window mean at most this long (NRD REBLUR's fast history), whose noise is "
+                "sqrt(antilag_frames) times smaller than one frame's; 1 = this frame's window"),
   };
 }
 
@@ -65,6 +69,7 @@ TemporalSettings temporal_settings(const ParamSet& p) {
   s.antilag = p.real("antilag");
   s.antilag_min = p.real("antilag_min");
   s.antilag_radius = static_cast<int>(p.integer("antilag_radius"));
+  s.antilag_frames = static_cast<int>(p.integer("antilag_frames"));
   return s;
 }
 
@@ -78,6 +83,9 @@ void TemporalAccumulator::reset() {
   prev_object_.clear();
   prev_covered_.clear();
   prev_box_.clear();
+  prev_fast_.clear();
+  prev_fast_var_.clear();
+  prev_fast_length_.clear();
 }
 
 void TemporalAccumulator::replace_history(const std::vector<float>& history) {
@@ -213,6 +221,12 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
   BoxStats box;
   if (s.antilag > 0.0) box = box_stats(current, covered, g.width, g.height, s.antilag_radius);
   const bool antilag = s.antilag > 0.0 && prev_box_.size() == n;
+  std::vector<float> fast, fast_var, fast_length;
+  if (s.antilag > 0.0) {
+    fast.assign(n, 0.0f);
+    fast_var.assign(n, 0.0f);
+    fast_length.assign(n, 0.0f);
+  }
   for_each_pixel(g.width, g.height, [&](int i, int j) {
     const size_t p = g.index(i, j);
     if (!g.covered(p)) return;
@@ -223,6 +237,11 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
       moment2_[p] = static_cast<float>(x * x);
       length_[p] = 1.0f;
       reset_[p] = 1;
+      if (s.antilag > 0.0) {  // the fast history starts with this frame's window mean
+        fast[p] = box.mean[p];
+        fast_var[p] = box.var[p] / box.n[p];
+        fast_length[p] = 1.0f;
+      }
     };
     if (!history || (disocclusion && g.disoccluded[p] > 0.5f)) return start_afresh();
     // Reverse reprojection (step 1) and the bilinear read over valid texels (step 2).
@@ -232,27 +251,34 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
     const double qx = i + 0.5 - mx, qy = j + 0.5 - my;
     const BilinearTaps taps = bilinear_taps(qx, qy, g.width, g.height, valid);
     if (taps.taps == 0) return start_afresh();
-    double h = 0.0, m1 = 0.0, m2 = 0.0, len = 0.0;
-    for (int t = 0; t < taps.taps; ++t) {
-      const double w = taps.weight[t] / taps.total;
-      const int q = taps.index[t];
-      h += w * history_[q];
-      m1 += w * prev_moment1_[q];
-      m2 += w * prev_moment2_[q];
-      len += w * prev_length_[q];
-    }
+    // The bilinear read of one of frame k - 1's buffers over the valid taps (weights renormalised).
+    const auto read = [&](const std::vector<float>& image) {
+      double sum = 0.0;
+      for (int t = 0; t < taps.taps; ++t) sum += taps.weight[t] / taps.total * image[taps.index[t]];
+      return sum;
+    };
+    double h = read(history_), len = read(prev_length_);
+    const double m1 = read(prev_moment1_), m2 = read(prev_moment2_);
     double sharp = 0.0;
     if (s.history_read == HistoryRead::catmull_rom &&
         catmull_rom_read(history_, qx, qy, g.width, g.height, valid, &sharp))
       h = sharp;
-    // Anti-lag (step 5b): the window means of this frame and of the raw history at q.
+    // Anti-lag (step 5b): the fast history of the window mean against the raw history's at q.
     if (antilag) {
-      double hbar = 0.0;
-      for (int t = 0; t < taps.taps; ++t)
-        hbar += taps.weight[t] / taps.total * prev_box_[taps.index[t]];
-      const double d = std::abs(box.mean[p] - hbar);
-      const double tau = s.antilag * std::sqrt(box.var[p] / box.n[p]) + s.antilag_min;
-      if (d > tau) len *= (tau / d) * (tau / d);
+      const double hbar = read(prev_box_), flen = read(prev_fast_length_);
+      double f = read(prev_fast_), fvar = read(prev_fast_var_);
+      const double a = std::max(1.0 / (flen + 1.0), 1.0 / s.antilag_frames);
+      f = a * box.mean[p] + (1.0 - a) * f;
+      fvar = a * a * box.var[p] / box.n[p] + (1.0 - a) * (1.0 - a) * fvar;
+      fast[p] = static_cast<float>(f);
+      fast_var[p] = static_cast<float>(fvar);
+      fast_length[p] = static_cast<float>(std::min(flen + 1.0, double(s.antilag_frames)));
+      const double d = std::abs(f - hbar);
+      const double tau = s.antilag * std::sqrt(fvar) + s.antilag_min;
+      if (d > tau) {
+        len *= (tau / d) * (tau / d);
+        h += (f - hbar) * (1.0 - tau / d);
+      }
     }
     // Neighbourhood clamp of the history (step 5).
     if (s.clamp) {
@@ -275,6 +301,9 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
   prev_box_.clear();
   if (s.antilag > 0.0)
     prev_box_ = box_stats(moment1_, prev_covered_, g.width, g.height, s.antilag_radius).mean;
+  prev_fast_ = std::move(fast);
+  prev_fast_var_ = std::move(fast_var);
+  prev_fast_length_ = std::move(fast_length);
 }
 
 }  // namespace aoeval

@@ -33,16 +33,23 @@
 //     over the covered pixels of the (2 clamp_radius + 1)^2 window around p (3x3 by default, as in
 //     TAA). It bounds how long a stale history (a moved occluder) can last.
 //  5b. Anti-lag (history confidence; the idea of A-SVGF's temporal gradient, Schied et al. 2018,
-//     and of NRD REBLUR's anti-lag, on a low-passed signal): the mean of this frame's raw input
-//     over the covered pixels of the (2 antilag_radius + 1)^2 window around p, xbar, is compared
-//     with the same window's mean of the raw history (the first moment of frame k - 1) read at q,
-//     hbar (bilinear over valid texels). Both are equally low-passed, so the spatial structure
-//     cancels and what is left is the change of the truth plus noise. With sigma the standard
-//     deviation of the raw input in the window, n its pixel count, and tau = antilag sigma /
-//     sqrt(n) + antilag_min, a difference d = |xbar - hbar| > tau scales the history length
-//     read at q by (tau / d)^2: a shadow that moved under a surface still in view shortens the
-//     history there (the history fades faster) instead of lagging for history_limit frames.
-//     antilag = 0 turns it off.
+//     and of NRD REBLUR's anti-lag against a fast history, on a low-passed signal): the mean of
+//     this frame's raw input over the covered pixels of the (2 antilag_radius + 1)^2 window around
+//     p, xbar (its variance sigma^2 / n, sigma the window's standard deviation and n its pixel
+//     count), is accumulated into a fast history of at most antilag_frames frames, reprojected
+//     like the value (bilinear over valid taps, reset with it):
+//         a = max(1 / (Lf + 1), 1 / antilag_frames),   f = a xbar + (1 - a) f(q),
+//         Var f = a^2 sigma^2 / n + (1 - a)^2 Var f(q)    (independent frames),
+//     Lf the fast length read at q, stored as min(Lf + 1, antilag_frames); antilag_frames = 1
+//     makes f this frame's window mean. f is compared with the same window's mean of the slow
+//     history's raw first moment (frame k - 1) read at q, hbar. Both are equally low-passed, so
+//     the spatial structure cancels and what is left is the change of the truth plus noise, the
+//     fast history's noise sqrt(antilag_frames) times smaller than one frame's. With tau = antilag
+//     sqrt(Var f) + antilag_min, a difference d = |f - hbar| > tau (a shadow that moved under a
+//     surface still in view) clamps the history's low-pass to the denoised window mean, h += (f -
+//     hbar)(1 - tau / d), so hbar moves to f +- tau while h keeps its detail, and scales the
+//     history length read at q by (tau / d)^2 (the rest fades faster): the history follows within
+//     a few frames instead of lagging for history_limit frames. antilag = 0 turns it off.
 //  6. Moments for SVGF (Schied et al. 2017 §4.2): the first two moments of the raw input,
 //     m1 = E[x] and m2 = E[x^2], accumulated with the same alpha but never clamped (they describe
 //     the samples, not the history's value); variance = max(0, m2 - m1^2).
@@ -74,6 +81,7 @@ struct TemporalSettings {
   double antilag = 0.0;          // anti-lag threshold, standard errors of the window mean (0: off)
   double antilag_min = 0.0;      // the smallest anti-lag threshold, AO units
   int antilag_radius = 0;        // the anti-lag window is (2 antilag_radius + 1)^2 pixels
+  int antilag_frames = 1;        // the fast history's length, frames (1: this frame's window alone)
 };
 
 // The defaults an estimator gives the fragment's parameters. The reference design's own are
@@ -90,11 +98,12 @@ struct TemporalDefaults {
   double antilag = 0.0;
   double antilag_min = 0.02;
   int antilag_radius = 2;
+  int antilag_frames = 1;
 };
 
 // The stage's parameters, in this order: history_read, history_limit, alpha_min, clamp, gamma,
-// clamp_sigma_min, clamp_radius, antilag, antilag_min, antilag_radius (names, ranges, units and
-// meanings written here once).
+// clamp_sigma_min, clamp_radius, antilag, antilag_min, antilag_radius, antilag_frames (names,
+// ranges, units and meanings written here once).
 std::vector<ParamSpec> temporal_params(const TemporalDefaults& defaults = {});
 // Reads the fragment's parameters from an estimator's resolved set.
 TemporalSettings temporal_settings(const ParamSet& params);
@@ -135,6 +144,8 @@ class TemporalAccumulator {
   std::vector<float> history_, prev_moment1_, prev_moment2_, prev_length_, prev_object_;
   std::vector<uint8_t> prev_covered_;
   std::vector<float> prev_box_;  // the window means of frame k - 1's raw first moment (anti-lag)
+  // Anti-lag's fast history of the window mean, its variance and its length (frame k - 1).
+  std::vector<float> prev_fast_, prev_fast_var_, prev_fast_length_;
 };
 
 }  // namespace aoeval

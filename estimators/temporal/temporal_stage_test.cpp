@@ -247,8 +247,10 @@ TEST(TemporalStage, ACatmullRomHistoryStaysSharpUnderSubPixelMotion) {
 
 // Anti-lag (step 5b): a still view whose truth steps from 1 to 0.5 after 21 frames (a shadow
 // arriving). The windows are flat (sigma 0), so the threshold is antilag_min = 0.02 and the window
-// means differ by d = 0.5: the history length read, 21, is scaled by (0.02 / 0.5)^2 and the blend
-// factor is 1 / (21 (0.02/0.5)^2 + 1), where without anti-lag it is 1 / 22. Over a still truth
+// means differ by d = 0.5: the history is moved to within the threshold of this frame's window
+// mean, h = 1 - 0.5 (1 - 0.02/0.5) = 0.52, the history length read, 21, is scaled by (0.02 /
+// 0.5)^2 and the blend factor is 1 / (21 (0.02/0.5)^2 + 1), where without anti-lag it is 1 / 22
+// and h = 1. Over a still truth
 // with noise (sigma 0.2 a pixel, 5x5 windows) it rarely fires: the error after 30 frames stays
 // within 1.25 x that without it.
 TEST(TemporalStage, AntiLagShortensAHistoryWhoseTruthMoved) {
@@ -266,7 +268,7 @@ TEST(TemporalStage, AntiLagShortensAHistoryWhoseTruthMoved) {
   slow.accumulate(g, std::vector<float>(g.pixel_count(), 0.5f));
   const double len = 21.0 * (0.02 / 0.5) * (0.02 / 0.5), alpha = 1.0 / (len + 1.0);
   for (size_t p = 0; p < g.pixel_count(); ++p) {
-    EXPECT_NEAR(fast.value()[p], alpha * 0.5 + (1.0 - alpha) * 1.0, 1e-6);
+    EXPECT_NEAR(fast.value()[p], alpha * 0.5 + (1.0 - alpha) * 0.52, 1e-6);
     EXPECT_NEAR(slow.value()[p], 0.5 / 22.0 + 21.0 / 22.0, 1e-6);
   }
 
@@ -285,6 +287,57 @@ TEST(TemporalStage, AntiLagShortensAHistoryWhoseTruthMoved) {
     e_free += std::pow(free_running.value()[p] - 0.5, 2.0);
   }
   EXPECT_LT(std::sqrt(e_guarded), 1.25 * std::sqrt(e_free));
+}
+
+// Anti-lag's fast history (antilag_frames): a still, noisy view (uniform noise of sigma 0.2 a
+// pixel around the truth, 5x5 windows, so one frame's window mean has a standard error of 0.04)
+// whose truth steps from 0.5 to 0.4 after 24 frames. Without anti-lag the 32-frame running mean
+// still lags by 0.1 x 24/32 = 0.075 eight frames later (the mean bias over the image). One
+// frame's threshold, 3 x 0.04 = 0.12, is above the step, so antilag_frames = 1 sees it only
+// where the noise helps; a fast history of 2 frames has a standard error of 0.04 sqrt(a / (2 -
+// a)) = 0.023 (a = 1/2), a threshold of 0.07, and sees it everywhere after a frame or two: its
+// lag is under 0.6 x one frame's (measured 0.017 against 0.036). Before the step (a still truth)
+// both stay within 1.1 x the error of no anti-lag (measured 0.0415 and 0.0408 against 0.0408).
+TEST(TemporalStage, AFastHistoryDetectsASmallerChangeThanOneFrame) {
+  const GBuffer g = flat(48, 40);
+  auto run = [&](double antilag, int frames, double* before) {
+    TemporalSettings s = no_clamp(0.0, 32);
+    s.antilag = antilag;
+    s.antilag_min = 0.0;
+    s.antilag_radius = 2;
+    s.antilag_frames = frames;
+    TemporalAccumulator stage(s);
+    SplitMix64 rng(5);
+    double truth = 0.5;
+    for (int k = 0; k < 32; ++k) {
+      if (k == 24) {
+        double e2 = 0.0;
+        for (float v : stage.value()) e2 += (v - truth) * (v - truth);
+        *before = std::sqrt(e2 / g.pixel_count());
+        truth = 0.4;
+      }
+      std::vector<float> x(g.pixel_count());
+      for (float& v : x)
+        v = static_cast<float>(truth + 0.2 * std::sqrt(3.0) * (2.0 * rng.uniform_float() - 1.0));
+      stage.accumulate(g, x);
+    }
+    double bias = 0.0;
+    for (float v : stage.value()) bias += v - truth;
+    return std::abs(bias / g.pixel_count());
+  };
+  double still_none = 0.0, still_one = 0.0, still_fast = 0.0;
+  const double lag_none = run(0.0, 1, &still_none);
+  const double lag_one = run(3.0, 1, &still_one);
+  const double lag_fast = run(3.0, 2, &still_fast);
+  std::printf(
+      "lag 8 frames after a 0.1 step: none %.4f, one frame %.4f, fast history %.4f; still "
+      "error %.4f %.4f (none %.4f)\n",
+      lag_none, lag_one, lag_fast, still_one, still_fast, still_none);
+  EXPECT_NEAR(lag_none, 0.075, 0.005);
+  EXPECT_LT(lag_one, lag_none);
+  EXPECT_LT(lag_fast, 0.6 * lag_one);
+  EXPECT_LT(still_one, 1.1 * still_none);
+  EXPECT_LT(still_fast, 1.1 * still_none);
 }
 
 // The same inputs give the same bits on one thread and on many.
@@ -316,7 +369,7 @@ TEST(TemporalStage, SameBitsWhateverTheThreadCount) {
 // The fragment declares every setting once; temporal_settings() reads them all back.
 TEST(TemporalStage, TheParameterFragmentRoundTrips) {
   const std::vector<ParamSpec> specs = temporal_params();
-  ASSERT_EQ(specs.size(), 10u);
+  ASSERT_EQ(specs.size(), 11u);
   const ParamSet p = resolve_params("test", specs,
                                     {{"history_read", "bilinear"},
                                      {"history_limit", 8},
@@ -327,7 +380,8 @@ TEST(TemporalStage, TheParameterFragmentRoundTrips) {
                                      {"clamp_radius", 3},
                                      {"antilag", 2.5},
                                      {"antilag_min", 0.03},
-                                     {"antilag_radius", 4}},
+                                     {"antilag_radius", 4},
+                                     {"antilag_frames", 6}},
                                     "test");
   const TemporalSettings s = temporal_settings(p);
   EXPECT_EQ(s.history_read, HistoryRead::bilinear);
@@ -340,6 +394,7 @@ TEST(TemporalStage, TheParameterFragmentRoundTrips) {
   EXPECT_EQ(s.antilag, 2.5);
   EXPECT_EQ(s.antilag_min, 0.03);
   EXPECT_EQ(s.antilag_radius, 4);
+  EXPECT_EQ(s.antilag_frames, 6);
   EXPECT_EQ(temporal_params({.history_limit = 12})[1].default_value, 12);
   EXPECT_EQ(temporal_params().front().default_value, "catmull-rom");
 }
