@@ -7,10 +7,10 @@
 //    estimate without history has the same error at every age;
 //  - lag_rmse_excess is blank on a static camera over a static scene (the still views: no
 //    reference changes along a trajectory by more than 0.05 + 3 sigma).
-// raytraced at 1 and 4 rays is run and printed, not asserted: at this size and reference count it
-// reads 1 on grass-field/fly and 4 on dragon/walk at 1 ray (issue 43 part A): a trajectory "holds
-// still" within 0.02 + 3 sigma of 64-ray references, about 0.2, which admits points whose truth
-// rises as the dragon walks away, and a fresh-ray estimate's noise a(1 - a) falls with it.
+// raytraced at 1 and 4 rays is not checked here: at this size and reference count it reads 1 on
+// grass-field/fly and 4 on dragon/walk at 1 ray: a trajectory "holds still" within 0.02 + 3 sigma
+// of 64-ray references, about 0.2, which admits points whose truth rises as the dragon walks away,
+// and a fresh-ray estimate's noise a(1 - a) falls with it (issue 43 leaves this open).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -59,9 +59,7 @@ TEST(SettleOnTheCorpus, NoHistorySettlesAtOnceAndAStillViewHasNoLag) {
   int qualified = 0;
   for (const SequenceView& sv : views) {
     const std::vector<std::pair<std::string, nlohmann::json>> runs = {
-        {"constant", nlohmann::json::object()},
-        {"raytraced", {{"rays", 1}}},
-        {"raytraced", {{"rays", 4}}}};
+        {"constant", nlohmann::json::object()}};
     for (const auto& [estimator, overrides] : runs) {
       const nlohmann::json k = scores(session, sv, estimator, overrides);
       const nlohmann::json& settle = k["settle_frames"];
