@@ -7,6 +7,7 @@
 #include "harness/bench/bench_hbao.h"
 #include "harness/bench/bench_reference.h"
 #include "harness/bench/bench_rtao.h"
+#include "harness/bench/bench_scale.h"
 #include "harness/bench/bench_shadowmap.h"
 
 namespace aoeval {
@@ -50,6 +51,20 @@ void add_bench_command(CLI::App& app) {
       ->check(CLI::Range(1, 1 << 24));
   reference->add_flag("--skip-accuracy", ref.skip_accuracy, "throughput only");
   reference->callback([] { bench_reference(ref); });
+
+  static ScaleBenchOptions scale;
+  auto* sc = cmd->add_subcommand(
+      "scale", "cost against the number of instanced trees: build, memory, Mrays/s, estimators");
+  sc->add_option("--scene", scale.base, "corpus scene whose placers are rescaled");
+  sc->add_option("--counts", scale.counts, "numbers of trees")->check(CLI::Range(1, 10000000));
+  sc->add_option("--res", scale.res, "resolution WIDTHxHEIGHT");
+  sc->add_option("--spp", scale.spp, "reference rays per pixel")->check(CLI::Range(1, 65536));
+  sc->add_option("--repetitions", scale.repetitions, "timed runs")->check(CLI::Range(1, 1000));
+  sc->add_option("--copies-max", scale.copies_max, "build copies for N up to this");
+  sc->add_option("--cull", scale.cull, "cull_occlusion of the tree estimators")
+      ->check(CLI::Range(0.0, 0.25));
+  sc->add_option("--out", scale.out_dir, "output folder (bench_scale.json, .md, .png)");
+  sc->callback([] { bench_scale(scale); });
 
   static EstimatorBenchOptions est;
   auto* estimators =

@@ -7,6 +7,7 @@
 #include <glm/matrix.hpp>
 
 #include "base/input_limits.h"
+#include "scenes/poisson_disk.h"
 #include "scenes/random.h"
 
 namespace aoeval {
@@ -71,10 +72,11 @@ std::pair<double, double> read_interval(JsonReader& r, const std::string& key,
   return {lo, hi};
 }
 
-// The jittered-grid placer (README "Instanced objects"): `count` cells over a width x depth
-// rectangle of the y = center.y plane, one tree per cell at a seeded jittered spot, dealt to K
-// prototypes by a seeded hash; this object takes the cells of share k.
-std::vector<glm::mat4> jittered_grid(JsonReader& p) {
+// The placers (README "Instanced objects"): `count` spots over a width x depth rectangle of the
+// y = center.y plane, on a jittered grid (one per cell at a seeded spot) or Poisson-disk (seeded
+// dart throwing, no two closer than `spacing` x sqrt(area / count)); each spot is dealt to K
+// prototypes by a seeded hash and this object takes the spots of share k.
+std::vector<glm::mat4> placer(JsonReader& p, const std::string& kind) {
   const auto seed = static_cast<uint64_t>(p.integer("seed", 1, 0, INT64_MAX));
   const auto count =
       static_cast<size_t>(p.integer("count", 1, static_cast<int64_t>(kMaxInstances)));
@@ -96,21 +98,39 @@ std::vector<glm::mat4> jittered_grid(JsonReader& p) {
     p.fail("share", "expected two integers [k, K] with 0 <= k < K");
   const auto scale = read_interval(p, "scale", {1.0, 1.0}, 1e-6, 1e6);
   const auto rotate = read_interval(p, "rotate_y_deg", {0.0, 360.0}, -1e4, 1e4);
-  const double jitter = p.number("jitter", 0.8, 0.0, 1.0);
+  const bool grid = kind == "jittered-grid";
+  const double jitter = grid ? p.number("jitter", 0.8, 0.0, 1.0) : 0.0;
+  const double spacing = grid ? 0.0 : p.number("spacing", 0.7, 1e-3, kMaxPoissonSpacing);
   p.finish();
   const double width = size.first, depth = size.second;
   const auto nx = static_cast<size_t>(
       std::max(1.0, std::ceil(std::sqrt(static_cast<double>(count) * width / depth))));
   const double cell_w = width / static_cast<double>(nx);
   const double cell_d = depth / std::ceil(static_cast<double>(count) / static_cast<double>(nx));
+  std::vector<glm::dvec2> disk;
+  if (!grid) {
+    auto points = poisson_disk_points(seed, count, width, depth, spacing);
+    if (!points)
+      p.fail("spacing", "cannot place " + std::to_string(count) + " points at this spacing in " +
+                            std::to_string(64 * count) + " darts; lower it");
+    disk = std::move(*points);
+  }
   std::vector<glm::mat4> out;
   for (size_t c = 0; c < count; ++c) {
     SplitMix64 g(mix_seed(seed, c, 0x4E5));
     if (g.next() % shares != k) continue;
-    const double u = 0.5 + jitter * (g.uniform_double() - 0.5);
-    const double v = 0.5 + jitter * (g.uniform_double() - 0.5);
-    const double x = center.x - 0.5 * width + (static_cast<double>(c % nx) + u) * cell_w;
-    const double z = center.z - 0.5 * depth + (static_cast<double>(c / nx) + v) * cell_d;
+    double x = 0.0, z = 0.0;
+    if (grid) {
+      const double u = 0.5 + jitter * (g.uniform_double() - 0.5);
+      const double v = 0.5 + jitter * (g.uniform_double() - 0.5);
+      x = (static_cast<double>(c % nx) + u) * cell_w;
+      z = (static_cast<double>(c / nx) + v) * cell_d;
+    } else {
+      x = disk[c].x;
+      z = disk[c].y;
+    }
+    x += center.x - 0.5 * width;
+    z += center.z - 0.5 * depth;
     const double s = scale.first + (scale.second - scale.first) * g.uniform_double();
     const double ry = rotate.first + (rotate.second - rotate.first) * g.uniform_double();
     out.push_back(placement_matrix(
@@ -127,8 +147,8 @@ std::vector<glm::mat4> read_instances(JsonReader& object, const Bounds& local) {
   const nlohmann::json& raw = object.json().at("instances");
   if (raw.is_object()) {
     JsonReader p = object.object("instances");
-    const std::string placer = p.choice("placer", "jittered-grid", {"jittered-grid"});
-    out = jittered_grid(p);
+    const std::string kind = p.choice("placer", "jittered-grid", {"jittered-grid", "poisson-disk"});
+    out = placer(p, kind);
   } else {
     if (!raw.is_array())
       object.fail("instances", "expected an array of transforms or a placer object");

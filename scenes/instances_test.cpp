@@ -74,6 +74,50 @@ TEST(Instances, ForestLoadsWithEveryPlacement) {
   EXPECT_EQ(s.content_hash(), again.content_hash());
 }
 
+// The poisson-disk placer: two shares of one placer place every one of `count` spots once,
+// inside the rectangle, no two closer than spacing x sqrt(area / count), deterministically; a
+// spacing dart throwing cannot reach is one clear line.
+TEST(Instances, PoissonDiskPlacerKeepsItsSpacing) {
+  const std::string placer =
+      R"({"placer": "poisson-disk", "seed": 3, "count": 400, "size": [40, 20], "spacing": 0.7,
+          "share": [K, 2], "scale": [0.9, 1.1]})";
+  std::string both = placer;
+  both.replace(both.find('K'), 1, "0");
+  std::string other = placer;
+  other.replace(other.find('K'), 1, "1");
+  const std::string text =
+      R"({"objects": [{"name": "a", "generator": "sphere", "params": {"subdivisions": 1},
+          "instances": )" +
+      both + R"(}, {"name": "b", "generator": "sphere",
+          "params": {"subdivisions": 1}, "instances": )" +
+      other + R"(}],
+      "views": [{"name": "v", "eye": [0, 0, 5], "target": [0, 0, 0]}]})";
+  const auto dir = testutil::test_temp_dir("poisson");
+  const std::string path = (dir / "poisson.json").string();
+  std::ofstream(path) << text;
+  const Scene s = load_scene_file(path);
+  std::vector<glm::vec3> spots;
+  for (const auto& o : s.objects)
+    for (const glm::mat4& m : o.instances) spots.emplace_back(m[3]);
+  ASSERT_EQ(spots.size(), 400u);
+  EXPECT_GT(s.objects[0].instances.size(), 150u);
+  const float r = 0.7f * std::sqrt(40.0f * 20.0f / 400.0f);
+  float closest = std::numeric_limits<float>::max();
+  for (size_t i = 0; i < spots.size(); ++i) {
+    EXPECT_LE(std::fabs(spots[i].x), 20.0f);
+    EXPECT_LE(std::fabs(spots[i].z), 10.0f);
+    for (size_t j = 0; j < i; ++j) closest = std::min(closest, glm::length(spots[i] - spots[j]));
+  }
+  EXPECT_GE(closest, r * (1.0f - 1e-5f));
+  EXPECT_LE(closest, 1.5f * r);  // dart throwing packs: the bound is met, not far exceeded
+  EXPECT_EQ(s.content_hash(), load_scene_file(path).content_hash());
+  EXPECT_NE(load_error(with_instances(R"({"placer": "poisson-disk", "count": 50, "spacing": 0.9})"))
+                .find("instances.spacing"),
+            std::string::npos);
+  EXPECT_NE(load_error(with_instances(R"({"placer": "poisson-disk", "count": 50, "jitter": 0.5})")),
+            "");
+}
+
 TEST(Instances, PlacementIdsFollowFileOrder) {
   const Scene s = load_scene_file(write_small_forest_for_test());
   const PlacementIds ids(s);

@@ -66,6 +66,7 @@ struct UnitMap {
   glm::mat3 normal_map{1.0f};  // A^T
   float det = 1.0f;            // |det A| = r1 r2 r3
   float min_radius = 1.0f;     // smallest semi-axis
+  float max_radius = 1.0f;     // largest semi-axis
 };
 inline UnitMap make_unit_map(const Ellipsoid& e) {
   glm::mat3 a = e.axes;
@@ -76,6 +77,7 @@ inline UnitMap make_unit_map(const Ellipsoid& e) {
   m.normal_map = glm::transpose(a);
   m.det = std::fabs(glm::determinant(a));
   m.min_radius = std::min({e.radii.x, e.radii.y, e.radii.z});
+  m.max_radius = std::max({e.radii.x, e.radii.y, e.radii.z});
   return m;
 }
 

@@ -18,6 +18,7 @@
 
 #include "estimators/estimator.h"
 #include "estimators/tree_proxies/hegeman_model.h"
+#include "estimators/tree_proxies/occluder_index.h"
 #include "estimators/tree_proxies/tree_proxy.h"
 
 namespace aoeval {
@@ -28,11 +29,13 @@ struct TreeSceneOptions {
   bool horizon;       // ground_horizon
   bool grass_ground;
   double blade_height;
+  double cull = kExactCull;  // cull_occlusion: see occluder_index.h
 };
 
-// proxy_source, ground_horizon, grass_ground, blade_height: declared once for every tree estimator.
+// proxy_source, ground_horizon, grass_ground, blade_height, cull_occlusion: declared once for every
+// tree estimator.
 std::vector<ParamSpec> tree_scene_params();
-// Reads those four; `proxy` says which envelope the estimator wants.
+// Reads those five; `proxy` says which envelope the estimator wants.
 TreeSceneOptions tree_scene_options(const ParamSet& p, const ProxyOptions& proxy);
 
 class TreeScene {
@@ -71,12 +74,14 @@ class TreeScene {
     return 1.0f;
   }
 
-  // Eq. 7-8 for every tree but `skip`, as independent occluders.
+  // Eq. 7-8 for every tree but `skip` within its radius of influence (options.cull, found
+  // through index_), as independent occluders, multiplied in tree order.
   float others(const glm::vec3& x, const glm::vec3& n, int skip) const {
     float v = 1.0f;
-    for (size_t t = 0; t < outer_.size(); ++t)
+    index_.visit(x, [&](uint32_t t) {
       if (static_cast<int>(t) != skip)
         v *= hegeman::large_occluder_visibility(x, n, outer_[t], options_.horizon);
+    });
     return v;
   }
 
@@ -100,6 +105,7 @@ class TreeScene {
   nlohmann::json derived_ = nlohmann::json::object();
   std::vector<ObjectRule> rules_;
   std::vector<hegeman::UnitMap> outer_;  // per tree: the large occluder of eq. 7-8
+  OccluderIndex index_;                  // over outer_
   std::vector<GrassField> fields_;
 };
 
