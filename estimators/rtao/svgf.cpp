@@ -130,6 +130,20 @@ inline int end_inside(int width, int dx) {
   return std::min(width, width - dx);
 }
 
+// The covered span [lo, hi) of a row (lo = hi: none): the pixels outside it are background, which
+// neither filters nor is filtered, so the row loops skip them.
+struct Span {
+  int lo, hi;
+  int begin(int i0) const { return std::max(lo, i0); }
+  int end(int i1) const { return std::min(hi, i1); }
+};
+Span covered_span(const float* cov, int w) {
+  int lo = 0, hi = w;
+  while (lo < w && !(cov[lo] > 0.5f)) ++lo;
+  while (hi > lo && !(cov[hi - 1] > 0.5f)) --hi;
+  return {lo, hi};
+}
+
 }  // namespace
 
 SvgfGuide svgf_guide(const GBuffer& g) {
@@ -232,6 +246,8 @@ void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
     std::vector<float> sw(w), sc(w), sv(w), lum(w);
     for (int j = j0; j < j1; ++j) {
       const ptrdiff_t row = static_cast<ptrdiff_t>(j) * w;
+      const Span span = covered_span(gr.cov + row, w);
+      if (span.lo == span.hi) continue;
       // g_3x3 of eq. 5: the variance under a 3x3 Gaussian (1/4, 1/2, 1/4)^2 over covered pixels,
       // then the luminance weight's denominator sigma_l sqrt(g_3x3(Var)) + eps.
       constexpr float k[3] = {0.25f, 0.5f, 0.25f};
@@ -243,7 +259,7 @@ void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
           const ptrdiff_t shift = static_cast<ptrdiff_t>(dy) * w + dx;
           const float kw = k[dx + 1] * k[dy + 1];
           blur_taps(gr.cov + row + shift, var + row + shift, kw, sw.data(), sv.data(),
-                    first_inside(dx), end_inside(w, dx));
+                    span.begin(first_inside(dx)), span.end(end_inside(w, dx)));
         }
       }
       for (int i = 0; i < w; ++i)
@@ -269,7 +285,8 @@ void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
           }
           const float fdx = static_cast<float>(dx), fdy = static_cast<float>(dy);
           atrous_taps(gr, row, shift, {fdx, fdy, sigma_z, sigma_n}, c, var, lum.data(), hk,
-                      {sw.data(), sc.data(), sv.data()}, first_inside(dx), end_inside(w, dx));
+                      {sw.data(), sc.data(), sv.data()}, span.begin(first_inside(dx)),
+                      span.end(end_inside(w, dx)));
         }
       }
       for (int i = 0; i < w; ++i) {
