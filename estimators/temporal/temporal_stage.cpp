@@ -1,9 +1,7 @@
 #include "estimators/temporal/temporal_stage.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
-#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -88,52 +86,27 @@ void TemporalAccumulator::replace_history(const std::vector<float>& history) {
 
 namespace {
 
-// The clamp range of each covered pixel (i, j): mean +- max(gamma sigma, sigma_min) of the current
-// frame's raw values over the covered pixels of its window (population statistics, in double).
-// Row tiles in parallel; within a row the pixels' window sums run side by side (vectorised), each
-// pixel adding its taps in the window's order (rows, then columns), so every thread count gives
-// the same bits.
+// The clamp range of pixel (i, j): mean +- max(gamma sigma, sigma_min) of the current frame's raw
+// values over the covered pixels of the window (population statistics, in double).
 struct Range {
   double lo, hi;
 };
-std::vector<Range> clamp_ranges(const GBuffer& g, const std::vector<float>& x,
-                                const std::vector<uint8_t>& covered, const TemporalSettings& s) {
-  const int w = g.width, r = s.clamp_radius;
-  std::vector<Range> out(g.pixel_count());
-  tbb::parallel_for(tbb::blocked_range<int>(0, g.height, 4), [&](const tbb::blocked_range<int>&
-                                                                     rows) {
-    const int width = w;  // a local copy: the row loop's bounds stay in registers
-    std::vector<double> count(w), sum(w), sum2(w);
-    for (int j = rows.begin(); j < rows.end(); ++j) {
-      std::fill(count.begin(), count.end(), 0.0);
-      std::fill(sum.begin(), sum.end(), 0.0);
-      std::fill(sum2.begin(), sum2.end(), 0.0);
-      for (int b = std::max(0, j - r); b <= std::min(g.height - 1, j + r); ++b)
-        for (int d = -r; d <= r; ++d) {
-          const float* __restrict xq = x.data() + static_cast<ptrdiff_t>(b) * w + d;
-          const uint8_t* __restrict cq = covered.data() + static_cast<ptrdiff_t>(b) * w + d;
-          double* __restrict n = count.data(), * __restrict s1 = sum.data(), * __restrict s2 = sum2.data();
-          const int i0 = std::max(0, -d), i1 = std::min(width, width - d);
-          for (int i = i0; i < i1; ++i) {
-            // Loaded and squared on every lane, kept by a bit mask: an uncovered tap adds +0.
-            const uint64_t keep = 0ull - static_cast<uint64_t>(cq[i] != 0);
-            const double v = xq[i];
-            n[i] += std::bit_cast<double>(std::bit_cast<uint64_t>(1.0) & keep);
-            s1[i] += std::bit_cast<double>(std::bit_cast<uint64_t>(v) & keep);
-            s2[i] += std::bit_cast<double>(std::bit_cast<uint64_t>(v * v) & keep);
-          }
-        }
-      for (int i = 0; i < w; ++i) {
-        const size_t p = g.index(i, j);
-        if (!covered[p]) continue;
-        const double mean = sum[i] / count[i];  // count >= 1: the pixel itself is covered
-        const double sigma = std::sqrt(std::max(0.0, sum2[i] / count[i] - mean * mean));
-        const double half = std::max(s.gamma * sigma, s.clamp_sigma_min);
-        out[p] = {mean - half, mean + half};
-      }
+Range clamp_range(const GBuffer& g, const std::vector<float>& x, int i, int j,
+                  const TemporalSettings& s) {
+  double n = 0.0, sum = 0.0, sum2 = 0.0;
+  const int r = s.clamp_radius;
+  for (int b = std::max(0, j - r); b <= std::min(g.height - 1, j + r); ++b)
+    for (int a = std::max(0, i - r); a <= std::min(g.width - 1, i + r); ++a) {
+      const size_t q = g.index(a, b);
+      if (!g.covered(q)) continue;
+      n += 1.0;
+      sum += x[q];
+      sum2 += static_cast<double>(x[q]) * x[q];
     }
-  });
-  return out;
+  const double mean = sum / n;  // n >= 1: the pixel itself is covered
+  const double sigma = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
+  const double half = std::max(s.gamma * sigma, s.clamp_sigma_min);
+  return {mean - half, mean + half};
 }
 
 // Window means and variances over the covered pixels of every (2 r + 1)^2 window, by summed-area
@@ -240,8 +213,6 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
   BoxStats box;
   if (s.antilag > 0.0) box = box_stats(current, covered, g.width, g.height, s.antilag_radius);
   const bool antilag = s.antilag > 0.0 && prev_box_.size() == n;
-  std::vector<Range> ranges;
-  if (s.clamp && history) ranges = clamp_ranges(g, current, covered, s);
   for_each_pixel(g.width, g.height, [&](int i, int j) {
     const size_t p = g.index(i, j);
     if (!g.covered(p)) return;
@@ -285,7 +256,8 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
     }
     // Neighbourhood clamp of the history (step 5).
     if (s.clamp) {
-      h = std::clamp(h, ranges[p].lo, ranges[p].hi);
+      const Range range = clamp_range(g, current, i, j, s);
+      h = std::clamp(h, range.lo, range.hi);
     }
     // The exponential history with its minimum blend factor (step 4).
     const double alpha = std::max(s.alpha_min, 1.0 / (len + 1.0));
