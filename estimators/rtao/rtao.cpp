@@ -95,20 +95,18 @@ class RtaoEstimator : public Estimator {
     r.pass_ms["temporal_ms"] = ms_since(t1);
 
     const auto t2 = std::chrono::steady_clock::now();
-    std::vector<float> variance = svgf_variance(g, moment1, moment2, length, svgf_);
+    const SvgfGuide guide = svgf_guide(g);  // the weights' G-buffer channels, for every pass
+    std::vector<float> variance = svgf_variance(guide, moment1, moment2, length, svgf_);
     r.pass_ms["variance_ms"] = ms_since(t2);
 
     double atrous_total = 0.0;
     if (atrous_iterations_ > 0) {
-      const auto t3 = std::chrono::steady_clock::now();
-      const std::vector<float> gradient = depth_gradient(g);
-      double gradient_ms = ms_since(t3);
       for (int i = 0; i < atrous_iterations_; ++i) {
         const auto ti = std::chrono::steady_clock::now();
-        atrous_iteration(g, gradient, 1 << i, svgf_, value, variance);
+        atrous_iteration(guide, 1 << i, svgf_, value, variance);
         // SVGF §4.1: the first wavelet iteration's output is the colour history.
         if (i == 0 && temporal_) stage_.replace_history(value);
-        const double ms = ms_since(ti) + (i == 0 ? gradient_ms : 0.0);
+        const double ms = ms_since(ti);
         r.pass_ms["atrous_" + std::to_string(i) + "_ms"] = ms;
         atrous_total += ms;
       }

@@ -25,7 +25,8 @@
 // (FrameInfo::seed_offset, k unless the run says "seed_per_frame": false, when every frame
 // traces the same rays). On a still view (no FrameInfo) and at frame 0 it runs as frame 0 with no
 // history, and the row's derived params say so. Per-pass times in pass_ms: rays_ms, temporal_ms,
-// variance_ms, atrous_ms and atrous_<i>_ms per pass (wall clock of each CPU stage).
+// variance_ms (with the one read of the G-buffer's channels the SVGF weights share, svgf.h),
+// atrous_ms and atrous_<i>_ms per pass (wall clock of each CPU stage).
 #pragma once
 
 #include "estimators/estimator.h"

@@ -1,9 +1,14 @@
 #include "estimators/rtao/svgf.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 #include "estimators/pixel_loops.h"
+#include "estimators/rtao/svgf_math.h"
 
 namespace aoeval {
 
@@ -12,31 +17,154 @@ namespace {
 // The B3-spline's 1D taps (Dammertz et al. 2010; Schied et al. 2017 §4.3): h = outer product.
 constexpr float kB3[5] = {1.0f / 16, 1.0f / 4, 3.0f / 8, 1.0f / 4, 1.0f / 16};
 
-// The depth and normal terms of w_z w_n (eqs. 3, 4) as one exponent, so that one exp serves the
-// whole weight: w_n = exp(sigma_n log(n_p . n_q)). Returns -infinity where n_p . n_q <= 0 (w = 0).
-float depth_normal_exponent(const GBuffer& g, const std::vector<float>& gradient, size_t p,
-                            size_t q, int dx, int dy, const SvgfSettings& s) {
-  const float cos_n = glm::dot(g.normal[p], g.normal[q]);
-  if (!(cos_n > 0.0f)) return -INFINITY;
-  const float zp = g.depth[p], zq = g.depth[q];
-  const float along = std::abs(gradient[2 * p] * static_cast<float>(dx) +
-                               gradient[2 * p + 1] * static_cast<float>(dy));
+// Rows per task: a tile of 4 rows x the image's width (640 pixels: 25 taps of 7 channels stay in
+// cache), enough tasks to balance 16 cores on 480 rows.
+constexpr int kTileRows = 4;
+
+// The guide's arrays as raw pointers, so that the row loops below vectorise.
+struct GuideRows {
+  const float *nx, *ny, *nz, *z, *gx, *gy, *cov;
+  explicit GuideRows(const SvgfGuide& g)
+      : nx(g.nx.data()),
+        ny(g.ny.data()),
+        nz(g.nz.data()),
+        z(g.depth.data()),
+        gx(g.grad_x.data()),
+        gy(g.grad_y.data()),
+        cov(g.covered.data()) {}
+};
+
+// The per-tap constants of depth_normal.
+struct TapGeometry {
+  float dx, dy, sigma_z, sigma_n;
+};
+
+// The depth and normal terms of w_z w_n (eqs. 3, 4) between pixel i of rows p and q (q = p +
+// (dx, dy)) as one exponent, so that one exp serves the whole weight: w_n = exp(sigma_n log(n_p .
+// n_q)). `ok` is false where the tap does not count: p or q uncovered, or n_p . n_q <= 0 (w = 0).
+struct Exponent {
+  float e;
+  bool ok;
+};
+inline Exponent depth_normal(float pnx, float pny, float pnz, float zp, float pgx, float pgy,
+                             float pcov, float qnx, float qny, float qnz, float zq, float qcov,
+                             const TapGeometry& t) {
+  const float cos_n = pnx * qnx + pny * qny + pnz * qnz;
+  const float along = std::abs(pgx * t.dx + pgy * t.dy);
   const float eps = 1e-6f * zp;  // a numerical guard: flat, camera-facing surfaces have along = 0
-  const float wz = std::abs(zp - zq) / (static_cast<float>(s.sigma_z) * along + eps);
-  return static_cast<float>(s.sigma_n) * std::log(std::min(cos_n, 1.0f)) - wz;
+  const float wz = std::abs(zp - zq) / (t.sigma_z * along + eps);
+  const bool ok = (pcov > 0.5f) & (qcov > 0.5f) & (cos_n > 0.0f);
+  const bool above = 1.0f < cos_n;  // std::min(cos_n, 1) as a branch-free select
+  const float capped = keep(above, 1.0f) + keep(!above, cos_n);
+  return {t.sigma_n * svgf_log(capped) - wz, ok};
+}
+
+// The 3x3 blur's tap at q = p + shift for pixels [i0, i1) of a row: weight kw where q is covered.
+void blur_taps(const float* __restrict cov_q, const float* __restrict var_q, float kw,
+               float* __restrict sw, float* __restrict sv, int i0, int i1) {
+  for (int i = i0; i < i1; ++i) {
+    const bool ok = cov_q[i] > 0.5f;
+    const float vq = var_q[i];  // loaded on every lane, then selected
+    sw[i] += keep(ok, kw);
+    sv[i] += keep(ok, kw) * keep(ok, vq);
+  }
+}
+
+// One a-trous tap (eqs. 1-5) at q = p + shift for pixels [i0, i1) of row `row`: accumulates
+// h w_i c and h^2 w_i^2 Var (eq. 2's numerator) and h w_i.
+struct Sums {
+  float* __restrict sw, * __restrict sc, * __restrict sv;
+};
+void atrous_taps(const GuideRows& gr, ptrdiff_t row, ptrdiff_t shift, const TapGeometry& t,
+                 const float* c, const float* var, const float* __restrict lum, float hk, Sums out,
+                 int i0, int i1) {
+  float* __restrict sw = out.sw, * __restrict sc = out.sc, * __restrict sv = out.sv;
+  // Plain restrict pointers into rows p and q, so that the loop vectorises.
+  const float* __restrict pnx = gr.nx + row, * __restrict pny = gr.ny + row, * __restrict pnz = gr.nz + row, * __restrict pz = gr.z + row, * __restrict pgx = gr.gx + row, * __restrict pgy = gr.gy + row, * __restrict pcov = gr.cov + row, * __restrict cp = c + row;
+  const ptrdiff_t o = row + shift;
+  const float* __restrict qnx = gr.nx + o, * __restrict qny = gr.ny + o, * __restrict qnz = gr.nz + o, * __restrict qz = gr.z + o, * __restrict qcov = gr.cov + o, * __restrict cq = c + o, * __restrict vq = var + o;
+  for (int i = i0; i < i1; ++i) {
+    const Exponent x = depth_normal(pnx[i], pny[i], pnz[i], pz[i], pgx[i], pgy[i], pcov[i], qnx[i],
+                                    qny[i], qnz[i], qz[i], qcov[i], t);
+    const float e = x.e - std::abs(cp[i] - cq[i]) / lum[i];
+    const float hw = keep(x.ok, hk * svgf_exp(e));
+    sw[i] += hw;
+    sc[i] += hw * keep(x.ok, cq[i]);
+    sv[i] += hw * hw * keep(x.ok, vq[i]);
+  }
+}
+
+// One tap of the spatial variance estimate (§4.2) at q = p + shift for pixels [i0, i1) of row
+// `row`: accumulates w, w m1(q) and w m2(q) in double.
+struct MomentSums {
+  double* __restrict sw, * __restrict s1, * __restrict s2;
+};
+void variance_taps(const GuideRows& gr, ptrdiff_t row, ptrdiff_t shift, const TapGeometry& t,
+                   const float* m1, const float* m2, MomentSums out, int i0, int i1) {
+  double* __restrict sw = out.sw, * __restrict s1 = out.s1, * __restrict s2 = out.s2;
+  const float* __restrict pnx = gr.nx + row, * __restrict pny = gr.ny + row, * __restrict pnz = gr.nz + row, * __restrict pz = gr.z + row, * __restrict pgx = gr.gx + row, * __restrict pgy = gr.gy + row, * __restrict pcov = gr.cov + row;
+  const ptrdiff_t o = row + shift;
+  const float* __restrict qnx = gr.nx + o, * __restrict qny = gr.ny + o, * __restrict qnz = gr.nz + o, * __restrict qz = gr.z + o, * __restrict qcov = gr.cov + o, * __restrict a = m1 + o, * __restrict b = m2 + o;
+  for (int i = i0; i < i1; ++i) {
+    const Exponent x = depth_normal(pnx[i], pny[i], pnz[i], pz[i], pgx[i], pgy[i], pcov[i], qnx[i],
+                                    qny[i], qnz[i], qz[i], qcov[i], t);
+    const double wt = keep(x.ok, svgf_exp(x.e));
+    sw[i] += wt;
+    s1[i] += wt * keep(x.ok, a[i]);
+    s2[i] += wt * keep(x.ok, b[i]);
+  }
+}
+
+// Runs body(j0, j1) over tiles of rows in parallel.
+template <class Body>
+void for_each_row_tile(int height, const Body& body) {
+  tbb::parallel_for(tbb::blocked_range<int>(0, height, kTileRows),
+                    [&](const tbb::blocked_range<int>& r) { body(r.begin(), r.end()); });
+}
+
+// The pixels i of a row whose tap i + dx lies inside [0, width).
+inline int first_inside(int dx) {
+  return std::max(0, -dx);
+}
+inline int end_inside(int width, int dx) {
+  return std::min(width, width - dx);
+}
+
+// The covered span [lo, hi) of a row (lo = hi: none): the pixels outside it are background, which
+// neither filters nor is filtered, so the row loops skip them.
+struct Span {
+  int lo, hi;
+  int begin(int i0) const { return std::max(lo, i0); }
+  int end(int i1) const { return std::min(hi, i1); }
+};
+Span covered_span(const float* cov, int w) {
+  int lo = 0, hi = w;
+  while (lo < w && !(cov[lo] > 0.5f)) ++lo;
+  while (hi > lo && !(cov[hi - 1] > 0.5f)) --hi;
+  return {lo, hi};
 }
 
 }  // namespace
 
-std::vector<float> depth_gradient(const GBuffer& g) {
-  std::vector<float> out(2 * g.pixel_count(), 0.0f);
+SvgfGuide svgf_guide(const GBuffer& g) {
+  SvgfGuide s;
+  s.width = g.width;
+  s.height = g.height;
+  const size_t n = g.pixel_count();
+  for (std::vector<float>* v : {&s.nx, &s.ny, &s.nz, &s.depth, &s.grad_x, &s.grad_y, &s.covered})
+    v->assign(n, 0.0f);
+  auto in = [&](int a, int b) {
+    return a >= 0 && b >= 0 && a < g.width && b < g.height && g.covered(g.index(a, b));
+  };
   for_each_pixel(g.width, g.height, [&](int i, int j) {
     const size_t p = g.index(i, j);
+    s.nx[p] = g.normal[p].x;
+    s.ny[p] = g.normal[p].y;
+    s.nz[p] = g.normal[p].z;
+    s.depth[p] = g.depth[p];
     if (!g.covered(p)) return;
+    s.covered[p] = 1.0f;
     auto slope = [&](int a0, int b0, int a1, int b1) {
-      auto in = [&](int a, int b) {
-        return a >= 0 && b >= 0 && a < g.width && b < g.height && g.covered(g.index(a, b));
-      };
       const bool lo = in(a0, b0), hi = in(a1, b1);
       const float z = g.depth[p];
       if (lo && hi) return 0.5f * (g.depth[g.index(a1, b1)] - g.depth[g.index(a0, b0)]);
@@ -44,95 +172,130 @@ std::vector<float> depth_gradient(const GBuffer& g) {
       if (lo) return z - g.depth[g.index(a0, b0)];
       return 0.0f;
     };
-    out[2 * p] = slope(i - 1, j, i + 1, j);
-    out[2 * p + 1] = slope(i, j - 1, i, j + 1);
+    s.grad_x[p] = slope(i - 1, j, i + 1, j);
+    s.grad_y[p] = slope(i, j - 1, i, j + 1);
   });
-  return out;
+  return s;
 }
 
-std::vector<float> svgf_variance(const GBuffer& g, const std::vector<float>& moment1,
+std::vector<float> svgf_variance(const SvgfGuide& g, const std::vector<float>& moment1,
                                  const std::vector<float>& moment2,
                                  const std::vector<float>& history_length, const SvgfSettings& s) {
-  std::vector<float> variance(g.pixel_count(), 0.0f);
-  std::vector<float> gradient;
-  bool spatial = false;
-  for (size_t p = 0; p < g.pixel_count() && !spatial; ++p)
-    spatial = g.covered(p) && history_length[p] < static_cast<float>(s.variance_frames);
-  if (spatial) gradient = depth_gradient(g);
-  for_each_pixel(g.width, g.height, [&](int i, int j) {
-    const size_t p = g.index(i, j);
-    if (!g.covered(p)) return;
-    double m1 = moment1[p], m2 = moment2[p];
-    if (history_length[p] < static_cast<float>(s.variance_frames)) {
-      // §4.2: the bilateral estimate (7x7 at the paper's radius 3), depth and normal weights only.
-      const int rad = s.variance_radius;
-      double sw = 0.0, s1 = 0.0, s2 = 0.0;
-      for (int dy = -rad; dy <= rad; ++dy)
-        for (int dx = -rad; dx <= rad; ++dx) {
-          const int a = i + dx, b = j + dy;
-          if (a < 0 || b < 0 || a >= g.width || b >= g.height) continue;
-          const size_t q = g.index(a, b);
-          if (!g.covered(q)) continue;
-          const float e = q == p ? 0.0f : depth_normal_exponent(g, gradient, p, q, dx, dy, s);
-          const double w = std::exp(static_cast<double>(e));
-          sw += w;
-          s1 += w * moment1[q];
-          s2 += w * moment2[q];
+  const int w = g.width, rad = s.variance_radius;
+  const float frames = static_cast<float>(s.variance_frames);
+  const float sigma_z = static_cast<float>(s.sigma_z), sigma_n = static_cast<float>(s.sigma_n);
+  const GuideRows gr(g);
+  const float *m1 = moment1.data(), *m2 = moment2.data(), *len = history_length.data();
+  std::vector<float> variance(static_cast<size_t>(w) * g.height, 0.0f);
+  for_each_row_tile(g.height, [&](int j0, int j1) {
+    std::vector<double> sw(w), s1(w), s2(w);
+    for (int j = j0; j < j1; ++j) {
+      const ptrdiff_t row = static_cast<ptrdiff_t>(j) * w;
+      bool spatial = false;
+      for (int i = 0; i < w; ++i) spatial |= gr.cov[row + i] > 0.5f && len[row + i] < frames;
+      if (spatial) {
+        // §4.2: the bilateral estimate (7x7 at the paper's radius 3), depth and normal weights
+        // only, the taps in row order; the centre's weight is exp(0) = 1.
+        std::fill(sw.begin(), sw.end(), 0.0);
+        std::fill(s1.begin(), s1.end(), 0.0);
+        std::fill(s2.begin(), s2.end(), 0.0);
+        for (int dy = -rad; dy <= rad; ++dy) {
+          if (j + dy < 0 || j + dy >= g.height) continue;
+          for (int dx = -rad; dx <= rad; ++dx) {
+            const ptrdiff_t shift = static_cast<ptrdiff_t>(dy) * w + dx;
+            if (shift == 0) {  // the centre: weight exp(0) = 1
+              for (int i = 0; i < w; ++i) {
+                sw[i] += 1.0;
+                s1[i] += m1[row + i];
+                s2[i] += m2[row + i];
+              }
+              continue;
+            }
+            const TapGeometry geometry{static_cast<float>(dx), static_cast<float>(dy), sigma_z,
+                                       sigma_n};
+            variance_taps(gr, row, shift, geometry, m1, m2, {sw.data(), s1.data(), s2.data()},
+                          first_inside(dx), end_inside(w, dx));
+          }
         }
-      m1 = s1 / sw;  // sw >= 1: the centre tap
-      m2 = s2 / sw;
+      }
+      for (int i = 0; i < w; ++i) {
+        const ptrdiff_t p = row + i;
+        if (!(gr.cov[p] > 0.5f)) continue;
+        double a = m1[p], b = m2[p];
+        if (len[p] < frames) {
+          a = s1[i] / sw[i];  // sw >= 1: the centre tap
+          b = s2[i] / sw[i];
+        }
+        variance[p] = static_cast<float>(std::max(0.0, b - a * a));
+      }
     }
-    variance[p] = static_cast<float>(std::max(0.0, m2 - m1 * m1));
   });
   return variance;
 }
 
-void atrous_iteration(const GBuffer& g, const std::vector<float>& gradient, int step,
-                      const SvgfSettings& s, std::vector<float>& value,
-                      std::vector<float>& variance) {
-  const std::vector<float> c = value, var = variance;
-  // g_3x3 of eq. 5: the variance under a 3x3 Gaussian (1/4, 1/2, 1/4)^2, over covered pixels.
-  std::vector<float> blurred(g.pixel_count(), 0.0f);
-  for_each_pixel(g.width, g.height, [&](int i, int j) {
-    const size_t p = g.index(i, j);
-    if (!g.covered(p)) return;
-    constexpr float k[3] = {0.25f, 0.5f, 0.25f};
-    float sw = 0.0f, sv = 0.0f;
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        const int a = i + dx, b = j + dy;
-        if (a < 0 || b < 0 || a >= g.width || b >= g.height || !g.covered(g.index(a, b))) continue;
-        const float w = k[dx + 1] * k[dy + 1];
-        sw += w;
-        sv += w * var[g.index(a, b)];
-      }
-    blurred[p] = sv / sw;
-  });
-  for_each_pixel(g.width, g.height, [&](int i, int j) {
-    const size_t p = g.index(i, j);
-    if (!g.covered(p)) return;
-    const float lum_denom = static_cast<float>(s.sigma_l) * std::sqrt(blurred[p]) + 1e-10f;
-    float sw = 0.0f, sc = 0.0f, sv = 0.0f;
-    for (int ky = -2; ky <= 2; ++ky)
-      for (int kx = -2; kx <= 2; ++kx) {
-        const int dx = kx * step, dy = ky * step, a = i + dx, b = j + dy;
-        if (a < 0 || b < 0 || a >= g.width || b >= g.height) continue;
-        const size_t q = g.index(a, b);
-        if (!g.covered(q)) continue;
-        const float h = kB3[kx + 2] * kB3[ky + 2];
-        float w = 1.0f;  // the centre: every term is exp(0)
-        if (q != p) {
-          const float e = depth_normal_exponent(g, gradient, p, q, dx, dy, s) -
-                          std::abs(c[p] - c[q]) / lum_denom;
-          w = std::exp(e);
+void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
+                      std::vector<float>& value, std::vector<float>& variance) {
+  const std::vector<float> in_value = value, in_variance = variance;
+  const int w = g.width, h = g.height;
+  const float sigma_z = static_cast<float>(s.sigma_z), sigma_n = static_cast<float>(s.sigma_n);
+  const float sigma_l = static_cast<float>(s.sigma_l);
+  const GuideRows gr(g);
+  const float *c = in_value.data(), *var = in_variance.data();
+  float *out_c = value.data(), *out_var = variance.data();
+  for_each_row_tile(h, [&](int j0, int j1) {
+    std::vector<float> sw(w), sc(w), sv(w), lum(w);
+    for (int j = j0; j < j1; ++j) {
+      const ptrdiff_t row = static_cast<ptrdiff_t>(j) * w;
+      const Span span = covered_span(gr.cov + row, w);
+      if (span.lo == span.hi) continue;
+      // g_3x3 of eq. 5: the variance under a 3x3 Gaussian (1/4, 1/2, 1/4)^2 over covered pixels,
+      // then the luminance weight's denominator sigma_l sqrt(g_3x3(Var)) + eps.
+      constexpr float k[3] = {0.25f, 0.5f, 0.25f};
+      std::fill(sw.begin(), sw.end(), 0.0f);
+      std::fill(sv.begin(), sv.end(), 0.0f);
+      for (int dy = -1; dy <= 1; ++dy) {
+        if (j + dy < 0 || j + dy >= h) continue;
+        for (int dx = -1; dx <= 1; ++dx) {
+          const ptrdiff_t shift = static_cast<ptrdiff_t>(dy) * w + dx;
+          const float kw = k[dx + 1] * k[dy + 1];
+          blur_taps(gr.cov + row + shift, var + row + shift, kw, sw.data(), sv.data(),
+                    span.begin(first_inside(dx)), span.end(end_inside(w, dx)));
         }
-        const float hw = h * w;
-        sw += hw;
-        sc += hw * c[q];
-        sv += hw * hw * var[q];
       }
-    value[p] = std::clamp(sc / sw, 0.0f, 1.0f);  // sw >= 9/64: the centre tap
-    variance[p] = sv / (sw * sw);
+      for (int i = 0; i < w; ++i)
+        lum[i] = gr.cov[row + i] > 0.5f ? sigma_l * std::sqrt(sv[i] / sw[i]) + 1e-10f : 1.0f;
+      // Eqs. 1-2 over the 5x5 taps in the kernel's order; the centre's weight is exp(0) = 1.
+      std::fill(sw.begin(), sw.end(), 0.0f);
+      std::fill(sc.begin(), sc.end(), 0.0f);
+      std::fill(sv.begin(), sv.end(), 0.0f);
+      for (int ky = -2; ky <= 2; ++ky) {
+        const int dy = ky * step;
+        if (j + dy < 0 || j + dy >= h) continue;
+        for (int kx = -2; kx <= 2; ++kx) {
+          const int dx = kx * step;
+          const ptrdiff_t shift = static_cast<ptrdiff_t>(dy) * w + dx;
+          const float hk = kB3[kx + 2] * kB3[ky + 2];
+          if (shift == 0) {
+            for (int i = 0; i < w; ++i) {
+              sw[i] += hk;
+              sc[i] += hk * c[row + i];
+              sv[i] += hk * hk * var[row + i];
+            }
+            continue;
+          }
+          const float fdx = static_cast<float>(dx), fdy = static_cast<float>(dy);
+          atrous_taps(gr, row, shift, {fdx, fdy, sigma_z, sigma_n}, c, var, lum.data(), hk,
+                      {sw.data(), sc.data(), sv.data()}, span.begin(first_inside(dx)),
+                      span.end(end_inside(w, dx)));
+        }
+      }
+      for (int i = 0; i < w; ++i) {
+        const ptrdiff_t p = row + i;
+        if (!(gr.cov[p] > 0.5f)) continue;
+        out_c[p] = std::clamp(sc[i] / sw[i], 0.0f, 1.0f);  // sw >= 9/64: the centre tap
+        out_var[p] = sv[i] / (sw[i] * sw[i]);
+      }
+    }
   });
 }
 

@@ -23,8 +23,11 @@
 //    with z the G-buffer's linear depth, grad z its screen-space gradient (central differences
 //    over covered pixels), n the shading normal and g_3x3 a 3x3 Gaussian of the variance. eps is a
 //    numerical guard only (1e-6 of the pixel's depth in eq. 3, 1e-10 in eq. 5), not a setting.
-// Only covered pixels filter and are filtered. CPU, rows in parallel with TBB; the same bits
-// whatever the thread count.
+// Only covered pixels filter and are filtered. CPU: the G-buffer's channels read once per frame
+// into one array each (SvgfGuide), then row tiles in parallel with TBB, each tap of the kernel a
+// vectorised loop along the row (svgf_math.h's exp and log, within 2 ulp of libm). Every pixel
+// sums its taps in the kernel's order whatever the tiling: the same bits for any thread count
+// (svgf_test).
 #pragma once
 
 #include <vector>
@@ -39,18 +42,23 @@ struct SvgfSettings {
   int variance_radius = 0;                             // §4.2: the spatial estimate's half-width
 };
 
+// What the edge-stopping weights read of the G-buffer, one array per channel: the shading normal,
+// the linear depth, its screen-space gradient (central differences over covered pixels, pixels per
+// unit step in x and y) and the coverage (1 or 0).
+struct SvgfGuide {
+  int width = 0, height = 0;
+  std::vector<float> nx, ny, nz, depth, grad_x, grad_y, covered;
+};
+SvgfGuide svgf_guide(const GBuffer& g);
+
 // §4.2: the variance of each covered pixel from its moments and history length.
-std::vector<float> svgf_variance(const GBuffer& g, const std::vector<float>& moment1,
+std::vector<float> svgf_variance(const SvgfGuide& g, const std::vector<float>& moment1,
                                  const std::vector<float>& moment2,
                                  const std::vector<float>& history_length, const SvgfSettings& s);
 
-// The screen-space depth gradient of each covered pixel (pixels per unit step in x, then y).
-std::vector<float> depth_gradient(const GBuffer& g);
-
 // One a-trous iteration (eqs. 1-5) with taps `step` pixels apart: filters `value` and `variance`
 // in place.
-void atrous_iteration(const GBuffer& g, const std::vector<float>& gradient, int step,
-                      const SvgfSettings& s, std::vector<float>& value,
-                      std::vector<float>& variance);
+void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
+                      std::vector<float>& value, std::vector<float>& variance);
 
 }  // namespace aoeval

@@ -4,9 +4,10 @@
 // static-camera sequence of one view (nothing moves: zero motion, nothing disoccluded, so every
 // frame after 0 reprojects a full history, the steady state). Frame 0 (no history) is reported
 // apart; the steady medians are over frames 1..F-1 of `repetitions` timed sequences, after
-// `warmup` untimed ones. Writes bench_<estimator>.md and .csv to --out, and one results row
-// (status "timing only", its passes as columns) to results.csv/json and SQLite, as the other
-// benches do.
+// `warmup` untimed ones; for rtao, the denoiser's cost (the median over those frames of temporal +
+// variance + a-trous) and its ratio to the rays' median (csv row `denoiser`). Writes
+// bench_<estimator>.md and .csv to --out, and one results row (status "timing only", its passes as
+// columns) to results.csv/json and SQLite, as the other benches do.
 #pragma once
 
 #include <string>
