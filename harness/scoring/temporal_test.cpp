@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -286,6 +287,57 @@ TEST(TemporalScores, LagFollowsTheSurfaceAndIsBlankOverAStillScene) {
     still.add_frame(f.view(w, h));
   }
   EXPECT_TRUE(still.scores()["lag_rmse_excess"].is_null());
+}
+
+// The maps say where: the alternating estimate flickers 0.2 at every pixel (frame 0 has no d);
+// the sweeping shadow edge of the lag test above leaves its lag only in the columns the edge
+// crossed within the last 4 frames (the trail), each pixel its own rms excess, and none (NaN)
+// in the still part, whose large constant error is not lag.
+TEST(TemporalScores, MapsHoldEachPixelsFlickerAndLag) {
+  TemporalScorer flicker;
+  for (int k = 0; k < 5; ++k) {
+    Frame f = frame_of(9, k % 2 ? 0.6f : 0.4f, 0.5f, 0.0f);
+    flicker.add_frame(f.view(3, 3));
+  }
+  const std::vector<float> fm = flicker.flicker_map();
+  ASSERT_EQ(fm.size(), 9u);
+  for (float v : fm) EXPECT_NEAR(v, 0.2, 1e-6);
+
+  const int w = 24, h = 4, frames = 16;
+  const float se = 0.01f;
+  TemporalScorer s;
+  std::vector<float> est(w * h, 0.8f);
+  std::vector<double> err2(w * h, 0.0), n(w * h, 0.0);
+  for (int k = 0; k < frames; ++k) {
+    Frame f = frame_of(w * h, 0.0f, 0.0f, se);
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i) {
+        const int p = j * w + i;
+        f.ref[p] = i < k ? 0.4f : 0.8f;
+        est[p] = k == 0 ? f.ref[p] : 0.5f * f.ref[p] + 0.5f * est[p];
+        f.est[p] = est[p] + (j == 0 ? 0.3f : 0.0f) * (i >= k);
+        const float before = i < k - 4 ? 0.4f : 0.8f;
+        if (k >= 4 && std::abs(f.ref[p] - before) > 0.05 + 3.0 * std::sqrt(2.0) * se) {
+          const double e = static_cast<double>(f.est[p]) - f.ref[p];
+          err2[p] += e * e - static_cast<double>(se) * se;
+          n[p] += 1.0;
+        }
+      }
+    s.add_frame(f.view(w, h));
+  }
+  const std::vector<float> lm = s.lag_map();
+  ASSERT_EQ(lm.size(), static_cast<size_t>(w * h));
+  int lagging = 0;
+  for (int p = 0; p < w * h; ++p) {
+    if (n[p] == 0.0) {
+      EXPECT_TRUE(std::isnan(lm[p])) << "pixel " << p;
+      continue;
+    }
+    ++lagging;
+    EXPECT_NEAR(lm[p], std::sqrt(std::max(0.0, err2[p] / n[p])), 1e-6) << "pixel " << p;
+  }
+  EXPECT_GT(lagging, 0);
+  EXPECT_TRUE(std::isnan(lm[w - 1])) << "the edge never reached the last column";
 }
 
 TEST(TemporalScores, RejectsAFrameOfAnotherSize) {
