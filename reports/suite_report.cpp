@@ -1,5 +1,6 @@
 #include "reports/suite_report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -67,7 +68,9 @@ constexpr const char* kStyle =
     "figure{margin:.6em 0}figcaption{font-size:.85em;color:#444}img.mosaic{max-width:100%;"
     "border:1px solid #ccc}img.chart{max-width:100%;border:1px solid #ccc;background:#fff}"
     "img.video{max-width:100%;border:1px solid #ccc}tr.front "
-    "td{font-weight:bold}.skipped{color:#a60}nav a{margin-right:.8em}";
+    "td{font-weight:bold}.skipped{color:#a60}nav a{margin-right:.8em}"
+    "details.sequence-point{margin:.4em 0}details.sequence-point>summary{cursor:pointer;"
+    "font-weight:bold;padding:.2em 0}";
 
 void summary(Html& h, const SuiteReport& r, const std::vector<std::string>& scenes,
              const std::vector<EstimatorChart>& charts) {
@@ -125,8 +128,8 @@ void summary(Html& h, const SuiteReport& r, const std::vector<std::string>& scen
                                               : ". One class: the times compare across nodes.")));
   }
   row("Embree", text(r.context.embree_version));
-  row("wall time", r.wall_s > 0.0 ? number(r.wall_s, "%.1f") + " s (before the report)"
-                                  : Html("not recorded"));
+  row("wall time",
+      r.wall_s > 0.0 ? number(r.wall_s, "%.1f") + " s (before the report)" : Html("not recorded"));
   row("files", link("results.csv", "results.csv") + " " + link("results.json", "results.json") +
                    " " + link(r.gbuffer_gallery, "G-buffer gallery"));
   h << "</table>\n";
@@ -242,7 +245,9 @@ void estimator_section(Html& h, const EstimatorChart& c) {
   h << "<figure><a href=\"" << url(c.png + ".plot.json") << "\"><img class=\"chart\" src=\""
     << url(c.png) << "\" loading=\"lazy\" alt=\"" << attr(c.estimator)
     << ": error against time\"></a><figcaption>" << text(kChartMetric)
-    << " against the median time per frame, one series per scene view; the Pareto front (no "
+    << " (against true AO, the leaderboard's one truth; a sequence point: its true "
+       "steady_rmse_excess) against the median time per frame, one series per scene view; the "
+       "Pareto front (no "
        "other point of the series is both at least as fast and more accurate, times closer than "
        "their repetitions' interquartile range counting as equal) is marked and listed in bold "
        "below. The image "
@@ -260,9 +265,9 @@ void estimator_section(Html& h, const EstimatorChart& c) {
       h << "<td colspan=\"5\" class=\"l skipped\">" << text(r.status) << "</td></tr>\n";
       continue;
     }
-    h << "<td>" << metric(r.metrics, kChartMetric) << "</td><td>" << metric(r.metrics, "rmse")
-      << "</td><td>" << metric(r.true_metrics, "rmse") << "</td><td>" << number(r.time_ms_median)
-      << "</td><td>" << (c.on_front[i] ? Html("yes") : Html()) << "</td></tr>\n";
+    h << "<td>" << number(true_score(r)) << "</td><td>" << metric(r.metrics, "rmse") << "</td><td>"
+      << metric(r.true_metrics, "rmse") << "</td><td>" << number(r.time_ms_median) << "</td><td>"
+      << (c.on_front[i] ? Html("yes") : Html()) << "</td></tr>\n";
   }
   h << "</table></details>\n</section>\n";
 }
@@ -280,6 +285,25 @@ std::string write_suite_report(const std::string& out_dir, const SuiteReport& re
     if (!featured.count(e.row.scene)) scenes.push_back(e.row.scene);
     auto& list = featured[e.row.scene];
     if (e.featured) list.push_back(&e);
+  }
+  // Mosaics and metrics tables rank on the leaderboard's one truth: within each scene view (views
+  // in order of appearance), by true_score (a sequence: true steady_rmse_excess), skipped last.
+  for (auto& [scene, list] : featured) {
+    std::map<std::string, size_t> view_order;
+    for (const auto* e : list)
+      view_order.emplace(
+          e->row.view + "/" + std::to_string(e->row.width) + "x" + std::to_string(e->row.height),
+          view_order.size());
+    const auto view_of_entry = [&](const SuiteReportEntry* e) {
+      return view_order[e->row.view + "/" + std::to_string(e->row.width) + "x" +
+                        std::to_string(e->row.height)];
+    };
+    std::stable_sort(list.begin(), list.end(), [&](const auto* a, const auto* b) {
+      const size_t va = view_of_entry(a), vb = view_of_entry(b);
+      if (va != vb) return va < vb;
+      const double x = true_score(a->row), y = true_score(b->row);
+      return !std::isnan(x) && (std::isnan(y) || x < y);
+    });
   }
   Html h;
   h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
@@ -299,7 +323,10 @@ std::string write_suite_report(const std::string& out_dir, const SuiteReport& re
   h << "</nav>\n<p>Each scene shows every estimator's featured run (its default point unless the "
        "suite says otherwise; in a sweep, the points on its Pareto fronts). A mosaic opens in the "
        "viewer (click it: zoom to pixels, probe values, flip A/B, exposure; press ? there for its "
-       "keys). Metrics compare the estimate with the reference of the AO "
+       "keys). Within each scene view, mosaics and metrics rows are in the leaderboard's order: by "
+       "true rmse_excess (against true AO; a sequence point: its true steady_rmse_excess), the "
+       "one truth every estimator shares. Metrics compare the estimate with the reference of the "
+       "AO "
        "definition the estimator declares (&ldquo;matched&rdquo;) and, as true_*, with unbounded "
        "cosine AO; rmse_excess is the RMSE with the reference's own Monte-Carlo noise removed. "
        "Estimators with bent normals add bent_angle_mean and bent_angle_p95 (degrees between "

@@ -1,5 +1,6 @@
 #include "reports/suite_report_leaderboard.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -22,8 +23,6 @@ std::string params_of(const ResultRow& r) {
   return name.substr(first + 1, scene - first - 1);
 }
 
-namespace {
-
 // What a row ranks by: rmse_excess, or for a sequence point (CONTRACT §10) its steady state,
 // steady_rmse_excess (the last frame alone would reward a history that is right only at the end).
 std::string ranked_key(const ResultRow& r) {
@@ -31,11 +30,15 @@ std::string ranked_key(const ResultRow& r) {
   return frames != r.metrics.end() && frames->is_number() ? "steady_rmse_excess" : "rmse_excess";
 }
 
+namespace {
+
 double number_in(const ResultRow& r, const nlohmann::json& metrics) {
   const auto it = metrics.find(ranked_key(r));
   return r.status == "ok" && it != metrics.end() && it->is_number() ? it->get<double>()
                                                                     : std::nan("");
 }
+
+}  // namespace
 
 // The score every estimator of a scene view is ranked on: against the one truth they share, true
 // AO (the unbounded cosine reference, CONTRACT §3: the row's true_ keys). Each estimator's matched
@@ -49,6 +52,8 @@ double true_score(const ResultRow& r) {
 double matched_score(const ResultRow& r) {
   return number_in(r, r.metrics);
 }
+
+namespace {
 
 std::string view_key(const ResultRow& r) {
   return r.scene + "/" + r.view + "/" + std::to_string(r.width) + "x" + std::to_string(r.height);
@@ -75,6 +80,26 @@ Html leaderboard_html(const std::vector<SuiteReportEntry>& entries,
     }
   }
   if (labels.empty()) return {};
+  // The rows' order: by mean rank on the true score over the scene views (each view ranks its
+  // estimators 1, 2, ...; a missing or skipped cell ranks after every scored one), ties in order
+  // of appearance. With one scene view it is the order of the true score itself.
+  std::map<std::string, std::vector<std::pair<double, std::string>>> by_view;
+  for (const auto& label : labels)
+    for (const auto& [scene, list] : cells[label])
+      for (const auto* e : list) by_view[view_key(e->row)].emplace_back(true_score(e->row), label);
+  std::map<std::string, double> rank_sum;
+  for (auto& [view, scores] : by_view) {
+    std::stable_sort(scores.begin(), scores.end(), [](const auto& a, const auto& b) {
+      return !std::isnan(a.first) && (std::isnan(b.first) || a.first < b.first);
+    });
+    std::map<std::string, size_t> rank;
+    for (size_t i = 0; i < scores.size(); ++i) rank.emplace(scores[i].second, i + 1);
+    for (const auto& label : labels)
+      rank_sum[label] += rank.count(label) ? rank[label] : labels.size() + 1;
+  }
+  std::stable_sort(labels.begin(), labels.end(), [&](const std::string& a, const std::string& b) {
+    return rank_sum[a] < rank_sum[b];
+  });
   Html h;
   h << "<h2 id=\"leaderboard\">Leaderboard</h2>\n<p>Each estimator's featured point per scene, "
        "ranked on one truth: <b>true</b> is rmse_excess against true AO (the unbounded cosine "
@@ -82,8 +107,9 @@ Html leaderboard_html(const std::vector<SuiteReportEntry>& entries,
        "reference of the definition the estimator declares (shown, not ranked: a bounded "
        "estimator scores well against its own bounded reference), and median ms per frame. A "
        "sequence point ranks by its steady state, steady_rmse_excess (true and matched). "
-       "&#9733; marks the least true score of a scene view. Click a header to sort; a value "
-       "links to its mosaic.</p>\n"
+       "&#9733; marks the least true score of a scene view. Rows are in order of their mean rank "
+       "on the true score over the scene views (with one view: the order of the true score). "
+       "Click a header to sort; a value links to its mosaic.</p>\n"
        "<table class=\"leaderboard sortable\"><thead><tr><th class=\"l\" rowspan=\"2\" "
        "data-sort=\"0\" data-type=\"text\">estimator</th>";
   for (const auto& s : scenes) h << "<th colspan=\"3\">" << text(s) << "</th>";

@@ -18,6 +18,14 @@ Html leaderboard_html(const std::vector<SuiteReportEntry>& entries,
 
 // The parameters set explicitly, as in the run name: "rays:16" ("defaults" when none).
 std::string params_of(const ResultRow& row);
+// The score every cross-estimator table and chart of the report ranks on (one truth, CONTRACT §3):
+// the row's true rmse_excess (against the unbounded cosine reference every estimator of a scene
+// view shares), for a sequence point its true steady_rmse_excess; NaN for a skipped row or a
+// missing key. matched_score: the same key against the row's matched reference (shown beside it).
+double true_score(const ResultRow& row);
+double matched_score(const ResultRow& row);
+// The key both read: "steady_rmse_excess" for a sequence point, else "rmse_excess".
+std::string ranked_key(const ResultRow& row);
 // An id fragment: letters, digits and '-' only ("mosaic-" + slug(run name) anchors a mosaic).
 std::string slug(const std::string& s);
 

@@ -9,6 +9,7 @@
 #include "drawing/error_maps.h"
 #include "reports/suite_report.h"
 #include "reports/suite_report_charts.h"
+#include "reports/suite_report_leaderboard.h"
 #include "scenes/ao_exr.h"
 #include "scenes/exr_io.h"
 
@@ -19,8 +20,7 @@ namespace fs = std::filesystem;
 namespace {
 
 double chart_error(const ResultRow& r) {
-  const auto it = r.metrics.find(kChartMetric);
-  return it != r.metrics.end() && it->is_number() ? it->get<double>() : std::nan("");
+  return true_score(r);  // what the charts plot (kChartMetric)
 }
 
 // Marks the entries on their (estimator, scene view) series' Pareto front, as the charts do.

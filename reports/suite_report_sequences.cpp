@@ -20,6 +20,7 @@
 #include "reports/html.h"
 #include "reports/suite_report_leaderboard.h"
 #include "reports/suite_report_mosaics.h"
+#include "reports/suite_report_sequences_summary.h"
 #include "reports/viewer.h"
 #include "scenes/ao_exr.h"
 #include "scenes/exr_io.h"
@@ -233,7 +234,7 @@ Html sequence_sections(const std::string& out_dir, const SuiteReport& report) {
   const fs::path out(out_dir);
   Html h;
   std::vector<std::pair<PlotSpec, std::string>> charts;
-  size_t sections = 0;
+  std::vector<SequencePoint> points;
   for (const auto& e : report.entries) {
     const ResultRow& r = e.row;
     if (r.status != "ok" || !r.metrics.contains("seq_frames")) continue;
@@ -252,11 +253,15 @@ Html sequence_sections(const std::string& out_dir, const SuiteReport& report) {
       if (k.contains("reference") && fs::exists(out / k["estimate"].get<std::string>(), ec) &&
           fs::exists(out / k["reference"].get<std::string>(), ec))
         kept.push_back(k);
-    ++sections;
-    h << "<section class=\"sequence\" id=\"sequence-" << attr(slug(r.run_name)) << "\"><h3>"
-      << text(r.estimator) << " " << text(params_of(r)) << ", " << text(r.scene) << "/"
-      << text(r.view) << " " << r.width << "&times;" << r.height << ", " << m.value("frames", 0)
-      << " frames</h3>\n<table class=\"metrics\"><tr>";
+    points.push_back({&r, m, dir.string()});
+    // Folded (a reader opens the points they look at: the page stays short); a link to the
+    // section's id unfolds it (the browser opens a <details> holding a fragment's target).
+    h << "<details class=\"sequence-point\"><summary>" << text(r.estimator) << " "
+      << text(params_of(r)) << ", " << text(r.scene) << "/" << text(r.view) << " " << r.width
+      << "&times;" << r.height << ", " << m.value("frames", 0)
+      << " frames: true steady_rmse_excess " << number(true_score(r))
+      << "</summary>\n<section class=\"sequence\" id=\"sequence-" << attr(slug(r.run_name))
+      << "\"><table class=\"metrics\"><tr>";
     for (const auto& k : sequence_metric_names()) h << "<th>" << text(k) << "</th>";
     h << "</tr>\n<tr>";
     for (const auto& k : sequence_metric_names()) h << "<td>" << value_of(r.metrics, k) << "</td>";
@@ -297,6 +302,7 @@ Html sequence_sections(const std::string& out_dir, const SuiteReport& report) {
         << "frame at " << value_of(m, "fps") << " frames per second (animated PNG).</figcaption>"
         << "</figure>\n";
     }
+    h << sequence_maps_figure(out_dir, points.back());
     const std::string chart = (dir / "rmse_excess.png").string();
     if (!up_to_date(out / chart, {manifest_path}))
       charts.emplace_back(chart_of(m, r), (out / chart).string());
@@ -307,15 +313,19 @@ Html sequence_sections(const std::string& out_dir, const SuiteReport& report) {
          "they were last disoccluded (settle_frames is the first age within 1.1 &times; "
          "steady).</figcaption></figure>\n<p>"
       << link((dir / "frames.csv").string(), "frames.csv") << " &middot; "
-      << link((dir / "sequence.json").string(), "sequence.json") << "</p></section>\n";
+      << link((dir / "sequence.json").string(), "sequence.json") << "</p></section></details>\n";
   }
-  if (sections == 0) return {};
+  if (points.empty()) return {};
+  const std::string plots_rel = "runs/" + report.context.run_id + "/plots";
+  fs::create_directories(out / plots_rel);
+  const Html overlay = sequence_overlay_charts(out_dir, plots_rel, points, charts);
   if (!charts.empty()) render_plots(charts);
-  return Html(
-             "<section class=\"sequences\" id=\"sequences\"><h2>Sequences (AO over time)</h2>\n"
-             "<p>Each sequence point (CONTRACT &sect;10): its sequence keys, a strip of frames "
-             "that opens the viewer over every kept frame, a video of the estimate beside the "
-             "reference, and rmse_excess by frame and by frames since disocclusion.</p>\n")
+  return Html("<section class=\"sequences\" id=\"sequences\"><h2>Sequences (AO over time)</h2>\n")
+         << sequence_summary_table(points) << overlay
+         << "<p>Each sequence point below (CONTRACT &sect;10; click to unfold): its sequence keys, "
+            "a strip of frames that opens the viewer over every kept frame, a video of the "
+            "estimate beside the reference, its flicker and lag maps, and rmse_excess by frame "
+            "and by frames since disocclusion.</p>\n"
          << h << "</section>\n";
 }
 

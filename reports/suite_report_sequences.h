@@ -1,11 +1,14 @@
-// The report's section of each sequence point (CONTRACT §10), from what the runner kept in the
+// The report's "Sequences" part (CONTRACT §10): a summary of every sequence point (suite_report_
+// sequences_summary.h: a sortable table ranked on true steady_rmse_excess, one overlay chart of
+// rmse_excess by frame per scene view), then each point's section, folded in a <details>,
+// from what the runner kept in the
 // point's folder (harness/sweep/kept_sequence.h: sequence.json, the kept frames' estimate and
 // reference EXRs): the §10 keys; a strip of frames (reference | estimate | |error|, one row each
 // for the first frame, the frame with most disoccluded pixels and the last, one error scale for
 // all three) inside the viewer (CONTRACT §11) over every kept frame, with its frame slider and
 // play; a video of the estimate beside the reference (an animated PNG, reports/apng.h: it plays
 // in an <img> without scripts); and rmse_excess by frame and by frames since disocclusion
-// (matplotlib). Internal to reports/suite_report.
+// (matplotlib); and its flicker and lag maps in the viewer. Internal to reports/suite_report.
 #pragma once
 
 #include <string>

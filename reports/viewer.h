@@ -53,7 +53,8 @@ std::string write_viewer_data(const std::string& page_dir, const std::vector<std
 
 // The viewer element around `static_html` (what a page shows without JavaScript). kind "compare":
 // `a` the reference's data script, `b` the estimate's, `labels` their names ("reference,
-// estimate"; the dashboard's "baseline,new"); kind "gbuffer": `a` alone.
+// estimate"; the dashboard's "baseline,new"); kind "gbuffer": `a` alone; kind "maps": `a` alone,
+// each of its channels a panel through inferno (a sequence's flicker and lag maps).
 struct ViewerSpec {
   std::string kind = "compare";
   std::string a, b;

@@ -308,6 +308,14 @@ TEST(Leaderboard, RanksOnTrueAoWithTheMatchedScoreBeside) {
   EXPECT_NE(html.find("<td data-v=\"0.08\"><a href=\"#mosaic-rtao-scene-walk"), std::string::npos)
       << html;
   EXPECT_NE(html.find(">true</th><th data-sort=\"2\">matched</th>"), std::string::npos) << html;
+  // The rows' order is the true score's (mean rank over the views: rtao 1 and 2, gtao 1 and none,
+  // hbao-split-cpu 2 and none), not their order of appearance nor the matched one.
+  const auto row = [&](const std::string& label) {
+    return html.find("<tr><td class=\"l\">" + label + "</td>");
+  };
+  ASSERT_NE(row("hbao-split-cpu"), std::string::npos) << html;
+  EXPECT_LT(row("rtao"), row("gtao")) << html;
+  EXPECT_LT(row("gtao"), row("hbao-split-cpu")) << html;
 }
 
 }  // namespace

@@ -84,6 +84,9 @@ struct Measurement {
   std::vector<KeptFrame> kept_frames;          // kept_sequence_frames(), in order
   std::map<int, double> settle_excess_by_age;  // TemporalScorer::settle_excess_by_age(), matched
   std::map<int, double> rmse_excess_by_age;    // TemporalScorer::rmse_excess_by_age(), matched
+  // TemporalScorer's flicker and lag maps against the matched reference (width x height, NaN
+  // where a pixel never counted); kept as the point's maps.exr (kept_sequence.h).
+  std::vector<float> flicker_map, lag_map;
 };
 
 // Thread-safety: measure() on one thread may run while score() of an earlier measurement runs on

@@ -242,6 +242,8 @@ void EvaluationSession::measure_sequence(Measurement& m, bool seed_per_frame) {
   }
   m.rmse_excess_by_age = matched_scores.rmse_excess_by_age();
   m.settle_excess_by_age = matched_scores.settle_excess_by_age();
+  m.flicker_map = matched_scores.flicker_map();
+  m.lag_map = matched_scores.lag_map();
   row.metrics.update(matched_scores.scores());
   row.true_metrics.update(true_scores.scores());
   row.set_times(times);

@@ -23,6 +23,8 @@ double TemporalScorer::add_frame(const TemporalFrame& f) {
   if (k == 0) {
     width_ = f.width;
     height_ = f.height;
+    flicker_px_.assign(static_cast<size_t>(width_) * height_, Sums{});
+    lag_px_.assign(flicker_px_.size(), Sums{});
   } else if (f.width != width_ || f.height != height_) {
     throw InputError("sequence frame " + std::to_string(k) + " is " + std::to_string(f.width) +
                      "x" + std::to_string(f.height) + ", frame 0 was " + std::to_string(width_) +
@@ -89,6 +91,8 @@ double TemporalScorer::add_frame(const TemporalFrame& f) {
           const double d = (f.est[p] - est_then) - (f.ref[p] - ref_then);
           temporal_.n += 1.0;
           temporal_.err2 += d * d;
+          flicker_px_[p].n += 1.0;
+          flicker_px_[p].err2 += d * d;
           // An unchanged frame's reference is frame k - 1's (traced once): their difference
           // holds no reference noise, so none is removed (CONTRACT §10's terms are for
           // independent references).
@@ -140,6 +144,9 @@ void TemporalScorer::follow_trajectories(const std::vector<int>& age, const std:
         lag_.n += 1.0;
         lag_.err2 += now.err[p] * now.err[p];
         lag_.noise += now.var[p];
+        lag_px_[p].n += 1.0;
+        lag_px_[p].err2 += now.err[p] * now.err[p];
+        lag_px_[p].noise += now.var[p];
       }
     }
     if (!settles) continue;
@@ -158,6 +165,26 @@ void TemporalScorer::follow_trajectories(const std::vector<int>& age, const std:
       settle_[g].noise += then.var[at[g]];
     }
   }
+}
+
+namespace {
+
+template <class Sums>
+std::vector<float> map_of(const std::vector<Sums>& px) {
+  std::vector<float> out(px.size(), std::nanf(""));
+  for (size_t p = 0; p < px.size(); ++p)
+    if (px[p].n > 0.0) out[p] = static_cast<float>(px[p].excess());
+  return out;
+}
+
+}  // namespace
+
+// The flicker map's sums hold no noise: excess() is the rms of d there.
+std::vector<float> TemporalScorer::flicker_map() const {
+  return map_of(flicker_px_);
+}
+std::vector<float> TemporalScorer::lag_map() const {
+  return map_of(lag_px_);
 }
 
 std::map<int, double> TemporalScorer::settle_excess_by_age() const {

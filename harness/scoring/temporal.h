@@ -34,6 +34,12 @@
 // those whose chain leaves the image or the compared pixels have none). A trajectory is named by
 // its last pixel and traced back through the kept frames, so the same point of an earlier frame may
 // belong to several trajectories (magnification), each counted once.
+// Maps (for the report's "where", CONTRACT §10): per pixel of the image (screen space: frame k's
+// pixel p, whatever point it shows), over the frames where p counted in a key:
+//   flicker map               rms of d over the frames k >= 1 where p entered temporal_rmse
+//   lag map                   sqrt(max(0, mean(err^2 - stderr^2))) over the frames where p entered
+//                             lag_rmse_excess (the truth moved under it: a history's trail)
+// NaN where p never counted.
 // Keys that have no value (temporal_* of a single frame) are null. Sums are in double, pixels in
 // row order, so results do not depend on threads.
 #pragma once
@@ -77,6 +83,10 @@ class TemporalScorer {
   // rmse_excess by age 0..12 over the trajectories settle_frames pools (empty when none).
   std::map<int, double> settle_excess_by_age() const;
 
+  // The maps above, width x height floats in row order (empty before the first frame).
+  std::vector<float> flicker_map() const;
+  std::vector<float> lag_map() const;
+
   static constexpr int kSettleAge = 12;  // trajectories followed from age 0 through this age
   static constexpr int kLagFrames = 4;   // lag_rmse_excess looks back this many frames
 
@@ -98,6 +108,7 @@ class TemporalScorer {
   std::map<int, Sums> by_age_;
   Sums settle_[kSettleAge + 1];  // by age, over the qualifying trajectories
   Sums lag_;
+  std::vector<Sums> flicker_px_, lag_px_;  // the maps' sums, per pixel
   // One kept frame, for tracing trajectories back.
   struct Kept {
     std::vector<float> ref, var;

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -205,19 +206,18 @@ TEST(TemporalScores, SettleSkipsTrajectoriesWhoseTruthMoves) {
   EXPECT_TRUE(s.settle_excess_by_age().empty());
 }
 
-TEST(TemporalScores, LagIsTheErrorWhereTheTruthMovedUnderAStillSurface) {
-  // A still camera over a floor; a shadow's edge sweeps right one pixel a frame: ref = 0.4 left of
-  // column k, 0.8 elsewhere. The estimate is an exponential history of the truth (alpha 0.5), so it
-  // lags behind the edge. lag_rmse_excess counts frame k's pixels whose truth changed since k - 4
-  // by more than 0.05 + 3 sqrt(se^2 + se^2): columns k - 4 .. k - 1; the rest (including a still
-  // region with a large constant error) must not count.
-  const int w = 24, h = 4, frames = 16;
-  const float se = 0.01f;
-  TemporalScorer s;
+// A still camera over a floor; a shadow's edge sweeps right one pixel a frame: ref = 0.4 left of
+// column k, 0.8 elsewhere (stderr 0.01). The estimate is an exponential history of the truth
+// (alpha 0.5), so it lags behind the edge; row 0's still part is wrong by 0.3 besides. Calls
+// `lagging(p, err)` for each frame k's pixel p that lag_rmse_excess must count: its truth changed
+// since k - 4 by more than 0.05 + 3 sqrt(se^2 + se^2) (columns k - 4 .. k - 1).
+constexpr int kEdgeW = 24, kEdgeH = 4;
+constexpr float kEdgeStderr = 0.01f;
+void sweep_shadow_edge(TemporalScorer& s, const std::function<void(int, double)>& lagging) {
+  const int w = kEdgeW, h = kEdgeH, frames = 16;
   std::vector<float> est(w * h, 0.8f);
-  double err2 = 0.0, noise = 0.0, n = 0.0;
   for (int k = 0; k < frames; ++k) {
-    Frame f = frame_of(w * h, 0.0f, 0.0f, se);
+    Frame f = frame_of(w * h, 0.0f, 0.0f, kEdgeStderr);
     for (int j = 0; j < h; ++j)
       for (int i = 0; i < w; ++i) {
         const int p = j * w + i;
@@ -225,15 +225,23 @@ TEST(TemporalScores, LagIsTheErrorWhereTheTruthMovedUnderAStillSurface) {
         est[p] = k == 0 ? f.ref[p] : 0.5f * f.ref[p] + 0.5f * est[p];
         f.est[p] = est[p] + (j == 0 ? 0.3f : 0.0f) * (i >= k);  // row 0's still part is wrong
         const float before = i < k - 4 ? 0.4f : 0.8f;
-        if (k >= 4 && std::abs(f.ref[p] - before) > 0.05 + 3.0 * std::sqrt(2.0) * se) {
-          const double e = static_cast<double>(f.est[p]) - f.ref[p];
-          err2 += e * e;
-          noise += static_cast<double>(se) * se;
-          n += 1.0;
-        }
+        if (k >= 4 && std::abs(f.ref[p] - before) > 0.05 + 3.0 * std::sqrt(2.0) * kEdgeStderr)
+          lagging(p, static_cast<double>(f.est[p]) - f.ref[p]);
       }
     s.add_frame(f.view(w, h));
   }
+}
+
+// The edge above: lag_rmse_excess is the rms excess error over exactly the lagging pixels; the
+// rest (including the still region with a large constant error) must not count.
+TEST(TemporalScores, LagIsTheErrorWhereTheTruthMovedUnderAStillSurface) {
+  TemporalScorer s;
+  double err2 = 0.0, noise = 0.0, n = 0.0;
+  sweep_shadow_edge(s, [&](int, double e) {
+    err2 += e * e;
+    noise += static_cast<double>(kEdgeStderr) * kEdgeStderr;
+    n += 1.0;
+  });
   ASSERT_GT(n, 0.0);
   const double expected = std::sqrt((err2 - noise) / n);
   EXPECT_GT(expected, 0.05);
@@ -286,6 +294,42 @@ TEST(TemporalScores, LagFollowsTheSurfaceAndIsBlankOverAStillScene) {
     still.add_frame(f.view(w, h));
   }
   EXPECT_TRUE(still.scores()["lag_rmse_excess"].is_null());
+}
+
+// The maps say where: the alternating estimate flickers 0.2 at every pixel (frame 0 has no d);
+// the sweeping shadow edge (sweep_shadow_edge) leaves its lag only in the columns the edge
+// crossed within the last 4 frames (the trail), each pixel its own rms excess, and none (NaN)
+// in the still part, whose large constant error is not lag.
+TEST(TemporalScores, MapsHoldEachPixelsFlickerAndLag) {
+  TemporalScorer flicker;
+  for (int k = 0; k < 5; ++k) {
+    Frame f = frame_of(9, k % 2 ? 0.6f : 0.4f, 0.5f, 0.0f);
+    flicker.add_frame(f.view(3, 3));
+  }
+  const std::vector<float> fm = flicker.flicker_map();
+  ASSERT_EQ(fm.size(), 9u);
+  for (float v : fm) EXPECT_NEAR(v, 0.2, 1e-6);
+
+  const int w = kEdgeW, h = kEdgeH;
+  TemporalScorer s;
+  std::vector<double> err2(w * h, 0.0), n(w * h, 0.0);
+  sweep_shadow_edge(s, [&](int p, double e) {
+    err2[p] += e * e - static_cast<double>(kEdgeStderr) * kEdgeStderr;
+    n[p] += 1.0;
+  });
+  const std::vector<float> lm = s.lag_map();
+  ASSERT_EQ(lm.size(), static_cast<size_t>(w * h));
+  int lagging = 0;
+  for (int p = 0; p < w * h; ++p) {
+    if (n[p] == 0.0) {
+      EXPECT_TRUE(std::isnan(lm[p])) << "pixel " << p;
+      continue;
+    }
+    ++lagging;
+    EXPECT_NEAR(lm[p], std::sqrt(std::max(0.0, err2[p] / n[p])), 1e-6) << "pixel " << p;
+  }
+  EXPECT_GT(lagging, 0);
+  EXPECT_TRUE(std::isnan(lm[w - 1])) << "the edge never reached the last column";
 }
 
 TEST(TemporalScores, RejectsAFrameOfAnotherSize) {

@@ -13,6 +13,28 @@ namespace aoeval {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// The point's flicker and lag maps (harness/scoring/temporal.h) as one EXR: channels flicker, lag
+// and A (1 where the flicker map has a value: the pixel was compared in two successive frames);
+// a pixel a map never counted holds 0.
+OIIO::ImageBuf maps_image(const Measurement& m) {
+  OIIO::ImageSpec spec(m.width, m.height, 3, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"flicker", "lag", "A"};
+  OIIO::ImageBuf image(spec);
+  std::vector<float> pixels(m.flicker_map.size() * 3);
+  for (size_t p = 0; p < m.flicker_map.size(); ++p) {
+    const float f = m.flicker_map[p], l = p < m.lag_map.size() ? m.lag_map[p] : 0.0f;
+    pixels[3 * p] = std::isfinite(f) ? f : 0.0f;
+    pixels[3 * p + 1] = std::isfinite(l) ? l : 0.0f;
+    pixels[3 * p + 2] = std::isfinite(f) ? 1.0f : 0.0f;
+  }
+  image.set_pixels(image.roi(), OIIO::TypeDesc::FLOAT, pixels.data());
+  return image;
+}
+
+}  // namespace
+
 std::vector<KeptImage> keep_sequence(const std::string& out, const std::string& base,
                                      const SweepPoint& p, const Measurement& m,
                                      EvaluationSession& session, KeptReferences& references,
@@ -44,12 +66,21 @@ std::vector<KeptImage> keep_sequence(const std::string& out, const std::string& 
     BackgroundLane::checkpoint();  // a timed frame loop may wait for no more than one frame
   }
   manifest["kept"] = kept;
+  if (keep_frames && !m.flicker_map.empty()) {
+    const std::string maps = (dir_rel / "maps.exr").string();
+    write_exr((fs::path(out) / maps).string(), maps_image(m), {{"aoeval:run_name", p.name}});
+    manifest["maps"] = maps;
+    images.push_back({"maps", maps});
+  }
   nlohmann::json by_frame = nlohmann::json::array(), disoccluded = nlohmann::json::array();
+  nlohmann::json true_by_frame = nlohmann::json::array();
   for (const auto& f : m.frames) {
     by_frame.push_back(f.value("rmse_excess", nlohmann::json()));
+    true_by_frame.push_back(f.value("true_rmse_excess", nlohmann::json()));
     disoccluded.push_back(f.value("disoccluded_pixels", 0));
   }
   manifest["rmse_excess_by_frame"] = by_frame;
+  manifest["true_rmse_excess_by_frame"] = true_by_frame;  // the report's overlay: one truth
   manifest["disoccluded_pixels"] = disoccluded;
   nlohmann::json by_age = nlohmann::json::array();
   for (const auto& [age, excess] : m.rmse_excess_by_age)

@@ -6,8 +6,11 @@
 //                    kMaxKeptFrames, float AO and A as the row's estimate EXR, about 3 bytes a
 //                    pixel compressed), so a point costs at most 48 still estimates on disk
 //   sequence.json    the report's manifest: frames, fps, the kept frames with their estimate and
-//                    reference EXRs (relative to <out>), rmse_excess by frame and by frames since
-//                    disocclusion, disoccluded pixels by frame
+//                    reference EXRs (relative to <out>), rmse_excess by frame (matched, and
+//                    true_rmse_excess by frame) and by frames since disocclusion, disoccluded
+//                    pixels by frame, "maps": maps.exr's path (relative to <out>) when kept
+//   maps.exr         the flicker and lag maps (harness/scoring/temporal.h): channels flicker,
+//                    lag and A (1 where the flicker map has a value), 0 where a map never counted
 //   frames.csv       one line per frame (results_store.h)
 // and each kept frame's matched reference, copied from the cache entry it was scored against, to
 // <out>/references/<the still reference's name>/frame_KKKK.exr (once per run: points of one view

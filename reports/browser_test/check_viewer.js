@@ -6,7 +6,7 @@
 //   - element.aoevalProbe(x, y) differs by more than --tolerance (default 1e-6: a page written
 //     with --viewer-exact; 1e-3 for the default compact data, reports/viewer.h) from the EXR floats
 //     that exr_samples.py read with OpenImageIO (reference AO, estimate AO, their float32
-//     difference, AO_stderr);
+//     difference, AO_stderr; a sequence's flicker and lag maps);
 //   - wheel zoom, drag pan, the pixel grid, the probe readout, A/B flip (key and hover), exposure
 //     and false colour do not do what they say (state and drawn pixels checked);
 //   - any console error, uncaught exception or failed request.
@@ -86,15 +86,19 @@ async function leaderboard(page, o) {
 }
 
 async function probeMatchesExr(page, spec) {
-  const el = await page.$(spec.kind === 'gbuffer' ? `.aoeval-viewer[data-a="${spec.a}"]` : `.aoeval-viewer[data-b="${spec.b}"]`);
-  if (!el) return fail(`no viewer for ${spec.b}`);
+  const byA = spec.kind === 'gbuffer' || spec.kind === 'maps';
+  const el = await page.$(byA ? `.aoeval-viewer[data-a="${spec.a}"]` : `.aoeval-viewer[data-b="${spec.b}"]`);
+  if (!el) return fail(`no viewer for ${spec.b || spec.a}`);
+  // A sequence point's section is folded (<details>): unfold it as a reader would.
+  await el.evaluate((e) => { for (let d = e.closest('details'); d; d = d.parentElement.closest('details')) d.open = true; });
   await el.scrollIntoViewIfNeeded();
   await (await el.$('.av-opener')).click();
   await page.waitForFunction((e) => typeof e.aoevalProbe === 'function', el, { timeout: 60000 });
   // A sequence's samples carry their frame (CONTRACT §11: aoevalProbe(x, y, frame)).
   const got = await el.evaluate((e, s) => s.map((p) => e.aoevalProbe(p.x, p.y, p.frame)), spec.samples);
   const worst = spec.kind === 'gbuffer' ? { Z: 0, 'N.X': 0, 'N.Y': 0, 'N.Z': 0 }
-    : { reference: 0, estimate: 0, error: 0, stderr: 0 };
+    : spec.kind === 'maps' ? { flicker: 0, lag: 0 }
+      : { reference: 0, estimate: 0, error: 0, stderr: 0 };
   got.forEach((g, i) => {
     for (const k of Object.keys(worst)) {
       const d = Math.abs(g[k] - spec.samples[i][k]);

@@ -6,6 +6,7 @@
 # test zooms to, the darkest compared pixel of the reference (a crease: where AO errors live).
 #
 # A G-buffer gallery page (viewers of kind "gbuffer"): its Z and N.X/Y/Z at covered pixels.
+# A sequence point's maps (kind "maps"): flicker and lag at covered pixels and at lagging ones.
 # A sequence's viewer (data with several frames, CONTRACT §10): the samples are spread over its
 # first, middle and last frame, each with its sequence frame number ("frame"), and the viewer's
 # frame numbers are listed ("frames") for the slider check.
@@ -42,6 +43,7 @@ def main():
     html = open(page).read()
     viewers = re.findall(r'<div class="aoeval-viewer" data-kind="compare" data-a="([^"]+)" data-b="([^"]+)"', html)
     gbuffers = re.findall(r'<div class="aoeval-viewer" data-kind="gbuffer" data-a="([^"]+)"', html)
+    maps = re.findall(r'<div class="aoeval-viewer" data-kind="maps" data-a="([^"]+)"', html)
     if not viewers and not gbuffers:
         sys.exit(f"exr_samples.py: {page}: no viewer")
     rng = np.random.default_rng(33)
@@ -54,6 +56,17 @@ def main():
         samples = [dict({"x": int(xs[k]), "y": int(ys[k])},
                         **{n: float(g[n][ys[k], xs[k]]) for n in names}) for k in pick]
         result.append({"a": a, "kind": "gbuffer", "samples": samples})
+    for a in maps:  # a sequence point's flicker and lag maps (maps.exr)
+        g = channels(os.path.join(page_dir, source(page_dir, a)), ["flicker", "lag", "A"])
+        ys, xs = np.nonzero(g["A"] > 0.5)
+        pick = rng.choice(len(xs), size=min(count, len(xs)), replace=False)
+        # the lagging pixels too: where the lag map is not 0, if any
+        lys, lxs = np.nonzero((g["A"] > 0.5) & (g["lag"] > 0))
+        pick_lag = rng.choice(len(lxs), size=min(count // 4, len(lxs)), replace=False)
+        points = [(int(xs[k]), int(ys[k])) for k in pick] + [(int(lxs[k]), int(lys[k])) for k in pick_lag]
+        samples = [{"x": x, "y": y, "flicker": float(g["flicker"][y, x]), "lag": float(g["lag"][y, x])}
+                   for x, y in points]
+        result.append({"a": a, "kind": "maps", "samples": samples})
     for a, b in viewers:
         ra, rb = record(page_dir, a), record(page_dir, b)
         n = len(ra["source"])

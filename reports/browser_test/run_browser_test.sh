@@ -6,7 +6,8 @@
 # shows that the checker catches a deliberately broken copy of a dashboard. Then drives the image
 # viewer of the suite report (check_viewer.js): element.aoevalProbe against the EXR floats that
 # exr_samples.py reads with OpenImageIO at 100 random covered pixels per viewer, zoom, pan, flip,
-# probe, exposure, false colour, the sortable leaderboard, and the page without JavaScript.
+# probe, exposure, false colour, the sortable leaderboard, and the page without JavaScript; and
+# that a sweep mixing estimators of different AO definitions ranks on true AO (check_ranking.js).
 # Screenshots are kept in <build>/test-artifacts/.
 #
 #   run_browser_test.sh AOEVAL BUILD_DIR
@@ -166,6 +167,39 @@ grep -q '<section class="sequence" ' seq/index.html || { echo "browser_test: no 
 grep -q '"frames"' seq-samples.json || { echo "browser_test: the sequence page has no multi-frame viewer"; exit 1; }
 NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --interact -1 --tolerance 1e-3 \
   --screenshots "$build/test-artifacts" --samples seq-samples.json seq/index.html
+# One truth to rank on (issue 47): a sweep mixing a bounded estimator (hbao-split-cpu, dmax 0.3
+# linear: near its own reference, far from true AO), rtao and raytraced over the moving scene; the
+# leaderboard and the sequences summary, as chromium shows them, are in the order of true
+# steady_rmse_excess. First, the checker must catch a leaderboard whose rows are reversed.
+cat >mix.json <<JSON
+{"name": "mix", "scenes": ["$work/slide.json"], "views": ["slide"],
+ "reference": {"spp": 16, "sampler": "sobol"}, "timing": {"warmup": 0, "repetitions": 1},
+ "runs": [{"estimator": "hbao-split-cpu"}, {"estimator": "rtao"},
+          {"estimator": "raytraced", "fixed": {"rays": 4}}]}
+JSON
+expect_status 0 "$aoeval" sweep mix.json --out mix --db mix.sqlite
+cp -r mix ranking-broken
+/usr/bin/python3 - ranking-broken/index.html <<'PY'
+import re, sys
+path = sys.argv[1]
+html = open(path).read()
+start = html.index("<tbody>", html.index('class="leaderboard')) + len("<tbody>")
+end = html.index("</tbody>", start)
+rows = re.findall(r"<tr>.*?</tr>\n", html[start:end], re.S)
+assert len(rows) >= 2, rows
+open(path, "w").write(html[:start] + "\n" + "".join(reversed(rows)) + html[end:])
+PY
+set +e
+NODE_PATH="$modules/node_modules" node "$here/check_ranking.js" ranking-broken/index.html >ranking-checker.txt 2>&1
+checker=$?
+set -e
+if [ "$checker" -ne 1 ] || ! grep -q "is below" ranking-checker.txt; then
+  echo "browser_test: the ranking checker missed a reversed leaderboard (exit $checker):"
+  cat ranking-checker.txt
+  exit 1
+fi
+NODE_PATH="$modules/node_modules" node "$here/check_ranking.js" \
+  --screenshot "$build/test-artifacts/ranking-leaderboard.png" mix/index.html
 # The G-buffer gallery's viewers: Z and N under the probe equal the EXR's.
 /usr/bin/python3 "$here/exr_samples.py" suite-b/gbuffers/index.html 100 gbuffer-samples.json
 NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --interact -1 --tolerance 1e-3 \

@@ -14,11 +14,12 @@
 // (values within 1e-3 of the EXR's) or float32 (exact). load() inflates them all with the
 // browser's DecompressionStream when the viewer opens; `--viewer-exact` writes the plain form.
 //
-// Markup (reports/viewer.cpp writes it): <div class="aoeval-viewer" data-kind="compare|gbuffer"
+// Markup (reports/viewer.cpp writes it): <div class="aoeval-viewer" data-kind="compare|gbuffer|maps"
 // data-a="viewer-data/REF.js" data-b="viewer-data/EST.js" data-labels="reference,estimate">
 // holding the static images (what a reader without JavaScript sees). Opening it (a click on the
 // images or the "open viewer" button) adds the panels; then element.aoevalProbe(x, y[, frame])
-// returns {reference, estimate, error, stderr} (compare) or every channel's value (gbuffer).
+// returns {reference, estimate, error, stderr} (compare) or every channel's value (gbuffer; maps:
+// a sequence's flicker and lag maps, each channel a panel through inferno, 0..its own scale).
 'use strict';
 (function () {
   const DATA = (window.AOEVAL_DATA = window.AOEVAL_DATA || {});
@@ -146,6 +147,10 @@
       const g = recs[0];
       return [{ label: 'normals N', kind: 'rgb', values: (f) => ['N.X', 'N.Y', 'N.Z'].map((c) => plane(g, c, f)) },
         { label: 'depth Z', kind: 'depth', values: (f) => plane(g, 'Z', f) }];
+    }
+    if (kind === 'maps') {
+      const g = recs[0];
+      return Object.keys(g.channels).map((c) => ({ label: c, kind: 'stderr', values: (f) => plane(g, c, f) }));
     }
     const a = recs[0], b = recs[1], errs = {};
     const err = function (f) {  // e - r in float32, as the EXRs' floats subtract
@@ -305,7 +310,7 @@
         throw new RangeError('aoevalProbe: pixel (' + x + ', ' + y + ') is outside ' + w + 'x' + h);
       if (!(Number.isInteger(f) && f >= 0 && f < frames)) throw new RangeError('aoevalProbe: no frame ' + frame + ' (frames ' + numbers.join(', ') + ')');
       const i = y * w + x;
-      if (kind === 'gbuffer') {
+      if (kind === 'gbuffer' || kind === 'maps') {
         const out = {};
         for (const c of Object.keys(recs[0].channels)) out[c] = plane(recs[0], c, f)[i];
         return out;
