@@ -139,6 +139,29 @@ for broken in "viewer-broken samples-x.json 1e-6" "viewer-broken-compact samples
     exit 1
   fi
 done
+# The viewer beside its mosaic (issue 46): the check must catch a viewer whose scale rule or colour
+# map left the C++ one: nice_ceiling of twice the p99 (the bars' labels), and the map 2 levels
+# redder (the colours of the bars and of the exact page's pixels).
+cp -r suite-x mosaic-broken-scale
+sed -i -e 's|x = Math.fround(x);|x = Math.fround(2 * x);|' mosaic-broken-scale/viewer/colour_maps.js
+cp -r suite-x mosaic-broken-colour
+sed -i -e 's|return \[a\[0\] + f|return [2 + a[0] + f|' mosaic-broken-colour/viewer/viewer.js
+for broken in "mosaic-broken-scale colour bar: the viewer labels it" \
+              "mosaic-broken-colour panel: pixel"; do
+  set -- $broken
+  page="$1"
+  shift
+  set +e
+  NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --screenshots "$work/shots" \
+    --tolerance 1e-6 --interact -1 --samples samples-x.json "$page/index.html" >viewer-checker.txt 2>&1
+  checker=$?
+  set -e
+  if [ "$checker" -ne 1 ] || ! grep -q "$*" viewer-checker.txt; then
+    echo "browser_test: the viewer checker missed \"$*\" in $page (exit $checker):"
+    cat viewer-checker.txt
+    exit 1
+  fi
+done
 NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --tolerance 1e-3 \
   --screenshots "$build/test-artifacts" --samples samples.json suite-b/index.html
 NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --tolerance 1e-6 --interact -1 \
