@@ -13,6 +13,7 @@
 #include "harness/evaluation/progress.h"
 #include "harness/figures/figure.h"
 #include "reports/html.h"
+#include "reports/page_assets.h"
 #include "scenes/exr_io.h"
 
 namespace aoeval {
@@ -58,9 +59,8 @@ void write_index(const std::string& out_dir) {
   Html h;  // reports/html.h: every name and caption is text
   h << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\">" << content_security_policy()
     << "<title>aoeval figures</title>\n"
-       "<style>body{font-family:sans-serif;max-width:1100px;margin:2em auto;background:#fafafa}"
-       "img{max-width:100%;border:1px solid #ccc}pre{white-space:pre-wrap;background:#fff;"
-       "padding:0.8em;border:1px solid #ddd}</style></head><body>\n"
+    << page_stylesheet(out_dir, "figures.css")
+    << "</head><body>\n"
        "<h1>Reproductions of the seed papers' figures</h1>\n<ul>\n";
   std::vector<const Figure*> present;
   for (const auto& f : figure_registry())

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 
 namespace aoeval {
@@ -264,8 +265,14 @@ int decorated_width(int w, const Layout& l, const std::string& title, const Bar*
   return std::max(l.margin + w + right, text_width(title, l.fs) + 2 * l.margin);
 }
 
+// Where decorate() put the panel and its colour bar: x, y, width, height in its output.
+struct Placed {
+  std::array<int, 4> panel{}, bar{};
+};
+
 // A panel (float RGB, sRGB-encoded) on the canvas with its title and optional colour bar.
-OIIO::ImageBuf decorate(const OIIO::ImageBuf& panel, const std::string& title, const Bar* bar) {
+OIIO::ImageBuf decorate(const OIIO::ImageBuf& panel, const std::string& title, const Bar* bar,
+                        Placed* placed = nullptr) {
   const int w = panel.spec().width, h = panel.spec().height;
   const Layout l = layout_for(h);
   const int cw = decorated_width(w, l, title, bar), ch = l.title_h + l.area_h + l.bottom;
@@ -273,6 +280,7 @@ OIIO::ImageBuf decorate(const OIIO::ImageBuf& panel, const std::string& title, c
   canvas.specmod().attribute("oiio:ColorSpace", "sRGB");
   IBA::fill(canvas, {kCanvas, kCanvas, kCanvas});
   IBA::paste(canvas, l.margin, l.title_h, 0, 0, panel);
+  if (placed) placed->panel = {l.margin, l.title_h, w, h};
 
   // Title centred over the panel, pulled inside the canvas when it is wider than the panel.
   const int tw = text_width(title, l.fs);
@@ -283,6 +291,7 @@ OIIO::ImageBuf decorate(const OIIO::ImageBuf& panel, const std::string& title, c
 
   // The bar spans the panel's height: top = high end of the map, bottom = low end.
   const int bx = l.margin + w + l.margin, by = l.title_h, bh = l.area_h;
+  if (placed) placed->bar = {bx, by, l.bar_w, bh};
   const OIIO::ImageBuf ramp = IBA::fill({1.0f}, {0.0f}, OIIO::ROI(0, l.bar_w, 0, bh, 0, 1, 0, 1));
   OIIO::ImageBuf ramp_rgb = float_rgb(l.bar_w, bh);
   apply_map(ramp_rgb, ramp, bar->map);
@@ -297,6 +306,31 @@ OIIO::ImageBuf decorate(const OIIO::ImageBuf& panel, const std::string& title, c
               TextAlignY::Center);
   }
   return canvas;
+}
+
+// The mosaic's kMosaicAttribute (error_maps.h): what it shows and where. Labels in ASCII: a PNG
+// text chunk is Latin-1.
+std::string mosaic_description(int w, int h, float p99, float s, const Placed (&placed)[4],
+                               const Bar (&bars)[2]) {
+  const auto ascii = [](const Bar& b) {
+    nlohmann::json labels = nlohmann::json::array();
+    for (std::string t : {b.lo, b.mid, b.hi}) {
+      if (t.rfind(AOEVAL_MINUS, 0) == 0) t.replace(0, 3, "-");
+      labels.push_back(t);
+    }
+    return labels;
+  };
+  const nlohmann::json d = {{"source", {w, h}},
+                            {"p99", p99},
+                            {"scale", s},
+                            {"panels",
+                             {{"reference", placed[0].panel},
+                              {"estimate", placed[1].panel},
+                              {"abs", placed[2].panel},
+                              {"signed", placed[3].panel}}},
+                            {"bars", {{"abs", placed[2].bar}, {"signed", placed[3].bar}}},
+                            {"labels", {{"abs", ascii(bars[0])}, {"signed", ascii(bars[1])}}}};
+  return d.dump();
 }
 
 }  // namespace
@@ -383,7 +417,7 @@ OIIO::ImageBuf error_mosaic(int w, int h, const float* ref, const float* est,
   require_font();
   check_inputs(w, h, ref, est, mask);
   const Errors er = errors_of(w, h, ref, est, mask);
-  const float s = chosen_scale(0.0f, er);
+  const float p99 = p99_of(er), s = nice_ceiling(p99);
   const Bar bars[2] = {abs_bar(s), signed_bar(s)};
   const std::string titles[4] = {"reference", "estimate", kAbsTitle, kSignedTitle};
   const Bar* bar_of[4] = {nullptr, nullptr, &bars[0], &bars[1]};
@@ -418,9 +452,12 @@ OIIO::ImageBuf error_mosaic(int w, int h, const float* ref, const float* est,
   }
 
   OIIO::ImageBuf decorated[4];
+  Placed placed[4];
   int sum = 0;
   for (int i = 0; i < 4; ++i) {
-    decorated[i] = decorate(panels[i], titles[i], bar_of[i]);
+    decorated[i] = decorate(panels[i], titles[i], bar_of[i], &placed[i]);
+    placed[i].panel[0] += sum;
+    placed[i].bar[0] += sum;
     sum += decorated[i].spec().width;
   }
   const Layout l = layout_for(panels[0].spec().height);
@@ -434,6 +471,7 @@ OIIO::ImageBuf error_mosaic(int w, int h, const float* ref, const float* est,
   if (!caption.empty())
     draw_text(mosaic, l.margin, ph + l.caption_h / 2, caption, l.fs, TextAlignX::Left,
               TextAlignY::Center);
+  mosaic.specmod().attribute(kMosaicAttribute, mosaic_description(w, h, p99, s, placed, bars));
   return mosaic;
 }
 

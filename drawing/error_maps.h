@@ -50,7 +50,14 @@ OIIO::ImageBuf ao_image(int w, int h, const float* ao, const std::vector<uint8_t
 // reference | estimate | |error| | signed error, each titled, scales chosen automatically, and
 // `caption` on a line under them. Panels keep their pixel size unless the mosaic would be wider
 // than kMaxMosaicWidth; then the panels are resized down (OIIO resize) until it fits.
+// The mosaic says what it shows, for readers and for the browser test that holds a page's viewer
+// beside it: the string attribute kMosaicAttribute of its spec (a PNG text chunk) holds JSON:
+// "p99" (of |error|) and "scale" (nice_ceiling(p99), both maps' s); "panels": {"reference",
+// "estimate", "abs", "signed": [x, y, w, h]}; "bars": {"abs", "signed": [x, y, w, h]} (top row
+// = the map's high end); "labels": {"abs", "signed": [low, middle, high]} as drawn ('-' for the
+// minus sign); "source": [w, h] (the panels' size before any resize).
 inline constexpr int kMaxMosaicWidth = 4096;
+inline constexpr const char* kMosaicAttribute = "aoeval:mosaic";
 OIIO::ImageBuf error_mosaic(int w, int h, const float* ref, const float* est,
                             const std::vector<uint8_t>& mask, const std::string& caption);
 

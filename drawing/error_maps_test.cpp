@@ -11,6 +11,8 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <nlohmann/json.hpp>
+#include <utility>
 
 #include "base/testing/test_temp_dir.h"
 #include "scenes/exr_io.h"
@@ -202,6 +204,48 @@ TEST(ErrorMaps, MosaicIsTheFourPanelsSideBySide) {
   }
   EXPECT_EQ(m.spec().width, x0);
   EXPECT_GT(m.spec().height, parts[0].spec().height);  // the caption line
+}
+
+// The mosaic's aoeval:mosaic text (what the browser test holds a page's viewer against) says
+// where each panel and bar lies, the scale and p99 the standalone maps use, and the bars' labels;
+// the bars' ends are the colour tables' ends (what the viewer's bars draw).
+TEST(ErrorMaps, MosaicSaysWhatItShowsAndWhere) {
+  const int w = 50, h = 40;
+  Case c(w, h, 0.6f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) c.est[c.at(x, y)] = 0.6f + 0.002f * float(x - y);
+  const OIIO::ImageBuf m = error_mosaic(w, h, c.ref.data(), c.est.data(), c.mask, "x");
+  const auto d = nlohmann::json::parse(m.spec().get_string_attribute(kMosaicAttribute));
+  MapScale used{};
+  const OIIO::ImageBuf parts[4] = {
+      ao_image(w, h, c.ref.data(), c.mask, "reference"),
+      ao_image(w, h, c.est.data(), c.mask, "estimate"),
+      abs_error_map(w, h, c.ref.data(), c.est.data(), c.mask, 0.0f, &used),
+      signed_error_map(w, h, c.ref.data(), c.est.data(), c.mask, 0.0f)};
+  EXPECT_EQ(d["scale"].get<float>(), used.hi);
+  EXPECT_EQ(d["p99"].get<float>(), abs_error_p99(w, h, c.ref.data(), c.est.data(), c.mask));
+  EXPECT_EQ(used.hi, 0.1f);  // |error| up to 0.098: p99 0.088 (rank 1979 of 2000)
+  EXPECT_EQ(d["labels"]["abs"], (nlohmann::json{"0", "0.05", "0.1"}));
+  EXPECT_EQ(d["labels"]["signed"], (nlohmann::json{"-0.1", "0", "+0.1"}));
+  EXPECT_EQ(d["source"], (nlohmann::json{w, h}));
+  const PanelOrigin o = panel_origin(h);
+  int x0 = 0, k = 0;
+  for (const char* name : {"reference", "estimate", "abs", "signed"}) {
+    EXPECT_EQ(d["panels"][name], (nlohmann::json{x0 + o.x, o.y, w, h})) << name;
+    x0 += parts[k++].spec().width;
+  }
+  for (const auto& [name, kind] :
+       {std::pair{"abs", ErrorMapKind::abs}, std::pair{"signed", ErrorMapKind::signed_error}}) {
+    const auto bar = d["bars"][name].get<std::array<int, 4>>();
+    const auto table = colour_table(kind, 256);
+    const Rgb top = pixel(m, bar[0] + bar[2] / 2, bar[1]);
+    const Rgb bottom = pixel(m, bar[0] + bar[2] / 2, bar[1] + bar[3] - 1);
+    for (int ch = 0; ch < 3; ++ch) {
+      EXPECT_NEAR(top[ch] * 255.0f, table[255][ch], 1.0f) << name;
+      EXPECT_NEAR(bottom[ch] * 255.0f, table[0][ch], 1.0f) << name;
+    }
+    EXPECT_GT(bar[0], d["panels"][name][0].get<int>() + w) << name;  // right of its panel
+  }
 }
 
 TEST(ErrorMaps, WideMosaicIsResizedDown) {

@@ -10,6 +10,7 @@
 
 #include "base/errors.h"
 #include "base/param_text.h"
+#include "reports/page_assets.h"
 #include "reports/regression_config.h"
 #include "scenes/exr_io.h"
 
@@ -319,7 +320,8 @@ Dashboard build_dashboard(const DashboardOptions& o) {
   if (o.charts) d.groups = write_history_charts(d, history, o.out_dir);
 
   d.page = (fs::path(o.out_dir) / "index.html").string();
-  write_text((fs::path(o.out_dir) / "dashboard.js").string(), dashboard_script());
+  write_page_asset(o.out_dir, "dashboard.css");
+  write_page_asset(o.out_dir, "dashboard.js");
   write_text(d.page, dashboard_html(d));
   return d;
 }

@@ -160,8 +160,7 @@ void find_steps(Dashboard& d,
 std::vector<GroupCharts> write_history_charts(
     const Dashboard& d, const std::vector<std::pair<RunContext, std::vector<ResultRow>>>& history,
     const std::string& out_dir);
-// The page, and the script it loads from dashboard.js beside it.
+// The page; it loads dashboard.css and dashboard.js beside it (reports/pages/, page_assets.h).
 std::string dashboard_html(const Dashboard& d);
-const char* dashboard_script();
 
 }  // namespace aoeval

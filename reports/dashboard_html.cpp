@@ -1,9 +1,9 @@
 // The dashboard page: a verdict banner, the summary table (failures first), then one section per
 // (estimator, scene) with its history charts and, per row, the checks and the new | baseline |
 // difference images (hovering the new image shows the baseline in its place). Self-contained:
-// inline CSS, its script in dashboard.js beside it (the page's Content-Security-Policy allows no
-// inline script), relative image paths, no external URL. Written through reports/html.h: every
-// name is text.
+// its style and script in dashboard.css and dashboard.js beside it (reports/pages/; the page's
+// Content-Security-Policy allows no inline script), relative image paths, no external URL. Written
+// through reports/html.h: every name is text.
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
@@ -53,31 +53,6 @@ Html run_line(const RunContext& r) {
                         << text(r.started) << " &middot; <code>" << text(r.command)
                         << "</code> &middot; " << text(r.machine);
 }
-
-constexpr const char* kStyle = R"(
-body{font-family:"DejaVu Sans",sans-serif;margin:0;background:#f4f4f4;color:#222}
-main{padding:0 1.2em 2em}
-.verdict{padding:1em 1.2em;color:#fff}
-.verdict.fail{background:#b2182b}.verdict.pass{background:#1b7837}
-.verdict h1{margin:0 0 .3em;font-size:1.5em}.verdict p{margin:.2em 0}
-.verdict code{color:#fff}
-table{border-collapse:collapse;background:#fff;margin:.6em 0}
-td,th{border:1px solid #ccc;padding:.25em .5em;font-size:.88em;text-align:left;vertical-align:top}
-th{background:#eee}
-.regressed{background:#fbe3e4}.warning{background:#fff4d6}.improved{background:#e3f4e5}
-.unchanged{background:#fff}.not-compared{background:#f0f0f0;color:#666}
-section.group{background:#fff;border:1px solid #ddd;margin:1.2em 0;padding:.4em 1em}
-section.group h2{font-size:1.2em}
-article.row{border-top:1px solid #ddd;padding:.5em 0}
-article.row h3{font-size:1em;margin:.3em 0}
-.images{display:flex;flex-wrap:wrap;gap:.6em}
-figure{margin:0}figcaption{font-size:.8em;color:#555}
-.images img{width:340px;max-width:31vw;height:auto;image-rendering:pixelated}
-img.swap{cursor:crosshair;outline:2px solid #2166ac}
-img.chart{max-width:48%;margin:.2em}
-.change{font-size:.88em}article.changed{background:#fff;border:1px solid #e08214;padding:.4em}
-.note{color:#555;font-size:.88em}
-)";
 
 Html checks_table(const RowReport& rep) {
   Html h(
@@ -184,22 +159,12 @@ Html steps_section(const Dashboard& d) {
 
 }  // namespace
 
-// Hovering a new image shows its baseline in its place (the browser test checks the swap).
-const char* dashboard_script() {
-  return R"(
-document.querySelectorAll('img.swap').forEach(function (img) {
-  img.addEventListener('mouseenter', function () { img.src = img.dataset.baseline; });
-  img.addEventListener('mouseleave', function () { img.src = img.dataset.new; });
-});
-)";
-}
-
 std::string dashboard_html(const Dashboard& d) {
   const bool fail = dashboard_fails(d);
   Html h;
   h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
-    << content_security_policy() << "<title>aoeval dashboard</title>\n<style>" << kStyle
-    << "</style></head><body>\n"
+    << content_security_policy() << "<title>aoeval dashboard</title>\n"
+    << "<link rel=\"stylesheet\" href=\"dashboard.css\">\n</head><body>\n"
     << "<header class=\"verdict " << (fail ? Html("fail") : Html("pass")) << "\" id=\"verdict\">";
   // The banner names what regressed: (estimator on scene), each once, in page order.
   std::string names;

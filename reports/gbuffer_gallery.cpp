@@ -6,6 +6,7 @@
 
 #include "drawing/gbuffer_previews.h"
 #include "reports/html.h"
+#include "reports/page_assets.h"
 #include "reports/viewer.h"
 #include "scenes/exr_io.h"
 
@@ -31,14 +32,8 @@ std::string write_gbuffer_gallery(const std::string& out_dir, const std::string&
   html << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
        << content_security_policy() << "<title>aoeval " << text(suite)
        << " suite: scene corpus G-buffers</title>\n"
-       << "<style>body{font-family:sans-serif;margin:1.5em;background:#fafafa;color:#222}"
-          "section{margin-bottom:1.5em;border-bottom:1px solid #ddd;padding-bottom:1em}"
-          "figure{display:inline-block;margin:0 1em 0.5em 0;vertical-align:top}"
-          "figcaption{font-size:0.85em;color:#555}img{image-rendering:pixelated;border:1px solid "
-          "#ccc}"
-          "table{border-collapse:collapse}td,th{padding:2px 10px;text-align:right}"
-          "th{text-align:left}</style>\n"
-       << write_viewer_assets(out_dir) << "</head><body>\n"
+       << page_stylesheet(out_dir, "gallery.css") << write_viewer_assets(out_dir)
+       << "</head><body>\n"
        << "<h1>aoeval: " << text(suite) << " suite</h1>\n"
        << "<p>The shared G-buffer of every corpus scene and view: shading normals (RGB = N &times; "
           "0.5 + "

@@ -11,6 +11,7 @@
 #include "harness/results/machine_class.h"
 #include "harness/results/metric_table.h"
 #include "reports/html.h"
+#include "reports/page_assets.h"
 #include "reports/suite_report_charts.h"
 #include "reports/suite_report_leaderboard.h"
 #include "reports/suite_report_mosaics.h"
@@ -59,18 +60,6 @@ std::string definition_text(const std::string& definition) {
   const std::string falloff = j.value("falloff", std::string("none"));
   return falloff == "none" ? text : text + ", " + falloff + " falloff";
 }
-
-constexpr const char* kStyle =
-    "body{font-family:sans-serif;margin:1.5em;background:#fafafa;color:#222;max-width:110em}"
-    "table{border-collapse:collapse;margin:.5em 0 1em}td,th{padding:2px 8px;border-bottom:1px "
-    "solid #ddd;text-align:right;font-size:.9em}th{background:#eee}td.l,th.l{text-align:left}"
-    "table.summary th{text-align:left}section{border-top:2px solid #ccc;margin-top:1.5em}"
-    "figure{margin:.6em 0}figcaption{font-size:.85em;color:#444}img.mosaic{max-width:100%;"
-    "border:1px solid #ccc}img.chart{max-width:100%;border:1px solid #ccc;background:#fff}"
-    "img.video{max-width:100%;border:1px solid #ccc}tr.front "
-    "td{font-weight:bold}.skipped{color:#a60}nav a{margin-right:.8em}"
-    "details.sequence-point{margin:.4em 0}details.sequence-point>summary{cursor:pointer;"
-    "font-weight:bold;padding:.2em 0}";
 
 void summary(Html& h, const SuiteReport& r, const std::vector<std::string>& scenes,
              const std::vector<EstimatorChart>& charts) {
@@ -308,9 +297,10 @@ std::string write_suite_report(const std::string& out_dir, const SuiteReport& re
   Html h;
   h << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
     << content_security_policy() << "<title>aoeval " << text(r.suite) << " suite, run "
-    << text(r.context.run_id) << "</title>\n<style>" << kStyle << "</style>\n"
-    << write_viewer_assets(out_dir) << "</head><body>\n<h1>aoeval: " << text(r.suite)
-    << (r.sweep ? Html(" sweep") : Html(" suite")) << "</h1>\n";
+    << text(r.context.run_id) << "</title>\n"
+    << page_stylesheet(out_dir, "suite.css") << write_viewer_assets(out_dir)
+    << "</head><body>\n<h1>aoeval: " << text(r.suite) << (r.sweep ? Html(" sweep") : Html(" suite"))
+    << "</h1>\n";
   h << leaderboard_html(r.entries, scenes);
   summary(h, r, scenes, charts);
   h << "<nav>Scenes: ";

@@ -15,6 +15,7 @@
 #include "base/errors.h"
 #include "harness/results/result_row.h"
 #include "reports/html.h"
+#include "reports/page_assets.h"
 #include "reports/viewer_assets.h"
 #include "scenes/exr_io.h"
 
@@ -23,20 +24,6 @@ namespace aoeval {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string read_all(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// Rewrites `path` only when its content differs, so an unchanged asset keeps its time stamp.
-void write_if_changed(const fs::path& path, const std::string& content) {
-  std::error_code ec;
-  if (fs::exists(path, ec) && read_all(path) == content) return;
-  write_text(path.string(), content);
-}
 
 void append_little_endian(std::vector<unsigned char>& out, float v) {
   uint32_t bits;

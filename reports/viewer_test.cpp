@@ -7,10 +7,13 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include "base/errors.h"
 #include "base/testing/test_temp_dir.h"
+#include "reports/page_assets.h"
 #include "reports/suite_report_leaderboard.h"
 #include "reports/viewer.h"
 #include "reports/viewer_assets.h"
@@ -68,6 +71,21 @@ TEST(Viewer, AssetsAreBuiltIn) {
   const std::string head = write_viewer_assets(dir.string()).str();
   EXPECT_NE(head.find("viewer/viewer.js"), std::string::npos);
   for (const auto& a : viewer_assets()) EXPECT_EQ(read_file(dir / "viewer" / a.name), a.content);
+}
+
+// The pages' stylesheets and the dashboard's script are real files (reports/pages/), built in and
+// written beside the page that links them; a name not built in is a programming error.
+TEST(Viewer, PageStylesAreBuiltInFiles) {
+  std::set<std::string> names;
+  for (const auto& a : page_assets()) names.insert(std::string(a.name));
+  EXPECT_EQ(names, (std::set<std::string>{"suite.css", "dashboard.css", "gallery.css",
+                                          "figures.css", "dashboard.js"}));
+  const fs::path dir = testutil::test_temp_dir("page_assets");
+  EXPECT_EQ(page_stylesheet(dir.string(), "suite.css").str(),
+            "<link rel=\"stylesheet\" href=\"suite.css\">\n");
+  const std::string css = read_file(dir / "suite.css");
+  EXPECT_NE(css.find("img.mosaic"), std::string::npos) << css;
+  EXPECT_THROW(page_stylesheet(dir.string(), "none.css"), std::logic_error);
 }
 
 // A 5x3 reference with awkward floats (denormal, negative zero, NaN, 1/3) survives exactly

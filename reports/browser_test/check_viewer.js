@@ -9,6 +9,13 @@
 //     difference, AO_stderr; a sequence's flicker and lag maps);
 //   - wheel zoom, drag pan, the pixel grid, the probe readout, A/B flip (key and hover), exposure
 //     and false colour do not do what they say (state and drawn pixels checked);
+//   - a viewer whose static image is an error mosaic (exr_samples.py's "mosaic") disagrees with it:
+//     the |error| and signed panels' colour-bar labels (the scale, nice_ceiling of the 99th
+//     percentile) differ from the mosaic's bar labels as numbers, a bar's end colours differ from
+//     the mosaic bar's, or, with exact data (--tolerance 1e-6 or less), a sample pixel's drawn
+//     colour differs from the mosaic panel's by more than --colour-levels per channel (default 1:
+//     the JavaScript interpolates the 256 generated 8-bit entries where OIIO maps the float);
+//     compact float16 data moves an error by up to 4.9e-4, a few levels at a small scale;
 //   - any console error, uncaught exception or failed request.
 // Keeps screenshots: zoomed pixels with grid and probe, the flip, false colour, the leaderboard,
 // the page without JavaScript.
@@ -27,13 +34,15 @@ const CHROMIUM = process.env.AOEVAL_CHROMIUM || '/usr/bin/chromium';
 const problems = [];
 const fail = (msg) => problems.push(msg);
 let TOLERANCE = 1e-6;  // --tolerance
+let COLOUR_LEVELS = 1;  // --colour-levels
 
 function args(argv) {
-  const o = { screenshots: null, samples: null, page: null, interact: 0, tolerance: 1e-6 };
+  const o = { screenshots: null, samples: null, page: null, interact: 0, tolerance: 1e-6, colourLevels: 1 };
   for (let i = 0; i < argv.length; ++i) {
     if (argv[i] === '--screenshots') o.screenshots = argv[++i];
     else if (argv[i] === '--interact') o.interact = Number(argv[++i]);
     else if (argv[i] === '--tolerance') o.tolerance = Number(argv[++i]);
+    else if (argv[i] === '--colour-levels') o.colourLevels = Number(argv[++i]);
     else if (argv[i] === '--samples') o.samples = argv[++i];
     else o.page = path.resolve(argv[i]);
   }
@@ -110,7 +119,51 @@ async function probeMatchesExr(page, spec) {
   console.log(`probe: ${got.length} covered pixels of ${spec.a}${spec.b ? ' and ' + spec.b : ''}: max |difference| ` +
     Object.entries(worst).map(([k, v]) => `${k} ${v}`).join(', '));
   if (spec.frames) await frameSlider(el, spec);
+  if (spec.mosaic) await mosaicAgrees(el, spec);
   return el;
+}
+
+// The viewer beside the mosaic it opens from (issue 46): both draw the same errors with the
+// generated colour maps and scale rule (drawing/colour_maps_js.cpp), so the |error| (panel 2) and
+// signed (panel 3) colour bars carry the same labels and end colours, and a pixel the same colour.
+async function mosaicAgrees(el, spec) {
+  const m = spec.mosaic;
+  const got = await el.evaluate((e, samples) => {
+    const st = e.aoevalView(), d = window.devicePixelRatio || 1;
+    const canvases = e.querySelectorAll('canvas.av-canvas');
+    const pixel = (i, p) => Array.from(canvases[i].getContext('2d').getImageData(
+      Math.floor((st.tx + (p.x + 0.5) * st.scale) * d), Math.floor((st.ty + (p.y + 0.5) * st.scale) * d), 1, 1).data.slice(0, 3));
+    return {
+      ticks: Array.from(e.querySelectorAll('.av-ticks')).map((t) => Array.from(t.children).map((s) => s.textContent)),
+      bars: Array.from(e.querySelectorAll('canvas.av-colourbar')).map((c) => {
+        const b = c.getContext('2d').getImageData(0, 0, c.width, 1).data;
+        return { low: Array.from(b.slice(0, 3)), high: Array.from(b.slice(b.length - 4, b.length - 1)) };
+      }),
+      abs: samples.map((p) => pixel(2, p)), signed: samples.map((p) => pixel(3, p)),
+    };
+  }, spec.samples);
+  const num = (t) => Number(String(t).replace('\u2212', '-'));
+  const off = (a, b) => Math.max(...a.map((v, c) => Math.abs(v - b[c])));
+  const worst = { abs: 0, signed: 0 };
+  for (const [k, i] of [['abs', 2], ['signed', 3]]) {
+    const viewer = got.ticks[i].map(num), mosaic = m.labels[k].map(num);
+    if (viewer.join() !== mosaic.join())
+      fail(`${k} colour bar: the viewer labels it ${got.ticks[i].join(' ')}, the mosaic ${m.labels[k].join(' ')} (${spec.b})`);
+    for (const end of ['low', 'high'])
+      if (!(off(got.bars[i][end], m[k + '_bar'][end]) <= COLOUR_LEVELS))
+        fail(`${k} colour bar: its ${end} end is ${got.bars[i][end]} in the viewer, ${m[k + '_bar'][end]} in the mosaic (${spec.b})`);
+    if (!m[k] || TOLERANCE > 1e-6) continue;
+    m[k].forEach((want, j) => {
+      const d = off(got[k][j], want);
+      worst[k] = Math.max(worst[k], d);
+      if (!(d <= COLOUR_LEVELS))
+        fail(`${k} panel: pixel (${spec.samples[j].x}, ${spec.samples[j].y}) is ${got[k][j]} in the viewer, ${want} in the mosaic (${spec.b})`);
+    });
+  }
+  const pixels = m.abs && TOLERANCE <= 1e-6
+    ? `; ${spec.samples.length} pixels: max |difference| abs ${worst.abs}, signed ${worst.signed} levels` : '';
+  console.log(`mosaic ${m.png}: p99 ${m.p99}, scale ${m.scale}; viewer bars ${got.ticks[2].join(' ')} | ` +
+    `${got.ticks[3].join(' ')}, mosaic bars ${m.labels.abs.join(' ')} | ${m.labels.signed.join(' ')}${pixels}`);
 }
 
 // A sequence's viewer: moving the frame slider to the last kept frame shows that frame (its
@@ -227,6 +280,7 @@ async function interactions(page, el, spec, o) {
 async function main() {
   const o = args(process.argv.slice(2));
   TOLERANCE = o.tolerance;
+  COLOUR_LEVELS = o.colourLevels;
   fs.mkdirSync(o.screenshots, { recursive: true });
   const samples = JSON.parse(fs.readFileSync(o.samples, 'utf8'));
   const browser = await chromium.launch({

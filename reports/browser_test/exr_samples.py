@@ -5,6 +5,10 @@
 # values of the reference's AO and AO_stderr and the estimate's AO; and, as the pixel the viewer
 # test zooms to, the darkest compared pixel of the reference (a crease: where AO errors live).
 #
+# A still view's viewer whose static image is an error mosaic (drawing/error_maps.h) also gets
+# "mosaic": what the mosaic PNG says it shows (its "aoeval:mosaic" text: p99, scale, the colour
+# bars' labels), the 8-bit colours of the |error| and signed-error panels at each sample pixel,
+# and the colours at both ends of each colour bar, for check_viewer.js to hold the viewer beside.
 # A G-buffer gallery page (viewers of kind "gbuffer"): its Z and N.X/Y/Z at covered pixels.
 # A sequence point's maps (kind "maps"): flicker and lag at covered pixels and at lagging ones.
 # A sequence's viewer (data with several frames, CONTRACT §10): the samples are spread over its
@@ -35,6 +39,37 @@ def record(page_dir, script):
 
 def source(page_dir, script):
     return record(page_dir, script)["source"][0]
+
+
+def mosaic_of(page_dir, html, b, samples):
+    # The static image inside this viewer: the first <img class="mosaic"> after its opening tag,
+    # before the next viewer's.
+    at = html.index(f'data-b="{b}"')
+    end = html.find('class="aoeval-viewer"', at)
+    m = re.search(r'<img class="mosaic" src="([^"]+)"', html[at:end if end >= 0 else len(html)])
+    if not m:
+        return None
+    path = os.path.join(page_dir, m.group(1))
+    inp = oiio.ImageInput.open(path)
+    if not inp:
+        sys.exit(f"exr_samples.py: {path}: {oiio.geterror()}")
+    described = inp.spec().getattribute("aoeval:mosaic")
+    inp.close()
+    if not described:
+        sys.exit(f"exr_samples.py: {path}: no aoeval:mosaic description")
+    d = json.loads(described)
+    rgb = oiio.ImageBuf(path).get_pixels(oiio.UINT8)[:, :, :3]
+    out = {"png": m.group(1), "p99": d["p99"], "scale": d["scale"], "labels": d["labels"],
+           "source": d["source"]}
+    # Pixel for pixel only (a mosaic wider than 4096 pixels has its panels resized).
+    same_size = all(d["panels"][k][2:] == d["source"] for k in ("abs", "signed"))
+    for k in ("abs", "signed"):
+        x0, y0, w, h = d["panels"][k]
+        out[k] = [rgb[y0 + s["y"], x0 + s["x"]].tolist() for s in samples] if same_size else None
+        bx, by, bw, bh = d["bars"][k]
+        out[k + "_bar"] = {"low": rgb[by + bh - 1, bx + bw // 2].tolist(),
+                           "high": rgb[by, bx + bw // 2].tolist()}
+    return out
 
 
 def main():
@@ -96,6 +131,10 @@ def main():
         entry = {"a": a, "b": b, "samples": samples, "focus": focus}
         if n > 1:
             entry["frames"] = numbers
+        else:
+            mosaic = mosaic_of(page_dir, html, b, samples)
+            if mosaic:
+                entry["mosaic"] = mosaic
         result.append(entry)
     with open(out, "w") as f:
         json.dump(result, f)

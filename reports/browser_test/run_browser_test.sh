@@ -54,6 +54,24 @@ expect_status() {  # expect_status CODE COMMAND...
   fi
 }
 
+# expect_viewer_check_fails PAGE SAMPLES TOLERANCE MESSAGE: check_viewer.js must fail (exit 1) on
+# the broken copy PAGE of a page, saying MESSAGE.
+expect_viewer_check_fails() {
+  local page="$1" samples="$2" tolerance="$3" message="$4" checker
+  set +e
+  NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --screenshots "$work/shots" \
+    --tolerance "$tolerance" --interact -1 --samples "$samples" "$page/index.html" \
+    >viewer-checker.txt 2>&1
+  checker=$?
+  set -e
+  if [ "$checker" -ne 1 ] || ! grep -q "$message" viewer-checker.txt; then
+    echo "browser_test: the viewer checker missed \"$message\" in $page (exit $checker):"
+    cat viewer-checker.txt
+    exit 1
+  fi
+  echo "browser_test: the viewer checker catches $page: $(grep -m 1 "$message" viewer-checker.txt)"
+}
+
 expect_status 0 "$aoeval" run --suite tiny.json --out suite-a --db r.sqlite
 # raytraced made worse (1 ray instead of 8): the dashboard fails and names it.
 expect_status 0 "$aoeval" run --suite tiny.json --out suite-b --db r.sqlite --set raytraced:rays=1
@@ -127,19 +145,17 @@ shuffled = ao.astype("<f2").view(np.uint8).reshape(n, 2).T.copy().tobytes()
 record["channels"]["AO"][0] = base64.b64encode(zlib.compress(shuffled)).decode()
 open(path, "w").write(head + json.dumps(record) + ";\n")
 PY
-for broken in "viewer-broken samples-x.json 1e-6" "viewer-broken-compact samples.json 1e-3"; do
-  set -- $broken
-  set +e
-  NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --screenshots "$work/shots" \
-    --tolerance "$3" --samples "$2" "$1/index.html" >viewer-checker.txt 2>&1
-  checker=$?
-  set -e
-  if [ "$checker" -ne 1 ] || ! grep -q "aoevalProbe estimate differs" viewer-checker.txt; then
-    echo "browser_test: the viewer checker missed estimate data off the EXR in $1 (exit $checker):"
-    cat viewer-checker.txt
-    exit 1
-  fi
-done
+expect_viewer_check_fails viewer-broken samples-x.json 1e-6 "aoevalProbe estimate differs"
+expect_viewer_check_fails viewer-broken-compact samples.json 1e-3 "aoevalProbe estimate differs"
+# The viewer beside its mosaic (issue 46): the check must catch a viewer whose scale rule or colour
+# map left the C++ one: nice_ceiling of twice the p99 (the bars' labels), and the map 2 levels
+# redder (the colours of the bars and of the exact page's pixels).
+cp -r suite-x mosaic-broken-scale
+sed -i -e 's|x = Math.fround(x);|x = Math.fround(2 * x);|' mosaic-broken-scale/viewer/colour_maps.js
+cp -r suite-x mosaic-broken-colour
+sed -i -e 's|return \[a\[0\] + f|return [2 + a[0] + f|' mosaic-broken-colour/viewer/viewer.js
+expect_viewer_check_fails mosaic-broken-scale samples-x.json 1e-6 "colour bar: the viewer labels it"
+expect_viewer_check_fails mosaic-broken-colour samples-x.json 1e-6 "panel: pixel"
 NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --tolerance 1e-3 \
   --screenshots "$build/test-artifacts" --samples samples.json suite-b/index.html
 NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --tolerance 1e-6 --interact -1 \
