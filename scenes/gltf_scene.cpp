@@ -109,21 +109,29 @@ struct ObjectNodes {
 };
 
 ObjectNodes build_objects(const GltfDocument& doc, const std::vector<GltfNode>& nodes,
-                          const std::string& prefix) {
+                          const std::string& prefix, bool instanced) {
   const std::vector<glm::dmat4> world = world_matrices(nodes);
   std::map<int, std::vector<size_t>> users;  // mesh -> nodes, in node order
   std::vector<int> order;                    // meshes in order of first use
   for (size_t i = 0; i < nodes.size(); ++i) {
     if (nodes[i].mesh < 0) continue;
+    if (!instanced) {  // every node its own plain object (a copy of its mesh)
+      order.push_back(static_cast<int>(i));
+      users[static_cast<int>(i)] = {i};
+      continue;
+    }
     if (!users.count(nodes[i].mesh)) order.push_back(nodes[i].mesh);
     users[nodes[i].mesh].push_back(i);
   }
   std::set<std::string> node_names;
   for (const auto& n : nodes) node_names.insert(n.name);
   ObjectNodes out;
-  for (int m : order) {
-    const std::vector<size_t>& us = users[m];
-    const TriangleMesh local = read_mesh(doc, static_cast<size_t>(m));
+  std::map<int, TriangleMesh> meshes;  // read once each
+  for (int key : order) {
+    const std::vector<size_t>& us = users[key];
+    const int m = nodes[us[0]].mesh;
+    if (!meshes.count(m)) meshes[m] = read_mesh(doc, static_cast<size_t>(m));
+    const TriangleMesh& local = meshes[m];
     SceneObject o;
     o.source = "glTF " + doc.file() + " meshes[" + std::to_string(m) + "]";
     if (us.size() == 1) {
@@ -290,17 +298,18 @@ void check_camera_outside(const GltfDocument& doc, const Scene& scene,
 
 }  // namespace
 
-std::vector<SceneObject> load_gltf_objects(const std::string& path, const std::string& prefix) {
+std::vector<SceneObject> load_gltf_objects(const std::string& path, const std::string& prefix,
+                                          bool instanced) {
   const GltfDocument doc(path);
   const std::vector<GltfNode> nodes = read_gltf_nodes(doc);
-  return build_objects(doc, nodes, prefix).objects;
+  return build_objects(doc, nodes, prefix, instanced).objects;
 }
 
 Scene load_gltf_scene(const std::string& path) {
   const GltfDocument doc(path);
   const std::vector<GltfNode> nodes = read_gltf_nodes(doc);
   const std::vector<GltfAnimation> animations = read_gltf_animations(doc, nodes);
-  ObjectNodes on = build_objects(doc, nodes, "");
+  ObjectNodes on = build_objects(doc, nodes, "", true);
   Scene scene;
   scene.file = path;
   scene.name = fs::path(path).stem().string();

@@ -19,8 +19,10 @@ inline constexpr double kGltfFps = 30.0;
 Scene load_gltf_scene(const std::string& path);
 
 // The mesh nodes alone, at the rest pose, named "<prefix><node>" (a scene file's
-// {"name": N, "gltf": ...} object passes "N/").
-std::vector<SceneObject> load_gltf_objects(const std::string& path, const std::string& prefix);
+// {"name": N, "gltf": ...} object passes "N/"). `instanced` false writes a mesh used by several
+// nodes as one plain object per node (for the consumers that refuse instances).
+std::vector<SceneObject> load_gltf_objects(const std::string& path, const std::string& prefix,
+                                          bool instanced = true);
 
 // Whether `path` names a glTF file (.glb or .gltf, any case).
 bool is_gltf_path(const std::string& path);

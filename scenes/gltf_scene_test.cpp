@@ -62,6 +62,26 @@ TEST(GltfScene, SharedMeshIsOneGeometry) {
   EXPECT_EQ(PlacementIds(s).count, 3u);                  // floor, boxA, boxB
 }
 
+TEST(GltfScene, AnObjectOfASceneFile) {
+  const auto dir = testutil::test_temp_dir("gltf_entry");
+  const std::string path = (dir / "set.json").string();
+  std::ofstream(path) << R"({"objects": [{"name": "set", "gltf": ")" << kDir
+                      << R"(animated.gltf", "shared_meshes": "copies", "fit": {"size": 2}}],
+    "views": [{"name": "v", "eye": [0, 1, 3], "target": [0, 0, 0]}]})";
+  const Scene s = load_scene_file(path);
+  ASSERT_EQ(s.objects.size(), 3u);
+  EXPECT_EQ(s.objects[1].name, "set/boxA");
+  EXPECT_EQ(s.objects[2].name, "set/boxB");
+  EXPECT_NEAR(s.bounds().extent().x, 2.0f, 1e-5f);  // the 10 m floor fitted to 2
+  std::ofstream(path) << R"({"objects": [{"name": "set", "gltf": ")" << kDir
+                      << R"(animated.gltf"}],
+    "views": [{"name": "v", "eye": [0, 1, 3], "target": [0, 0, 0]}]})";
+  const Scene shared = load_scene_file(path);
+  ASSERT_EQ(shared.objects.size(), 2u);
+  EXPECT_EQ(shared.objects[1].instance_names,
+            (std::vector<std::string>{"set/boxA", "set/boxB"}));
+}
+
 TEST(GltfAnimation, StepLinearCubicAndSlerp) {
   GltfChannel c;
   c.path = GltfPath::translation;

@@ -212,6 +212,8 @@ std::vector<SceneObject> load_gltf_entry(JsonReader& reader, const fs::path& sce
   const std::string name = reader.string("name");
   const std::string rel = reader.string("gltf");
   const std::string role = reader.choice("role", "solid", {"solid", "ground"});
+  const bool instanced =
+      reader.choice("shared_meshes", "instanced", {"instanced", "copies"}) == "instanced";
   const glm::vec3 albedo = reader.vec3("albedo", glm::vec3(0.7f));
   for (int c = 0; c < 3; ++c)
     if (albedo[c] < 0.0f || albedo[c] > 1.0f) reader.fail("albedo", "components must be in [0, 1]");
@@ -219,7 +221,7 @@ std::vector<SceneObject> load_gltf_entry(JsonReader& reader, const fs::path& sce
       rel.rfind("cache:", 0) == 0 ? fs::path(resolve_cache_mesh(rel.substr(6))) : scene_dir / rel;
   std::vector<SceneObject> objects;
   try {
-    objects = load_gltf_objects(path.string(), name + "/");
+    objects = load_gltf_objects(path.string(), name + "/", instanced);
   } catch (const InputError& e) {
     reader.fail("gltf", e.what());
   }

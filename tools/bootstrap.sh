@@ -9,11 +9,14 @@ repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 # Debian packages aoeval needs. Everything comes from apt; nothing is downloaded from elsewhere.
 # python3-numpy and python3-openimageio: the shipped Python plug-ins (plugins/examples).
 # zlib1g-dev: the report viewer's compact data is deflated (reports/viewer.h).
+# openarena-data and libirrlicht-dev: the Quake 3 levels of the corpus (issue 44, README "Game
+# levels and CAD"); assimp-testmodels also holds its CAD models.
 packages=(
   build-essential cmake ninja-build pkg-config clang-format fonts-dejavu-core
   libembree-dev libtbb-dev libglm-dev
   libopenimageio-dev openimageio-tools libopenexr-dev
   libassimp-dev assimp-testmodels libcgal-demo
+  openarena-data libirrlicht-dev
   nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3
   libgtest-dev libgmock-dev libbenchmark-dev libnlopt-cxx-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-tools glslang-dev
