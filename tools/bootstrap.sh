@@ -64,6 +64,18 @@ if ((need_extract)); then
   echo "bootstrap: extracted ${#meshes[@]} meshes into $cache_dir/meshes" >&2
 fi
 
+# Irrlicht's Quake 3 level (issue 44, corpus `q3-20kdm2`): Debian ships it gzipped; assimp's Q3BSP
+# importer reads the .pk3 (a zip holding maps/20kdm2.bsp), so it is unzipped once into
+# "cache:levels/map-20kdm2.pk3".
+if [ ! -s "$cache_dir/levels/map-20kdm2.pk3" ]; then
+  level_gz="$(dpkg -L libirrlicht-dev 2>/dev/null | grep '/map-20kdm2\.pk3\.gz$' | head -n 1 || true)"
+  [ -n "$level_gz" ] && [ -f "$level_gz" ] || { echo "bootstrap: map-20kdm2.pk3.gz is missing (package libirrlicht-dev)" >&2; exit 1; }
+  mkdir -p "$cache_dir/levels"
+  gzip -dc "$level_gz" >"$cache_dir/levels/map-20kdm2.pk3.tmp"
+  mv "$cache_dir/levels/map-20kdm2.pk3.tmp" "$cache_dir/levels/map-20kdm2.pk3"
+  echo "bootstrap: extracted map-20kdm2.pk3 into $cache_dir/levels" >&2
+fi
+
 # Release build into build/. Configure once; later runs only rebuild what changed.
 generator=()
 command -v ninja >/dev/null && generator=(-G Ninja)

@@ -9,6 +9,7 @@ rotation with non-zero tangents) and the rig turns 90 degrees (LINEAR rotation: 
 slides (LINEAR). Animation "hop": boxA jumps (STEP translation).
 
 Usage: python3 make_animated.py [OUT_DIR]   (stdlib only; output is deterministic)
+       python3 make_animated.py --bad harness/testdata/bad_input   (the bad-input cases)
 """
 import base64
 import json
@@ -253,7 +254,35 @@ def expected():
     return result
 
 
+def bad_variants(doc):
+    """The bad inputs of issue 44 (harness/testdata/bad_input/gltf_*.gltf), each a one-field edit."""
+    import copy
+    out = {}
+    d = copy.deepcopy(doc)
+    d["buffers"][0]["uri"] = "missing.bin"
+    out["gltf_missing_buffer"] = d
+    d = copy.deepcopy(doc)
+    d["meshes"][0]["primitives"][0]["mode"] = 1
+    out["gltf_lines"] = d
+    d = copy.deepcopy(doc)
+    d["accessors"][d["animations"][1]["samplers"][0]["input"]]["count"] = 0
+    out["gltf_no_keys"] = d
+    d = copy.deepcopy(doc)
+    d["nodes"][0]["matrix"] = [1, 0, 0, 0, 0, None, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]  # JS writes NaN as null
+    out["gltf_nan_matrix"] = d
+    d = copy.deepcopy(doc)
+    d["nodes"][4]["translation"] = [-1.2, 0.5, 0.1]  # inside boxA
+    out["gltf_camera_inside"] = d
+    return out
+
+
 def main():
+    if len(sys.argv) > 2 and sys.argv[1] == "--bad":
+        for name, d in bad_variants(build()[0]).items():
+            with open(os.path.join(sys.argv[2], name + ".gltf"), "w") as fh:
+                json.dump(d, fh, separators=(",", ":"))
+                fh.write("\n")
+        return
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
     doc, _ = build()
     with open(os.path.join(out, "animated.gltf"), "w") as fh:
