@@ -9,14 +9,14 @@ repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 # Debian packages aoeval needs. Everything comes from apt; nothing is downloaded from elsewhere.
 # python3-numpy and python3-openimageio: the shipped Python plug-ins (plugins/examples).
 # zlib1g-dev: the report viewer's compact data is deflated (reports/viewer.h).
-# openarena-data and libirrlicht-dev: the Quake 3 levels of the corpus (issue 44, README "Game
-# levels and CAD"); assimp-testmodels also holds its CAD models.
+# openarena-081-maps: OpenArena's Quake 3 levels, for the corpus's `oa-dm4` (issue 44);
+# assimp-testmodels also holds its CAD models.
 packages=(
   build-essential cmake ninja-build pkg-config clang-format fonts-dejavu-core
   libembree-dev libtbb-dev libglm-dev
   libopenimageio-dev openimageio-tools libopenexr-dev
   libassimp-dev assimp-testmodels libcgal-demo
-  openarena-data libirrlicht-dev
+  openarena-081-maps
   nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3
   libgtest-dev libgmock-dev libbenchmark-dev libnlopt-cxx-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-tools glslang-dev
@@ -64,16 +64,16 @@ if ((need_extract)); then
   echo "bootstrap: extracted ${#meshes[@]} meshes into $cache_dir/meshes" >&2
 fi
 
-# Irrlicht's Quake 3 level (issue 44, corpus `q3-20kdm2`): Debian ships it gzipped; assimp's Q3BSP
-# importer reads the .pk3 (a zip holding maps/20kdm2.bsp), so it is unzipped once into
-# "cache:levels/map-20kdm2.pk3".
-if [ ! -s "$cache_dir/levels/map-20kdm2.pk3" ]; then
-  level_gz="$(dpkg -L libirrlicht-dev 2>/dev/null | grep '/map-20kdm2\.pk3\.gz$' | head -n 1 || true)"
-  [ -n "$level_gz" ] && [ -f "$level_gz" ] || { echo "bootstrap: map-20kdm2.pk3.gz is missing (package libirrlicht-dev)" >&2; exit 1; }
+# OpenArena's level oa_dm4 (issue 44, corpus `oa-dm4`): extracted once from the maps archive into
+# "cache:levels/oa_dm4.bsp" (scenes/q3_bsp.h reads the .bsp; Debian's assimp cannot).
+if [ ! -s "$cache_dir/levels/oa_dm4.bsp" ]; then
+  pk3=/usr/share/games/openarena/baseoa/pak1-maps.pk3
+  [ -f "$pk3" ] || { echo "bootstrap: $pk3 is missing (package openarena-081-maps)" >&2; exit 1; }
   mkdir -p "$cache_dir/levels"
-  gzip -dc "$level_gz" >"$cache_dir/levels/map-20kdm2.pk3.tmp"
-  mv "$cache_dir/levels/map-20kdm2.pk3.tmp" "$cache_dir/levels/map-20kdm2.pk3"
-  echo "bootstrap: extracted map-20kdm2.pk3 into $cache_dir/levels" >&2
+  python3 -c 'import sys, zipfile; open(sys.argv[2], "wb").write(zipfile.ZipFile(sys.argv[1]).read("maps/oa_dm4.bsp"))' \
+    "$pk3" "$cache_dir/levels/oa_dm4.bsp.tmp"
+  mv "$cache_dir/levels/oa_dm4.bsp.tmp" "$cache_dir/levels/oa_dm4.bsp"
+  echo "bootstrap: extracted oa_dm4.bsp into $cache_dir/levels" >&2
 fi
 
 # Release build into build/. Configure once; later runs only rebuild what changed.
