@@ -299,7 +299,7 @@ void check_camera_outside(const GltfDocument& doc, const Scene& scene,
 }  // namespace
 
 std::vector<SceneObject> load_gltf_objects(const std::string& path, const std::string& prefix,
-                                          bool instanced) {
+                                           bool instanced) {
   const GltfDocument doc(path);
   const std::vector<GltfNode> nodes = read_gltf_nodes(doc);
   return build_objects(doc, nodes, prefix, instanced).objects;

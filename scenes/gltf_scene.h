@@ -22,7 +22,7 @@ Scene load_gltf_scene(const std::string& path);
 // {"name": N, "gltf": ...} object passes "N/"). `instanced` false writes a mesh used by several
 // nodes as one plain object per node (for the consumers that refuse instances).
 std::vector<SceneObject> load_gltf_objects(const std::string& path, const std::string& prefix,
-                                          bool instanced = true);
+                                           bool instanced = true);
 
 // Whether `path` names a glTF file (.glb or .gltf, any case).
 bool is_gltf_path(const std::string& path);

@@ -73,13 +73,11 @@ TEST(GltfScene, AnObjectOfASceneFile) {
   EXPECT_EQ(s.objects[1].name, "set/boxA");
   EXPECT_EQ(s.objects[2].name, "set/boxB");
   EXPECT_NEAR(s.bounds().extent().x, 2.0f, 1e-5f);  // the 10 m floor fitted to 2
-  std::ofstream(path) << R"({"objects": [{"name": "set", "gltf": ")" << kDir
-                      << R"(animated.gltf"}],
+  std::ofstream(path) << R"({"objects": [{"name": "set", "gltf": ")" << kDir << R"(animated.gltf"}],
     "views": [{"name": "v", "eye": [0, 1, 3], "target": [0, 0, 0]}]})";
   const Scene shared = load_scene_file(path);
   ASSERT_EQ(shared.objects.size(), 2u);
-  EXPECT_EQ(shared.objects[1].instance_names,
-            (std::vector<std::string>{"set/boxA", "set/boxB"}));
+  EXPECT_EQ(shared.objects[1].instance_names, (std::vector<std::string>{"set/boxA", "set/boxB"}));
 }
 
 TEST(GltfAnimation, StepLinearCubicAndSlerp) {
