@@ -95,6 +95,7 @@ void show_scene(const std::string& name, bool json) {
                          {"triangles", o.mesh.triangle_count()},
                          {"instances", o.instances.size()},
                          {"facts", o.facts}};
+    if (!o.instance_names.empty()) oj["instance_names"] = o.instance_names;
     if (o.proxy) {
       nlohmann::json shapes = nlohmann::json::array();
       for (const auto& e : o.proxy->shapes)
@@ -136,6 +137,11 @@ void show_scene(const std::string& name, bool json) {
     if (!o.instances.empty())
       std::printf("  %-16s instances %zu (%zu triangles as placed)\n", "", o.instances.size(),
                   o.instances.size() * o.mesh.triangle_count());
+    if (!o.instance_names.empty()) {  // glTF: the nodes sharing the mesh
+      std::string names;
+      for (const auto& n : o.instance_names) names += (names.empty() ? "" : ", ") + n;
+      std::printf("  %-16s one mesh, placed as %s\n", "", names.c_str());
+    }
     if (!o.facts.empty()) std::printf("  %-16s facts %s\n", "", o.facts.dump().c_str());
     if (o.proxy)
       std::printf("  %-16s proxy %s (%zu shape(s))\n", "", o.proxy->type.c_str(),
@@ -143,10 +149,14 @@ void show_scene(const std::string& name, bool json) {
     if (o.density) std::printf("  %-16s density %g\n", "", *o.density);
   }
   std::printf("views\n");
-  for (const auto& v : s.views)
-    std::printf("  %-10s eye [%.2f %.2f %.2f] target [%.2f %.2f %.2f] fov %.1f deg %dx%d\n",
+  for (const auto& v : s.views) {
+    std::printf("  %-10s eye [%.2f %.2f %.2f] target [%.2f %.2f %.2f] fov %.1f deg %dx%d",
                 v.name.c_str(), v.eye.x, v.eye.y, v.eye.z, v.target.x, v.target.y, v.target.z,
                 v.fov_y_deg, v.width, v.height);
+    if (v.sequence)
+      std::printf(", sequence of %d frames at %g fps", v.frame_count(), v.sequence->fps);
+    std::printf("\n");
+  }
 }
 
 }  // namespace

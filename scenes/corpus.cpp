@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "base/errors.h"
+#include "scenes/gltf_scene.h"
 
 namespace aoeval {
 
@@ -30,7 +31,8 @@ std::vector<std::string> corpus_names() {
   std::vector<std::string> others;
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(corpus_dir(), ec)) {
-    if (entry.path().extension() != ".json") continue;
+    const std::string ext = entry.path().extension().string();
+    if (ext != ".json" && ext != ".glb" && ext != ".gltf") continue;
     std::string stem = entry.path().stem().string();
     if (std::find(kContractOrder.begin(), kContractOrder.end(), stem) == kContractOrder.end())
       others.push_back(stem);
@@ -45,15 +47,17 @@ std::vector<std::string> corpus_names() {
 
 std::string resolve_scene_path(const std::string& name_or_path) {
   if (name_or_path.find('/') != std::string::npos ||
-      fs::path(name_or_path).extension() == ".json") {
+      fs::path(name_or_path).extension() == ".json" || is_gltf_path(name_or_path)) {
     std::error_code ec;  // a symlink loop or an unreadable folder is bad input, not a crash
     const bool exists = fs::exists(name_or_path, ec);
     if (ec) throw InputError(name_or_path + ": cannot read scene file (" + ec.message() + ")");
     if (!exists) throw InputError(name_or_path + ": scene file not found");
     return name_or_path;
   }
-  fs::path p = fs::path(corpus_dir()) / (name_or_path + ".json");
-  if (fs::exists(p)) return p.string();
+  for (const char* ext : {".json", ".glb", ".gltf"}) {
+    const fs::path p = fs::path(corpus_dir()) / (name_or_path + ext);
+    if (fs::exists(p)) return p.string();
+  }
   std::string known;
   for (const auto& n : corpus_names()) known += (known.empty() ? "" : ", ") + n;
   throw InputError("--scene: unknown scene '" + name_or_path + "' (corpus: " + known + ")");

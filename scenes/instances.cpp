@@ -239,7 +239,7 @@ Scene scene_as_copies(const Scene& scene) {
     for (size_t i = 0; i < o.instances.size(); ++i) {
       const glm::mat4& m = o.instances[i];
       SceneObject c;
-      c.name = o.name + "#" + std::to_string(i);
+      c.name = i < o.instance_names.size() ? o.instance_names[i] : o.name + "#" + std::to_string(i);
       c.role = o.role;
       c.source = o.source + " instance " + std::to_string(i);
       c.facts = o.facts;

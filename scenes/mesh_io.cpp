@@ -14,6 +14,7 @@
 
 #include "base/errors.h"
 #include "base/input_limits.h"
+#include "scenes/q3_bsp.h"
 
 namespace aoeval {
 
@@ -166,6 +167,7 @@ TriangleMesh load_mesh(const std::string& path) {
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return std::tolower(c); });
   if (ext == ".off") return load_off(path);
+  if (ext == ".bsp") return load_q3_bsp(path);  // assimp 5.2.5's Q3BSP importer fails (q3_bsp.h)
 
   Assimp::Importer importer;
   const aiScene* scene =

@@ -14,6 +14,7 @@
 #include "base/hash.h"
 #include "base/json_reader.h"
 #include "scenes/generators/generators.h"
+#include "scenes/gltf_scene.h"
 #include "scenes/instances.h"
 #include "scenes/mesh_io.h"
 
@@ -205,6 +206,46 @@ void place_proxy(const glm::mat4& m, TreeProxy& proxy) {
 
 namespace {
 
+// A {"name": N, "gltf": path} entry: the file's mesh nodes as objects "N/<node>" (README "glTF
+// scenes"), with the entry's role and albedo, and its "fit"/"transform" applied to them all.
+std::vector<SceneObject> load_gltf_entry(JsonReader& reader, const fs::path& scene_dir) {
+  const std::string name = reader.string("name");
+  const std::string rel = reader.string("gltf");
+  const std::string role = reader.choice("role", "solid", {"solid", "ground"});
+  const bool instanced =
+      reader.choice("shared_meshes", "instanced", {"instanced", "copies"}) == "instanced";
+  const glm::vec3 albedo = reader.vec3("albedo", glm::vec3(0.7f));
+  for (int c = 0; c < 3; ++c)
+    if (albedo[c] < 0.0f || albedo[c] > 1.0f) reader.fail("albedo", "components must be in [0, 1]");
+  const fs::path path =
+      rel.rfind("cache:", 0) == 0 ? fs::path(resolve_cache_mesh(rel.substr(6))) : scene_dir / rel;
+  std::vector<SceneObject> objects;
+  try {
+    objects = load_gltf_objects(path.string(), name + "/", instanced);
+  } catch (const InputError& e) {
+    reader.fail("gltf", e.what());
+  }
+  if (objects.empty()) reader.fail("gltf", path.string() + ": no mesh node");
+  Bounds all;
+  for (const auto& o : objects) all.extend(placed_bounds(o));
+  const Placement placement = read_placement(reader, all);
+  for (auto& o : objects) {
+    o.role = role == "ground" ? Role::ground : Role::solid;
+    o.albedo = albedo;
+    if (o.instances.empty()) {
+      apply(placement, o.mesh);
+      validate_mesh(o.mesh, reader.file() + ": " + reader.where("gltf") + " (placed)");
+    } else {
+      for (auto& m : o.instances) {
+        m = placement.matrix * m;
+        validate_instance(m, o.mesh.bounds(), reader.file() + ": " + reader.where("gltf"));
+      }
+    }
+  }
+  reader.finish();
+  return objects;
+}
+
 // Reads one object; `reader` is consumed. Runs on a worker thread.
 SceneObject load_object(JsonReader reader, const fs::path& scene_dir) {
   SceneObject obj;
@@ -333,6 +374,7 @@ View read_view(JsonReader r) {
 }  // namespace
 
 std::vector<View> load_scene_views(const std::string& path) {
+  if (is_gltf_path(path)) return load_gltf_scene(path).views;
   nlohmann::json doc = parse_json_file(path);
   JsonReader root(doc, path);
   std::vector<std::string> object_names;
@@ -343,12 +385,17 @@ std::vector<View> load_scene_views(const std::string& path) {
         object_names.push_back(o["name"].get<std::string>());
   std::vector<View> views;
   for (auto& v : root.array_of_objects("views", 1)) views.push_back(read_view(v));
+  // A glTF entry's object names ("N/<node>") are known only once its file is read.
+  const bool has_gltf = objects.is_array() &&
+                        std::any_of(objects.begin(), objects.end(),
+                                    [](auto& o) { return o.is_object() && o.contains("gltf"); });
   for (const auto& v : views)
-    if (v.sequence) check_sequence_objects(*v.sequence, object_names, path, v.name);
+    if (v.sequence && !has_gltf) check_sequence_objects(*v.sequence, object_names, path, v.name);
   return views;
 }
 
 Scene load_scene_file(const std::string& path) {
+  if (is_gltf_path(path)) return load_gltf_scene(path);
   nlohmann::json doc = parse_json_file(path);
   JsonReader root(doc, path);
   Scene scene;
@@ -364,17 +411,22 @@ Scene load_scene_file(const std::string& path) {
                          scene.views[i].name + "'");
 
   const fs::path dir = fs::path(path).parent_path();
-  scene.objects.resize(object_readers.size());
+  std::vector<std::vector<SceneObject>> loaded(object_readers.size());
   std::vector<std::exception_ptr> errors(object_readers.size());
   tbb::parallel_for(size_t(0), object_readers.size(), [&](size_t i) {
     try {
-      scene.objects[i] = load_object(object_readers[i], dir);
+      if (object_readers[i].has("gltf"))
+        loaded[i] = load_gltf_entry(object_readers[i], dir);
+      else
+        loaded[i].push_back(load_object(object_readers[i], dir));
     } catch (...) {
       errors[i] = std::current_exception();
     }
   });
   for (const auto& e : errors)  // report the first failing object, in file order
     if (e) std::rethrow_exception(e);
+  for (auto& objects : loaded)
+    for (auto& o : objects) scene.objects.push_back(std::move(o));
   for (size_t i = 0; i < scene.objects.size(); ++i)
     for (size_t j = 0; j < i; ++j)
       if (scene.objects[i].name == scene.objects[j].name)

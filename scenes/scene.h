@@ -48,6 +48,8 @@ struct SceneObject {
   // Issue 45 (scenes/instances.h): when non-empty, `mesh` and `proxy` are the prototype, in its own
   // space after the object's fit/transform, and each matrix places one copy of it in the world.
   std::vector<glm::mat4> instances;
+  // glTF (scenes/gltf_scene.h): the node each instance is, by name (empty for scene-file objects).
+  std::vector<std::string> instance_names;
 };
 
 // The object's world-space bounds: its mesh's, or the union over its instances of the placed

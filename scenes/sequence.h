@@ -32,12 +32,23 @@ struct ObjectKey {
 
 enum class Jitter { none, halton };
 
+// A camera as sampled at one frame (glTF animations, scenes/gltf_scene.h).
+struct CameraPose {
+  glm::vec3 eye{0.0f}, target{0.0f}, up{0.0f, 1.0f, 0.0f};
+};
+
 struct Sequence {
   int frames = 1;
   double fps = 30.0;
   Jitter jitter = Jitter::none;
   std::vector<CameraKey> camera;                          // by frame; may be empty (static)
   std::map<std::string, std::vector<ObjectKey>> objects;  // object name -> keys by frame
+  // glTF animations (scenes/gltf_scene.h) are sampled ahead, not keyed. When non-empty,
+  // `sampled_camera` holds every frame's camera (up included), and `sampled_motion` the world-space
+  // motion of each named object's placements, [frame][placement] (one placement for a plain
+  // object, one per instance otherwise); they take the place of `camera` and `objects`.
+  std::vector<CameraPose> sampled_camera;
+  std::map<std::string, std::vector<std::vector<glm::mat4>>> sampled_motion;
 };
 
 // The largest sequence a view may ask for (a typo guard like the sweep's point limit): 100,000

@@ -26,12 +26,27 @@ SequenceFrame sequence_frame(const Scene& scene, const View& view, int k) {
   f.motion.assign(ids.count, glm::mat4(1.0f));
   if (!view.sequence) return f;
   const Sequence& s = *view.sequence;
-  const CameraKey c = camera_at(s, view.eye, view.target, k);
-  f.view.eye = c.eye;
-  f.view.target = c.target;
+  if (s.sampled_camera.empty()) {
+    const CameraKey c = camera_at(s, view.eye, view.target, k);
+    f.view.eye = c.eye;
+    f.view.target = c.target;
+  } else {
+    const CameraPose& c = s.sampled_camera[static_cast<size_t>(k)];
+    f.view.eye = c.eye;
+    f.view.target = c.target;
+    f.view.up = c.up;
+  }
   f.jitter = frame_jitter(s, k);
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const SceneObject& o = scene.objects[i];
+    if (const auto sampled = s.sampled_motion.find(o.name); sampled != s.sampled_motion.end()) {
+      const std::vector<glm::mat4>& m = sampled->second[static_cast<size_t>(k)];
+      for (size_t j = 0; j < m.size(); ++j) {
+        f.motion[ids.first[i] + j] = m[j];
+        if (m[j] != glm::mat4(1.0f)) f.moves_objects = true;
+      }
+      continue;
+    }
     if (!s.objects.count(o.name)) continue;
     // The pivot: the centre of the object as placed (all its instances).
     const glm::mat4 m = motion_matrix(object_key_at(s, o.name, k), placed_bounds(o).center());
@@ -43,8 +58,8 @@ SequenceFrame sequence_frame(const Scene& scene, const View& view, int k) {
 }
 
 bool same_pose(const SequenceFrame& a, const SequenceFrame& b) {
-  return a.view.eye == b.view.eye && a.view.target == b.view.target && a.jitter == b.jitter &&
-         a.motion == b.motion;
+  return a.view.eye == b.view.eye && a.view.target == b.view.target && a.view.up == b.view.up &&
+         a.jitter == b.jitter && a.motion == b.motion;
 }
 
 int unchanged_since(const Scene& scene, const View& view, int k) {
@@ -64,18 +79,21 @@ Scene posed_scene(const Scene& base, const SequenceFrame& frame) {
   Scene s = base;
   const PlacementIds ids(s);
   for (size_t i = 0; i < s.objects.size(); ++i) {
-    const glm::mat4& m = frame.motion[ids.first[i]];
-    if (m == glm::mat4(1.0f)) continue;
     SceneObject& o = s.objects[i];
-    if (!o.instances.empty()) {  // the prototype stays; every placement moves
-      for (glm::mat4& placement : o.instances) placement = m * placement;
+    if (!o.instances.empty()) {  // the prototype stays; every placement moves with its own motion
+      for (size_t j = 0; j < o.instances.size(); ++j)
+        o.instances[j] = frame.motion[ids.first[i] + j] * o.instances[j];
       continue;
     }
+    const glm::mat4& m = frame.motion[ids.first[i]];
+    if (m == glm::mat4(1.0f)) continue;
     const glm::mat3 linear(m);
     const glm::mat3 normal_matrix = glm::transpose(glm::inverse(linear));
     for (auto& v : o.mesh.positions) v = glm::vec3(m * glm::vec4(v, 1.0f));
     for (auto& n : o.mesh.normals) n = glm::normalize(normal_matrix * n);
-    // Scales are positive (read_sequence), so the winding is kept.
+    // Keyed scales are positive (read_sequence); a glTF pose may mirror: keep the winding.
+    if (glm::determinant(linear) < 0.0f)
+      for (auto& t : o.mesh.triangles) std::swap(t.y, t.z);
     if (o.proxy)
       for (auto& e : o.proxy->shapes) {
         e.center = glm::vec3(m * glm::vec4(e.center, 1.0f));

@@ -9,11 +9,14 @@ repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 # Debian packages aoeval needs. Everything comes from apt; nothing is downloaded from elsewhere.
 # python3-numpy and python3-openimageio: the shipped Python plug-ins (plugins/examples).
 # zlib1g-dev: the report viewer's compact data is deflated (reports/viewer.h).
+# openarena-081-maps: OpenArena's Quake 3 levels, for the corpus's `oa-dm4` (issue 44);
+# assimp-testmodels also holds its CAD models.
 packages=(
   build-essential cmake ninja-build pkg-config clang-format fonts-dejavu-core
   libembree-dev libtbb-dev libglm-dev
   libopenimageio-dev openimageio-tools libopenexr-dev
   libassimp-dev assimp-testmodels libcgal-demo
+  openarena-081-maps
   nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3
   libgtest-dev libgmock-dev libbenchmark-dev libnlopt-cxx-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-tools glslang-dev
@@ -59,6 +62,18 @@ if ((need_extract)); then
   for m in "${meshes[@]}"; do mv "$tmp/data/meshes/$m" "$cache_dir/meshes/$m.tmp" && mv "$cache_dir/meshes/$m.tmp" "$cache_dir/meshes/$m"; done
   rm -rf "$tmp"
   echo "bootstrap: extracted ${#meshes[@]} meshes into $cache_dir/meshes" >&2
+fi
+
+# OpenArena's level oa_dm4 (issue 44, corpus `oa-dm4`): extracted once from the maps archive into
+# "cache:levels/oa_dm4.bsp" (scenes/q3_bsp.h reads the .bsp; Debian's assimp cannot).
+if [ ! -s "$cache_dir/levels/oa_dm4.bsp" ]; then
+  pk3=/usr/share/games/openarena/baseoa/pak1-maps.pk3
+  [ -f "$pk3" ] || { echo "bootstrap: $pk3 is missing (package openarena-081-maps)" >&2; exit 1; }
+  mkdir -p "$cache_dir/levels"
+  python3 -c 'import sys, zipfile; open(sys.argv[2], "wb").write(zipfile.ZipFile(sys.argv[1]).read("maps/oa_dm4.bsp"))' \
+    "$pk3" "$cache_dir/levels/oa_dm4.bsp.tmp"
+  mv "$cache_dir/levels/oa_dm4.bsp.tmp" "$cache_dir/levels/oa_dm4.bsp"
+  echo "bootstrap: extracted oa_dm4.bsp into $cache_dir/levels" >&2
 fi
 
 # Release build into build/. Configure once; later runs only rebuild what changed.

@@ -25,7 +25,7 @@ std::vector<std::string> names(const std::vector<SuitePoint>& points) {
 
 TEST(Suite, ShippedSuitesParse) {
   const auto shipped = shipped_suites();
-  for (const char* name : {"quick", "default", "paper"}) {
+  for (const char* name : {"quick", "default", "paper", "levels"}) {
     EXPECT_NE(std::find(shipped.begin(), shipped.end(), name), shipped.end()) << name;
     const Suite s = load_suite(name);
     EXPECT_EQ(s.name, name);
