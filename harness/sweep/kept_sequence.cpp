@@ -29,7 +29,8 @@ void keep_sequence(const std::string& out, const std::string& base, const SweepP
   nlohmann::json kept = nlohmann::json::array();
   for (const KeptFrame& f : keep_frames ? m.kept_frames : std::vector<KeptFrame>{}) {
     const std::string estimate = (dir_rel / frame_file_name(f.frame)).string();
-    write_exr((fs::path(out) / estimate).string(), f.estimate, f.attributes);
+    write_exr((fs::path(out) / estimate).string(),
+              references.exact() ? f.estimate : at_half_precision(f.estimate), f.attributes);
     nlohmann::json entry = {{"frame", f.frame}, {"estimate", estimate}};
     if (!f.reference_cache.empty())
       entry["reference"] = references.keep_frame(session, p.scene, view, m.width, m.height,
