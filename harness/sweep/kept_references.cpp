@@ -57,7 +57,9 @@ void KeptReferences::copy(const std::string& from, const std::string& rel) {
     if (exact_) {
       fs::copy_file(from, temp, fs::copy_options::overwrite_existing);
     } else {
-      write_exr(temp, at_half_precision(read_image(from)), {});
+      // aoeval:checksum, copied from the cache entry, must describe the rounded pixels.
+      const OIIO::ImageBuf rounded = at_half_precision(read_image(from));
+      write_exr(temp, rounded, {{"aoeval:checksum", image_checksum(rounded)}});
     }
   }
   commit_temporary(temp, target.string());

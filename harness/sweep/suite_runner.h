@@ -34,7 +34,7 @@ struct SuiteRunOptions {
   // while frames are timed: set by `aoeval run`, which draws the report's charts at the end.
   bool prestart_plot_workers = false;
   // The kept references and sequence frames as the cache's float32s, bit for bit (`aoeval run
-  // --viewer-exact`); false: at float16 precision, about 2.6x smaller (kept_references.h).
+  // --viewer-exact`); false: at float16 precision, about 1.6x smaller (kept_references.h).
   bool exact_kept_files = false;
 };
 
