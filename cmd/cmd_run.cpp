@@ -74,8 +74,9 @@ void add_run_command(CLI::App& app) {
                   "with --shard: the cost-balanced plan's shard (written by --slurm)");
   static bool viewer_exact = false;
   cmd->add_flag("--viewer-exact", viewer_exact,
-                "the viewer's data as the EXRs' float32s, exactly (default: compact, float16 where "
-                "that keeps every value within 1e-3, deflated; about 10x smaller)");
+                "the viewer's data, kept references and sequence frames as the EXRs' float32s, "
+                "exactly (default: compact, float16 where that keeps every value within 1e-3, "
+                "deflated; about 10x smaller)");
   static ClusterOptions c;
   add_cluster_options(cmd, c);
   cmd->add_flag("--resume", c.resume,
@@ -87,6 +88,7 @@ void add_run_command(CLI::App& app) {
           "is one pass; use `aoeval sweep --resume` for an interruptible one)");
     check_cluster_options(cmd, c);
     if (viewer_exact) set_default_viewer_data(ViewerData::exact);
+    o.exact_kept_files = viewer_exact;
     if (c.slurm || c.references_only) {
       Suite suite = load_suite(o.suite);
       std::vector<SuiteOverride> overrides;

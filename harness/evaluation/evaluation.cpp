@@ -11,6 +11,7 @@
 #include "base/summary.h"
 #include "base/version.h"
 #include "estimators/registry.h"
+#include "harness/evaluation/repetition_policy.h"
 #include "harness/scoring/bent_metrics.h"
 #include "harness/scoring/metrics.h"
 #include "references/cache_lock.h"
@@ -484,7 +485,7 @@ Measurement EvaluationSession::measure(const EvaluationRequest& req) {
       }
     } after_frames{after_timed_frames_};
     const auto timer = stages_.time(StageTimes::kEstimatorFrames);
-    for (int i = 0; i < std::max(1, timing_.repetitions); ++i) {
+    while (!enough_repetitions(timing_, times)) {
       const auto t0 = std::chrono::steady_clock::now();
       result = estimator->run(context);
       const double wall = ms_since(t0);

@@ -32,7 +32,9 @@ struct ReferenceSpec {
 
 struct TimingSpec {
   int warmup = 1;
-  int repetitions = 5;
+  int repetitions = 5;  // fixed, or the least when max_repetitions is larger (repetition_policy.h)
+  int max_repetitions = 0;
+  double median_ci = 0.05;
 };
 
 struct EvaluationRequest {

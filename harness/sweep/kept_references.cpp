@@ -1,11 +1,15 @@
 #include "harness/sweep/kept_references.h"
 
+#include <Imath/half.h>
+
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
 #include "base/text_files.h"
 #include "harness/results/result_row.h"
 #include "references/reference_cache.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 
@@ -29,11 +33,35 @@ std::string KeptReferences::stem(EvaluationSession& session, const std::string& 
                        "/seed:" + std::to_string(spec.seed));
 }
 
+OIIO::ImageBuf at_half_precision(const OIIO::ImageBuf& image) {
+  OIIO::ImageBuf out;
+  out.copy(image, OIIO::TypeDesc::FLOAT);
+  const int channels = out.nchannels();
+  for (OIIO::ImageBuf::Iterator<float> it(out); !it.done(); ++it)
+    for (int c = 0; c < channels; ++c) {
+      const float v = it[c];
+      if (std::isfinite(v) && std::fabs(v) <= HALF_MAX) it[c] = static_cast<float>(half(v));
+    }
+  return out;
+}
+
 void KeptReferences::copy(const std::string& from, const std::string& rel) {
   const fs::path target = fs::path(out_) / rel;
   fs::create_directories(target.parent_path());
   const std::string temp = temporary_path_for(target.string());  // one naming: leftovers are found
-  fs::copy_file(from, temp, fs::copy_options::overwrite_existing);
+  fs::remove(temp);
+  const auto [kept, fresh] = kept_from_.emplace(from, rel);
+  std::error_code not_linked;
+  if (!fresh) fs::create_hard_link(fs::path(out_) / kept->second, temp, not_linked);
+  if (fresh || not_linked) {
+    if (exact_) {
+      fs::copy_file(from, temp, fs::copy_options::overwrite_existing);
+    } else {
+      // aoeval:checksum, copied from the cache entry, must describe the rounded pixels.
+      const OIIO::ImageBuf rounded = at_half_precision(read_image(from));
+      write_exr(temp, rounded, {{"aoeval:checksum", image_checksum(rounded)}});
+    }
+  }
   commit_temporary(temp, target.string());
 }
 

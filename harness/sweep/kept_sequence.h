@@ -3,8 +3,9 @@
 // folder <out>/<base>/sequences/<file_stem_for(run name)>/ (base "" for a sweep, runs/<run id>
 // for a suite run):
 //   frame_KKKK.exr   the estimate of each kept frame (kept_sequence_frames(): at most
-//                    kMaxKeptFrames, float AO and A as the row's estimate EXR, about 3 bytes a
-//                    pixel compressed), so a point costs at most 48 still estimates on disk
+//                    kMaxKeptFrames, float AO and A as the row's estimate EXR; at float16
+//                    precision unless `references.exact()`, as the kept references are), so a
+//                    point costs at most 48 still estimates on disk
 //   sequence.json    the report's manifest: frames, fps, the kept frames with their estimate and
 //                    reference EXRs (relative to <out>), rmse_excess by frame (matched, and
 //                    true_rmse_excess by frame) and by frames since disocclusion, disoccluded
@@ -12,9 +13,9 @@
 //   maps.exr         the flicker and lag maps (harness/scoring/temporal.h): channels flicker,
 //                    lag and A (1 where the flicker map has a value), 0 where a map never counted
 //   frames.csv       one line per frame (results_store.h)
-// and each kept frame's matched reference, copied from the cache entry it was scored against, to
-// <out>/references/<the still reference's name>/frame_KKKK.exr (once per run: points of one view
-// share them). Every file is written atomically, and all of them before the row is committed:
+// and each kept frame's matched reference, kept (kept_references.h) from the cache entry it was
+// scored against, to <out>/references/<the still reference's name>/frame_KKKK.exr (once per run:
+// points of one view share them; a frame that reuses its predecessor's entry is a hard link). Every file is written atomically, and all of them before the row is committed:
 // a committed row has all of its files, and a point killed before its row is redone whole by
 // --resume, which rewrites them.
 #pragma once

@@ -8,6 +8,7 @@
 #include "base/errors.h"
 #include "base/json_reader.h"
 #include "estimators/registry.h"
+#include "harness/evaluation/repetition_policy.h"
 
 namespace aoeval {
 
@@ -125,8 +126,7 @@ std::vector<SuitePoint> expand_suite(const Suite& suite) {
         const std::string key = p.estimator->name + "|" + params.json().dump() + "|" + p.scene +
                                 "|" + p.view + "|" + std::to_string(p.width) + "x" +
                                 std::to_string(p.height) + "|" + spec.reference.to_json().dump() +
-                                "|" + std::to_string(spec.timing.warmup) + "," +
-                                std::to_string(spec.timing.repetitions);
+                                "|" + timing_key(spec.timing);
         const auto [it, fresh] = seen.emplace(key, points.size());
         if (!fresh) {  // already listed: it keeps its place and becomes featured if this one is
           points[it->second].featured = points[it->second].featured || run.grid.empty();

@@ -16,6 +16,7 @@
 #include "harness/evaluation/background_lane.h"
 #include "harness/evaluation/evaluation.h"
 #include "harness/evaluation/progress.h"
+#include "harness/evaluation/repetition_policy.h"
 #include "harness/results/results_store.h"
 #include "harness/results/run_recorder.h"
 #include "harness/results/suite_record.h"
@@ -52,8 +53,8 @@ std::string resolution(int w, int h) {
 // run), mosaics, and the G-buffers for the gallery.
 class RunImages {
  public:
-  RunImages(std::string out, std::string run_dir)
-      : out_(std::move(out)), run_dir_(std::move(run_dir)), references_(out_) {}
+  RunImages(std::string out, std::string run_dir, bool exact)
+      : out_(std::move(out)), run_dir_(std::move(run_dir)), references_(out_, exact) {}
 
   // A sequence point's kept frames, references and manifest (kept_sequence.h).
   std::vector<KeptImage> keep_sequence(EvaluationSession& session, const SweepPoint& p,
@@ -253,15 +254,13 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
   // One session per (reference, timing) of the suite's specs; the shipped suites share one.
   std::map<std::string, std::unique_ptr<EvaluationSession>> sessions;
   auto session_for = [&](const SweepSpec& spec) -> EvaluationSession& {
-    const std::string key = spec.reference.to_json().dump() + "|" +
-                            std::to_string(spec.timing.warmup) + "," +
-                            std::to_string(spec.timing.repetitions);
+    const std::string key = spec.reference.to_json().dump() + "|" + timing_key(spec.timing);
     auto& s = sessions[key];
     if (!s) s = std::make_unique<EvaluationSession>(spec.reference, spec.timing);
     return *s;
   };
 
-  RunImages images(out, run_dir);
+  RunImages images(out, run_dir, o.exact_kept_files);
   SuiteRun result;
   result.stages.add("run set-up (suite, store, machine and git probe)",
                     seconds_since(t_start) * 1000.0);

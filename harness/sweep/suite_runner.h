@@ -33,6 +33,9 @@ struct SuiteRunOptions {
   // Start the report's plot workers (drawing/plot_workers.h) at the start of the run, stopped
   // while frames are timed: set by `aoeval run`, which draws the report's charts at the end.
   bool prestart_plot_workers = false;
+  // The kept references and sequence frames as the cache's float32s, bit for bit (`aoeval run
+  // --viewer-exact`); false: at float16 precision, about 1.6x smaller (kept_references.h).
+  bool exact_kept_files = false;
 };
 
 // What a run leaves for its report (cmd/cmd_run.cpp writes the page with reports/).

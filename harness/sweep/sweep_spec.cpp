@@ -132,6 +132,10 @@ SweepSpec parse_sweep_spec(const nlohmann::json& doc, const std::string& file) {
     spec.timing.warmup = static_cast<int>(t->integer("warmup", defaults.warmup, 0, 1000));
     spec.timing.repetitions =
         static_cast<int>(t->integer("repetitions", defaults.repetitions, 1, 10000));
+    // Adaptive (harness/evaluation/repetition_policy.h): "repetitions" is then the least.
+    spec.timing.max_repetitions = static_cast<int>(
+        t->integer("max_repetitions", spec.timing.repetitions, spec.timing.repetitions, 10000));
+    spec.timing.median_ci = t->number("median_ci", defaults.median_ci, 0.001, 1.0);
     t->finish();
   }
   for (auto& run : root.array_of_objects("runs", 1)) {
