@@ -54,22 +54,28 @@ expect_status() {  # expect_status CODE COMMAND...
   fi
 }
 
-# expect_viewer_check_fails PAGE SAMPLES TOLERANCE MESSAGE: check_viewer.js must fail (exit 1) on
-# the broken copy PAGE of a page, saying MESSAGE.
-expect_viewer_check_fails() {
-  local page="$1" samples="$2" tolerance="$3" message="$4" checker
+# expect_checker_fails WHAT MESSAGE CHECKER ARGS...: the checker script CHECKER (run by node with
+# ARGS) must fail (exit 1) on a planted broken page, saying MESSAGE; WHAT names the plant.
+expect_checker_fails() {
+  local what="$1" message="$2" checker="$3" status
+  shift 3
   set +e
-  NODE_PATH="$modules/node_modules" node "$here/check_viewer.js" --screenshots "$work/shots" \
-    --tolerance "$tolerance" --interact -1 --samples "$samples" "$page/index.html" \
-    >viewer-checker.txt 2>&1
-  checker=$?
+  NODE_PATH="$modules/node_modules" node "$here/$checker" "$@" >checker-output.txt 2>&1
+  status=$?
   set -e
-  if [ "$checker" -ne 1 ] || ! grep -q "$message" viewer-checker.txt; then
-    echo "browser_test: the viewer checker missed \"$message\" in $page (exit $checker):"
-    cat viewer-checker.txt
+  if [ "$status" -ne 1 ] || ! grep -q "$message" checker-output.txt; then
+    echo "browser_test: $checker missed \"$message\" in $what (exit $status):"
+    cat checker-output.txt
     exit 1
   fi
-  echo "browser_test: the viewer checker catches $page: $(grep -m 1 "$message" viewer-checker.txt)"
+  echo "browser_test: $checker catches $what: $(grep -m 1 "$message" checker-output.txt)"
+}
+
+# expect_viewer_check_fails PAGE SAMPLES TOLERANCE MESSAGE: check_viewer.js must fail on the broken
+# copy PAGE of a page, saying MESSAGE.
+expect_viewer_check_fails() {
+  expect_checker_fails "$1" "$4" check_viewer.js --screenshots "$work/shots" --tolerance "$3" \
+    --interact -1 --samples "$2" "$1/index.html"
 }
 
 expect_status 0 "$aoeval" run --suite tiny.json --out suite-a --db r.sqlite
@@ -205,15 +211,7 @@ rows = re.findall(r"<tr>.*?</tr>\n", html[start:end], re.S)
 assert len(rows) >= 2, rows
 open(path, "w").write(html[:start] + "\n" + "".join(reversed(rows)) + html[end:])
 PY
-set +e
-NODE_PATH="$modules/node_modules" node "$here/check_ranking.js" ranking-broken/index.html >ranking-checker.txt 2>&1
-checker=$?
-set -e
-if [ "$checker" -ne 1 ] || ! grep -q "is below" ranking-checker.txt; then
-  echo "browser_test: the ranking checker missed a reversed leaderboard (exit $checker):"
-  cat ranking-checker.txt
-  exit 1
-fi
+expect_checker_fails "a reversed leaderboard" "is below" check_ranking.js ranking-broken/index.html
 NODE_PATH="$modules/node_modules" node "$here/check_ranking.js" \
   --screenshot "$build/test-artifacts/ranking-leaderboard.png" mix/index.html
 # The G-buffer gallery's viewers: Z and N under the probe equal the EXR's.
