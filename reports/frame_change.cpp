@@ -64,7 +64,10 @@ std::string spans_text(const std::vector<std::pair<int, int>>& spans) {
   for (const auto& [first, last] : spans) {
     if (!out.empty()) out += ", ";
     out += std::to_string(first);
-    if (last != first) out += "-" + std::to_string(last);
+    if (last != first) {  // appended in two steps: GCC 12's -Wrestrict misfires on "-" + string
+      out += '-';
+      out += std::to_string(last);
+    }
   }
   return out;
 }

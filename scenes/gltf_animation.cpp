@@ -67,7 +67,10 @@ std::vector<GltfNode> read_gltf_nodes(const GltfDocument& doc) {
     std::string name =
         j.contains("name") && j["name"].is_string() ? j["name"].get<std::string>() : "";
     if (name.empty()) name = where;
-    if (used.count(name)) name += "." + std::to_string(i);
+    if (used.count(name)) {  // appended in two steps: GCC 12's -Wrestrict misfires on "." + string
+      name += '.';
+      name += std::to_string(i);
+    }
     used.insert(name);
     n.name = name;
     n.mesh = optional_index(doc, j, "mesh", "meshes", where);

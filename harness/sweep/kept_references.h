@@ -9,8 +9,8 @@
 // default suite's still references: 16.5 MB -> 10.4 MB). The viewer's compact
 // data are float16 too, so its probe returns exactly the kept file's values. A frame whose cache
 // entry is one already kept (a frame that does not change reuses its predecessor's reference) is
-// a hard link to that file, not a second copy. `exact` (`aoeval run --viewer-exact`): bit-for-bit
-// copies of the cache entries, as before.
+// a hard link to that file, not a second copy. `exact` (`aoeval sweep`, `aoeval run
+// --viewer-exact`): bit-for-bit copies of the cache entries, as before.
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>

@@ -15,8 +15,9 @@
 //   frames.csv       one line per frame (results_store.h)
 // and each kept frame's matched reference, kept (kept_references.h) from the cache entry it was
 // scored against, to <out>/references/<the still reference's name>/frame_KKKK.exr (once per run:
-// points of one view share them; a frame that reuses its predecessor's entry is a hard link). Every file is written atomically, and all of them before the row is committed:
-// a committed row has all of its files, and a point killed before its row is redone whole by
+// points of one view share them; a frame that reuses its predecessor's entry is a hard link). Every
+// file is written atomically, and all of them before the row is committed: a committed row has all
+// of its files, and a point killed before its row is redone whole by
 // --resume, which rewrites them.
 #pragma once
 

@@ -97,7 +97,9 @@ int run_sweep(const SweepOptions& o, std::string* out_dir) {
   // against, kept under <out>/references/; a resumed sweep keeps those of its earlier part.
   std::map<std::string, SuiteReportEntry> kept;
   if (o.resume && has_suite_record(out)) kept = read_suite_record(out).entries;
-  KeptReferences references(out);
+  // Bit for bit: a sweep is what users rescore (`compare --sequence` on its kept files must give
+  // the row's keys exactly); the float16 rounding is for `aoeval run`'s report folder.
+  KeptReferences references(out, /*exact=*/true);
   if (o.resume) {
     recorder.resume();
     for (const ResultRow& r : recorder.rows()) done.insert(r.run_name);
