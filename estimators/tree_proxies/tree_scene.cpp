@@ -10,26 +10,47 @@ namespace aoeval {
 
 std::vector<ParamSpec> tree_scene_params() {
   return {
-      choice_param("proxy_source", "auto", {"auto", "derived"},
-                   "auto: the scene file's proxy when it has one of this kind, else derived; "
-                   "derived: always "
-                   "derive from the leaves (§3 bounding sphere, ellipsoid, §5 k-means shells)"),
-      bool_param("ground_horizon", true,
-                 "eq. 7-8: count only the part of a tree's silhouette above the shaded point's "
-                 "tangent plane "
-                 "(false: eq. 8 verbatim)"),
+      choice_param(
+          {.name = "proxy_source",
+           .def = "auto",
+           .choices = {"auto", "derived"},
+           .meaning = "auto: the scene file's proxy when it has one of this kind, else derived; "
+                      "derived: always "
+                      "derive from the leaves (§3 bounding sphere, ellipsoid, §5 k-means shells)"}),
       bool_param(
-          "grass_ground", true,
-          "ground pixels inside a grass field's footprint and below its tips use eq. 9 at their "
-          "height"),
-      real_param("blade_height", 0.0, 0.0, 1e6, Spacing::linear, "scene units",
-                 "h of eq. 9; 0 = each grass object's height (its world-space vertical extent)"),
-      real_param("cull_occlusion", kExactCull, 0.0, 0.25, Spacing::linear, "",
-                 "eq. 7-8: a tree is skipped where its occlusion is at most this by the bound "
-                 "r_max^2 / (2 d^2), i.e. beyond r_max / sqrt(2 cull_occlusion) of its centre, "
-                 "found through a grid over the trees; the default 2^-26 skips only factors that "
-                 "round to 1.0f (bit-equal to every tree), larger values change a pixel by at most "
-                 "the sum of its skipped occlusions; 0 visits every tree"),
+          {.name = "ground_horizon",
+           .def = true,
+           .meaning =
+               "eq. 7-8: count only the part of a tree's silhouette above the shaded point's "
+               "tangent plane "
+               "(false: eq. 8 verbatim)"}),
+      bool_param({.name = "grass_ground",
+                  .def = true,
+                  .meaning = "ground pixels inside a grass field's footprint and below its tips "
+                             "use eq. 9 at their "
+                             "height"}),
+      real_param(
+          {.name = "blade_height",
+           .def = 0.0,
+           .min = 0.0,
+           .max = 1e6,
+           .spacing = Spacing::linear,
+           .unit = "scene units",
+           .meaning =
+               "h of eq. 9; 0 = each grass object's height (its world-space vertical extent)"}),
+      real_param(
+          {.name = "cull_occlusion",
+           .def = kExactCull,
+           .min = 0.0,
+           .max = 0.25,
+           .spacing = Spacing::linear,
+           .unit = "",
+           .meaning =
+               "eq. 7-8: a tree is skipped where its occlusion is at most this by the bound "
+               "r_max^2 / (2 d^2), i.e. beyond r_max / sqrt(2 cull_occlusion) of its centre, "
+               "found through a grid over the trees; the default 2^-26 skips only factors that "
+               "round to 1.0f (bit-equal to every tree), larger values change a pixel by at most "
+               "the sum of its skipped occlusions; 0 visits every tree"}),
   };
 }
 
