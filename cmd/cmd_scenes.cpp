@@ -174,8 +174,15 @@ void export_scene(const ExportOptions& o) {
   Scene s = load_scene(o.name);
   const View& view = s.view(o.view);
   const Camera camera = make_camera(view, w, h);
-  if (!o.camera.empty()) write_text(o.camera, camera_to_json(s, view, camera).dump(2) + "\n");
+  const std::string camera_text = camera_to_json(s, view, camera).dump(2) + "\n";
   write_scene_ply(s, o.ply);
+  if (o.camera.empty()) return;
+  try {  // both files or neither
+    write_text(o.camera, camera_text);
+  } catch (...) {
+    std::remove(o.ply.c_str());
+    throw;
+  }
 }
 
 }  // namespace
