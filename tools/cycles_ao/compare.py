@@ -103,7 +103,8 @@ def main():
     view = ["--view", a.view] if a.view else []
     common = ["--scene", a.scene, *view, "--res", a.res]
     run([a.aoeval, "scenes", "export", a.scene, *view, "--res", a.res,
-         "--out", os.path.join(a.work, "scene.ply"), "--camera", os.path.join(a.work, "camera.json")])
+         "--out", os.path.join(a.work, "scene.ply"),
+         "--camera", os.path.join(a.work, "camera.json")])
     run([a.aoeval, "gbuffer", *common, "-o", os.path.join(a.work, "gbuffer.exr")])
     run([a.aoeval, "reference", *common, "--spp", str(a.spp), "--weighting", "cosine",
          "--dmax", a.dmax, "--normal", "geometric", "--no-cache",
@@ -120,11 +121,13 @@ def main():
     same_point = covered & (gap <= 1e-4)
     n = int(same_point.sum())
     coverage_mismatch = int(((ref["A"] == 1) != (c1["Combined.A"] > 0.5)).sum())
-    fractional_alpha = int(sum(((c["Combined.A"] > 0) & (c["Combined.A"] < 1)).sum() for c in (c1, c2)))
+    fractional_alpha = int(sum(((c["Combined.A"] > 0) & (c["Combined.A"] < 1)).sum()
+                               for c in (c1, c2)))
     mine = np.pad(ref["A"] == 1, 1, mode="edge")
     silhouette = int((mine[1:-1, 1:-1] & ~(mine[:-2, 1:-1] & mine[2:, 1:-1] & mine[1:-1, :-2] &
                                           mine[1:-1, 2:])).sum())
-    fractional_share = fractional_alpha / (2 * silhouette) if silhouette else float(fractional_alpha)
+    fractional_share = (fractional_alpha / (2 * silhouette) if silhouette
+                        else float(fractional_alpha))
     if n == 0:
         print("compare.py: no pixel is covered by both images at the same point")
         return 1
@@ -162,7 +165,8 @@ def main():
     }
     passed = abs(d) <= 4 * se and fractional_share <= 0.05
     if a.expect is not None:
-        passed = passed and abs(ours.mean() - a.expect) <= 1e-6 and abs(cyc.mean() - a.expect) <= 1e-6
+        passed = (passed and abs(ours.mean() - a.expect) <= 1e-6
+                  and abs(cyc.mean() - a.expect) <= 1e-6)
         verdict["expect"] = a.expect
     verdict["passed"] = bool(passed)
     text = json.dumps(verdict, indent=2)
