@@ -10,6 +10,7 @@
 #include <random>
 
 #include "base/testing/test_temp_dir.h"
+#include "estimators/tree_proxies/testing_pixels.h"
 #include "estimators/tree_proxies/tree_scene.h"
 #include "scenes/testing_forest.h"
 
@@ -79,19 +80,9 @@ TEST(FarField, FarClusterOfSpheresIsWithinTheDerivedBound) {
   }
 }
 
-struct Pixel {
-  glm::vec3 x, n;
-};
-
+using testutil::Pixel;
 std::vector<Pixel> ground_pixels(size_t count, float extent) {
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  std::vector<Pixel> out;
-  for (size_t k = 0; k < count; ++k) {
-    const glm::vec3 n = glm::normalize(glm::vec3(0.3f * u(rng), 1.0f, 0.3f * u(rng)));
-    out.push_back({glm::vec3(extent * u(rng), 0.2f + 0.2f * u(rng), extent * u(rng)), n});
-  }
-  return out;
+  return testutil::random_pixels(count, extent, 0.0f, 0.3f, 0.2f, 0.2f);
 }
 
 TreeSceneOptions options(double angle) {
