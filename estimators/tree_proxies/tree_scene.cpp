@@ -51,6 +51,19 @@ std::vector<ParamSpec> tree_scene_params() {
                "found through a grid over the trees; the default 2^-26 skips only factors that "
                "round to 1.0f (bit-equal to every tree), larger values change a pixel by at most "
                "the sum of its skipped occlusions; 0 visits every tree"}),
+      real_param(
+          {.name = "far_field_angle",
+           .def = 0.7,
+           .min = 0.0,
+           .max = 0.9,
+           .spacing = Spacing::linear,
+           .unit = "radians",
+           .meaning =
+               "eq. 7-8's far field: a group of trees (a node of a hierarchy over them) whose "
+               "bounding sphere's angular radius from the pixel (radius / distance) is at most "
+               "this is one aggregate occluder (the trees' summed silhouettes at their centroid, "
+               "exp(-occlusion) in place of the product of their factors); 0 = every tree on its "
+               "own (the grid; bit-equal to the loop over every tree at the default cull)"}),
   };
 }
 
@@ -62,6 +75,7 @@ TreeSceneOptions tree_scene_options(const ParamSet& p, const ProxyOptions& proxy
   o.grass_ground = p.boolean("grass_ground");
   o.blade_height = p.real("blade_height");
   o.cull = p.real("cull_occlusion");
+  o.far_angle = p.real("far_field_angle");
   return o;
 }
 
@@ -94,7 +108,10 @@ const std::vector<TreeEnvelope>& TreeScene::prepare(const Scene& scene,
     }
     rules_[e.placement] = {Rule::tree, static_cast<int>(outer_.size() - 1)};
   }
-  index_.build(outer_, options.cull);
+  if (options.far_angle > 0.0)
+    far_.build(outer_, options.cull, options.far_angle);
+  else
+    index_.build(outer_, options.cull);
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const SceneObject& o = scene.objects[i];
     const size_t placements = std::max<size_t>(1, o.instances.size());
