@@ -10,13 +10,14 @@ repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 # python3-numpy and python3-openimageio: the shipped Python plug-ins (plugins/examples).
 # zlib1g-dev: the report viewer's compact data is deflated (reports/viewer.h).
 # openarena-081-maps: OpenArena's Quake 3 levels, for the corpus's `oa-dm4` (issue 44);
+# libirrlicht-doc: Irrlicht's demo level 20kdm2 (media/map-20kdm2.pk3.gz), the corpus's `q3-20kdm2`;
 # assimp-testmodels also holds its CAD models.
 packages=(
   build-essential cmake ninja-build pkg-config clang-format fonts-dejavu-core
   libembree-dev libtbb-dev libglm-dev
   libopenimageio-dev openimageio-tools libopenexr-dev
   libassimp-dev assimp-testmodels libcgal-demo
-  openarena-081-maps
+  openarena-081-maps libirrlicht-doc
   nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3
   libgtest-dev libgmock-dev libbenchmark-dev libnlopt-cxx-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-tools glslang-dev
@@ -76,6 +77,28 @@ if [ ! -s "$cache_dir/levels/oa_dm4.bsp" ]; then
     "$pk3" "$cache_dir/levels/oa_dm4.bsp.tmp"
   mv "$cache_dir/levels/oa_dm4.bsp.tmp" "$cache_dir/levels/oa_dm4.bsp"
   echo "bootstrap: extracted oa_dm4.bsp into $cache_dir/levels" >&2
+fi
+
+# Irrlicht's Quake 3 demo level 20kdm2 (corpus `q3-20kdm2`): extracted once from the gzipped .pk3 that
+# libirrlicht-doc installs into "cache:levels/20kdm2.bsp". Its map-20kdm2.txt beside it gives the
+# author's terms (free to use, not to ship in a commercial product without permission): read in
+# place, never copied into the repository.
+if [ ! -s "$cache_dir/levels/20kdm2.bsp" ]; then
+  pk3gz=/usr/share/doc/libirrlicht-dev/media/map-20kdm2.pk3.gz
+  mkdir -p "$cache_dir/levels"
+  if [ ! -f "$pk3gz" ]; then
+    # A dpkg path-exclude of /usr/share/doc (slim container images) drops the file the package
+    # installs: take it from the package archive itself.
+    deb_dir="$(mktemp -d)"
+    (cd "$deb_dir" && apt-get download libirrlicht-doc >&2) &&
+      dpkg-deb --fsys-tarfile "$deb_dir"/libirrlicht-doc_*.deb |
+      tar -xO ".$pk3gz" >"$deb_dir/map.pk3.gz" && pk3gz="$deb_dir/map.pk3.gz" ||
+      { echo "bootstrap: $pk3gz is missing (package libirrlicht-doc)" >&2; exit 1; }
+  fi
+  python3 -c 'import gzip, io, sys, zipfile; open(sys.argv[2], "wb").write(zipfile.ZipFile(io.BytesIO(gzip.open(sys.argv[1]).read())).read("maps/20kdm2.bsp"))' \
+    "$pk3gz" "$cache_dir/levels/20kdm2.bsp.tmp"
+  mv "$cache_dir/levels/20kdm2.bsp.tmp" "$cache_dir/levels/20kdm2.bsp"
+  echo "bootstrap: extracted 20kdm2.bsp into $cache_dir/levels" >&2
 fi
 
 # Release build into build/. Configure once; later runs only rebuild what changed.
