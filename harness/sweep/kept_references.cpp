@@ -34,19 +34,15 @@ std::string KeptReferences::stem(EvaluationSession& session, const std::string& 
                        "/seed:" + std::to_string(spec.seed));
 }
 
-namespace {
-// A kept sequence frame's reference: the channels `aoeval compare --sequence` and the viewer read
-// (AO, AO_stderr, A); the bent normal and its stderr were 4 of its 7 channels and 60 % of its
-// bytes, and no kept frame estimate carries a bent normal to compare with them.
-OIIO::ImageBuf frame_reference_channels(const OIIO::ImageBuf& image, const std::string& path) {
-  const int order[3] = {channel_index(image, "A", path), channel_index(image, "AO", path),
-                        channel_index(image, "AO_stderr", path)};
+OIIO::ImageBuf only_channels(const OIIO::ImageBuf& image, const std::vector<std::string>& names,
+                             const std::string& path) {
+  std::vector<int> order;
+  for (const auto& name : names) order.push_back(channel_index(image, name, path));
   OIIO::ImageBuf out;
-  if (!OIIO::ImageBufAlgo::channels(out, image, 3, order))
+  if (!OIIO::ImageBufAlgo::channels(out, image, static_cast<int>(order.size()), order.data()))
     throw std::runtime_error(path + ": " + out.geterror());
   return out;
 }
-}  // namespace
 
 OIIO::ImageBuf at_half_precision(const OIIO::ImageBuf& image) {
   OIIO::ImageBuf out;
@@ -93,7 +89,10 @@ void KeptReferences::copy(const std::string& from, const std::string& rel, bool 
       fs::copy_file(from, temp, fs::copy_options::overwrite_existing);
     } else {
       OIIO::ImageBuf image = read_image(from);
-      if (fewer_channels) image = frame_reference_channels(image, from);
+      // A sequence frame's reference: what `aoeval compare --sequence` and the viewer read. The
+      // bent normal and its stderr were 4 of its 7 channels and 60 % of its bytes, and no kept
+      // frame estimate carries a bent normal to compare with them.
+      if (fewer_channels) image = only_channels(image, {"A", "AO", "AO_stderr"}, from);
       // aoeval:checksum, copied from the cache entry, must describe the written pixels.
       const OIIO::ImageBuf rounded = at_half_precision(image);
       write_half_precision_exr(temp, rounded, {{"aoeval:checksum", image_checksum(rounded)}});

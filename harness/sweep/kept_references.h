@@ -7,7 +7,8 @@
 // cache's floats for values in [0, 1], far inside a reference's own stderr) and is still a 32-bit
 // float EXR (CONTRACT §4), PXR24 compressed, which stores those values bit for bit
 // (write_half_precision_exr). A sequence frame's kept reference holds AO, AO_stderr and A only
-// (what `aoeval compare --sequence` and the viewer read); a still reference keeps every channel.
+// (what `aoeval compare --sequence` and the viewer read), a kept sequence frame estimate AO and A
+// (kept_sequence.h); a still reference keeps every channel, a row's estimate EXR every channel.
 // The viewer's compact data are float16 too, so its probe returns exactly the kept file's values.
 // A frame whose cache entry is one already kept (a frame that does not change reuses its
 // predecessor's reference) is a hard link to that file, not a second copy. `exact` (`aoeval
@@ -20,6 +21,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "harness/evaluation/evaluation.h"
 #include "scenes/exr_io.h"
@@ -58,6 +60,9 @@ class KeptReferences {
 // float16's range is kept as it is), still float32: what the compact kept files hold.
 OIIO::ImageBuf at_half_precision(const OIIO::ImageBuf& image);
 
+// `image`'s channels `names`, in that order; InputError naming `path` when one is missing.
+OIIO::ImageBuf only_channels(const OIIO::ImageBuf& image, const std::vector<std::string>& names,
+                             const std::string& path);
 // True when every value of `image` is a finite float16 value (what at_half_precision gives for an
 // image within float16's range).
 bool holds_only_float16_values(const OIIO::ImageBuf& image);

@@ -56,7 +56,8 @@ std::vector<KeptImage> keep_sequence(const std::string& out, const std::string& 
     if (references.exact())
       write_exr((fs::path(out) / estimate).string(), f.estimate, f.attributes);
     else
-      write_half_precision_exr((fs::path(out) / estimate).string(), f.estimate, f.attributes);
+      write_half_precision_exr((fs::path(out) / estimate).string(),
+                               only_channels(f.estimate, {"A", "AO"}, estimate), f.attributes);
     nlohmann::json entry = {{"frame", f.frame}, {"estimate", estimate}};
     images.push_back({frame_image_role(f.frame, "estimate"), estimate});
     if (!f.reference_cache.empty()) {
