@@ -22,10 +22,11 @@ void write_with(const std::string& path, const OIIO::ImageBuf& image, const char
 }
 }  // namespace
 
-void write_exr(const std::string& path, const OIIO::ImageBuf& image, const Attributes& attributes) {
+void write_exr(const std::string& path, const OIIO::ImageBuf& image, const Attributes& attributes,
+               const char* compression) {
   OIIO::ImageBuf out = image;  // cheap relative to the write; keeps the caller's spec untouched
   OIIO::ImageSpec& spec = out.specmod();
-  spec.attribute("compression", "zip");
+  spec.attribute("compression", compression);
   for (const auto& [name, value] : attributes) spec.attribute(name, value);
   write_with(path, out, "openexr", OIIO::TypeDesc::FLOAT);
 }

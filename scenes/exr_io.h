@@ -15,9 +15,11 @@ namespace aoeval {
 
 using Attributes = std::vector<std::pair<std::string, std::string>>;
 
-// Writes `image` as a float OpenEXR with zip compression and `attributes` as string header
+// Writes `image` as a float OpenEXR with `compression` (zip unless a caller knows better, e.g. the
+// report folder's float16-rounded files, kept_references.h) and `attributes` as string header
 // attributes (names as given, e.g. "aoeval:scene").
-void write_exr(const std::string& path, const OIIO::ImageBuf& image, const Attributes& attributes);
+void write_exr(const std::string& path, const OIIO::ImageBuf& image, const Attributes& attributes,
+               const char* compression = "zip");
 // Writes any format OIIO knows by the extension of `path` (PNG previews), atomically.
 void write_image(const std::string& path, const OIIO::ImageBuf& image);
 

@@ -181,7 +181,8 @@ class EvaluationSession {
   std::map<std::string, ReferenceImage> references_;
   std::map<std::string, std::vector<AoDefinition>> planned_;  // "scene|view|WxH" as requested
   ReferenceCounts counts_;
-  // Without a disk cache: images traced as companions, by cache key, until asked for once.
+  // Images traced as companions, by cache key, as their entries read back, until asked for once
+  // (with a disk cache too: a cold run does not read what it has just traced).
   std::map<std::string, ReferenceImage> untaken_;
   // Traces `settings`' reference with those companions of its weighting not yet in the disk cache,
   // writes the companions' entries and returns the asked one.

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 
 #include "base/testing/test_temp_dir.h"
@@ -118,6 +119,39 @@ TEST(SequenceEvaluation, StaticSequenceTracesOneReference) {
   run(bounded, scene, "raytraced", {{"rays", 4}, {"dmax", 0.5}, {"falloff", "linear"}});
   EXPECT_EQ(bounded.reference_counts().traces, 1u);
   EXPECT_EQ(bounded.reference_counts().references, 2u);
+}
+
+// A cold session keeps what it traces (the asked reference and its companions) in memory rather
+// than reading back the entries it wrote (issue 42): every reference and every score equal, bit for
+// bit, what a warm session reads from that cache, and the warm one traces nothing.
+TEST(SequenceEvaluation, ColdSessionScoresWhatAWarmOneReads) {
+  const std::string scene = static_sequence_scene();
+  const auto cache = testutil::test_temp_dir("sequence_eval_cache");
+  setenv("AOEVAL_CACHE", cache.c_str(), 1);
+  const nlohmann::json overrides = {{"rays", 4}, {"dmax", 0.5}, {"falloff", "linear"}};
+  EvaluationSession cold(ReferenceSpec{}, TimingSpec{0, 1}, true);
+  const ResultRow cold_row = run(cold, scene, "raytraced", overrides);
+  EXPECT_EQ(cold.reference_counts().references, 2u);  // traced together: one is a companion
+  EvaluationSession warm(ReferenceSpec{}, TimingSpec{0, 1}, true);
+  const ResultRow warm_row = run(warm, scene, "raytraced", overrides);
+  EXPECT_EQ(warm.reference_counts().traces, 0u);
+  EXPECT_EQ(cold_row.metrics.dump(), warm_row.metrics.dump());
+  EXPECT_EQ(cold_row.true_metrics.dump(), warm_row.true_metrics.dump());
+  const View& view = cold.scene(scene).scene.view("still");
+  const EstimatorInfo& raytraced = find_estimator("raytraced");
+  const AoDefinition bounded =
+      raytraced.definition(resolve_params("raytraced", raytraced.params, overrides, "test"));
+  for (const AoDefinition& d : {bounded, true_ao_definition()}) {
+    const ReferenceImage& a = cold.reference(scene, view, 64, 48, d);
+    const ReferenceImage& b = warm.reference(scene, view, 64, 48, d);
+    EXPECT_EQ(a.ao, b.ao);
+    EXPECT_EQ(a.stderr_ao, b.stderr_ao);
+    EXPECT_EQ(a.bent, b.bent);
+    EXPECT_EQ(a.bent_stderr, b.bent_stderr);
+    EXPECT_EQ(a.coverage, b.coverage);
+    EXPECT_EQ(a.spp, b.spp);
+  }
+  unsetenv("AOEVAL_CACHE");
 }
 
 }  // namespace

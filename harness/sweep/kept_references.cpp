@@ -1,6 +1,7 @@
 #include "harness/sweep/kept_references.h"
 
 #include <Imath/half.h>
+#include <OpenImageIO/imagebufalgo.h>
 
 #include <cmath>
 #include <cstdio>
@@ -33,6 +34,16 @@ std::string KeptReferences::stem(EvaluationSession& session, const std::string& 
                        "/seed:" + std::to_string(spec.seed));
 }
 
+OIIO::ImageBuf only_channels(const OIIO::ImageBuf& image, const std::vector<std::string>& names,
+                             const std::string& path) {
+  std::vector<int> order;
+  for (const auto& name : names) order.push_back(channel_index(image, name, path));
+  OIIO::ImageBuf out;
+  if (!OIIO::ImageBufAlgo::channels(out, image, static_cast<int>(order.size()), order.data()))
+    throw std::runtime_error(path + ": " + out.geterror());
+  return out;
+}
+
 OIIO::ImageBuf at_half_precision(const OIIO::ImageBuf& image) {
   OIIO::ImageBuf out;
   out.copy(image, OIIO::TypeDesc::FLOAT);
@@ -45,21 +56,46 @@ OIIO::ImageBuf at_half_precision(const OIIO::ImageBuf& image) {
   return out;
 }
 
-void KeptReferences::copy(const std::string& from, const std::string& rel) {
+bool holds_only_float16_values(const OIIO::ImageBuf& image) {
+  const int channels = image.nchannels();
+  for (OIIO::ImageBuf::ConstIterator<float> it(image); !it.done(); ++it)
+    for (int c = 0; c < channels; ++c) {
+      const float v = it[c];
+      if (!std::isfinite(v) || std::fabs(v) > HALF_MAX || static_cast<float>(half(v)) != v)
+        return false;
+    }
+  return true;
+}
+
+void write_half_precision_exr(const std::string& path, const OIIO::ImageBuf& image,
+                              const Attributes& attributes) {
+  const OIIO::ImageBuf rounded = at_half_precision(image);
+  write_exr(path, rounded, attributes, holds_only_float16_values(rounded) ? "pxr24" : "zip");
+}
+
+void KeptReferences::copy(const std::string& from, const std::string& rel, bool frame) {
   const fs::path target = fs::path(out_) / rel;
   fs::create_directories(target.parent_path());
   const std::string temp = temporary_path_for(target.string());  // one naming: leftovers are found
   fs::remove(temp);
-  const auto [kept, fresh] = kept_from_.emplace(from, rel);
+  // A sequence's still reference and its last frame's reference are one cache entry, kept with
+  // different channels when compact: one kept file per (entry, channels).
+  const bool fewer_channels = frame && !exact_;
+  const auto [kept, fresh] = kept_from_.emplace(from + (fewer_channels ? "|AO" : ""), rel);
   std::error_code not_linked;
   if (!fresh) fs::create_hard_link(fs::path(out_) / kept->second, temp, not_linked);
   if (fresh || not_linked) {
     if (exact_) {
       fs::copy_file(from, temp, fs::copy_options::overwrite_existing);
     } else {
-      // aoeval:checksum, copied from the cache entry, must describe the rounded pixels.
-      const OIIO::ImageBuf rounded = at_half_precision(read_image(from));
-      write_exr(temp, rounded, {{"aoeval:checksum", image_checksum(rounded)}});
+      OIIO::ImageBuf image = read_image(from);
+      // A sequence frame's reference: what `aoeval compare --sequence` and the viewer read. The
+      // bent normal and its stderr were 4 of its 7 channels and 60 % of its bytes, and no kept
+      // frame estimate carries a bent normal to compare with them.
+      if (fewer_channels) image = only_channels(image, {"A", "AO", "AO_stderr"}, from);
+      // aoeval:checksum, copied from the cache entry, must describe the written pixels.
+      const OIIO::ImageBuf rounded = at_half_precision(image);
+      write_half_precision_exr(temp, rounded, {{"aoeval:checksum", image_checksum(rounded)}});
     }
   }
   commit_temporary(temp, target.string());
@@ -77,7 +113,7 @@ std::string KeptReferences::keep(EvaluationSession& session, const std::string& 
            reference_cache_key(session.frame_scene(scene_name, view, k).content_hash,
                                session.gbuffer(scene_name, view, w, h).camera,
                                session.frame_settings(scene_name, view, k, definition))),
-       rel);
+       rel, false);
   return rel;
 }
 
@@ -87,7 +123,7 @@ std::string KeptReferences::keep_frame(EvaluationSession& session, const std::st
                                        const std::string& cache_path) {
   const std::string rel =
       stem(session, scene_name, view, w, h, definition) + "/" + frame_file_name(frame);
-  if (written_.insert(rel).second) copy(cache_path, rel);
+  if (written_.insert(rel).second) copy(cache_path, rel, true);
   return rel;
 }
 

@@ -2,15 +2,18 @@
 // that its report (mosaics, the viewer) and `aoeval merge` find them without the cache. Used by the
 // suite runner and the sweep runner.
 //
-// Compact by default (issue 42: the default suite's references/ was 431 MB): a kept EXR holds
-// every value rounded to float16 precision (10 mantissa bits: within 4.9e-4 of the cache's floats
-// for values in [0, 1], far inside a reference's own stderr) and is still a 32-bit float, zip
-// compressed EXR (CONTRACT §4), about 1.6x smaller than the noisy float32s (12 of the
-// default suite's still references: 16.5 MB -> 10.4 MB). The viewer's compact
-// data are float16 too, so its probe returns exactly the kept file's values. A frame whose cache
-// entry is one already kept (a frame that does not change reuses its predecessor's reference) is
-// a hard link to that file, not a second copy. `exact` (`aoeval sweep`, `aoeval run
-// --viewer-exact`): bit-for-bit copies of the cache entries, as before.
+// Compact by default (issue 42: the default suite's references/ was 431 MB, then 271 MB): a kept
+// EXR holds every value rounded to float16 precision (10 mantissa bits: within 4.9e-4 of the
+// cache's floats for values in [0, 1], far inside a reference's own stderr) and is still a 32-bit
+// float EXR (CONTRACT §4), PXR24 compressed, which stores those values bit for bit
+// (write_half_precision_exr). A sequence frame's kept reference holds AO, AO_stderr and A only
+// (what `aoeval compare --sequence` and the viewer read), a kept sequence frame estimate AO and A
+// (kept_sequence.h); a still reference keeps every channel, a row's estimate EXR every channel.
+// The viewer's compact data are float16 too, so its probe returns exactly the kept file's values.
+// A frame whose cache entry is one already kept (a frame that does not change reuses its
+// predecessor's reference) is a hard link to that file, not a second copy. `exact` (`aoeval
+// sweep`, `aoeval run --viewer-exact`): bit-for-bit, zip-compressed copies of the cache entries,
+// every channel, as before.
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
@@ -18,8 +21,10 @@
 #include <map>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "harness/evaluation/evaluation.h"
+#include "scenes/exr_io.h"
 
 namespace aoeval {
 
@@ -43,7 +48,8 @@ class KeptReferences {
  private:
   std::string stem(EvaluationSession& session, const std::string& scene_name, const View& view,
                    int w, int h, const AoDefinition& definition) const;
-  void copy(const std::string& from, const std::string& rel);
+  // `frame`: a sequence frame's reference (compact: AO, AO_stderr and A only).
+  void copy(const std::string& from, const std::string& rel, bool frame);
   std::string out_;
   bool exact_ = false;
   std::set<std::string> written_;
@@ -53,6 +59,20 @@ class KeptReferences {
 // `image` with every value rounded to the nearest float16 (round to nearest even; a value beyond
 // float16's range is kept as it is), still float32: what the compact kept files hold.
 OIIO::ImageBuf at_half_precision(const OIIO::ImageBuf& image);
+
+// `image`'s channels `names`, in that order; InputError naming `path` when one is missing.
+OIIO::ImageBuf only_channels(const OIIO::ImageBuf& image, const std::vector<std::string>& names,
+                             const std::string& path);
+// True when every value of `image` is a finite float16 value (what at_half_precision gives for an
+// image within float16's range).
+bool holds_only_float16_values(const OIIO::ImageBuf& image);
+// Writes `image` at half precision (at_half_precision) as a 32-bit float EXR, PXR24 compressed when
+// every value is then a finite float16 value: PXR24 keeps 15 of float32's 23 mantissa bits, so it
+// stores float16's 10 exactly (bit for bit), and its 24-bit words deflate far better than zip's
+// 32-bit ones (the default suite's kept references 1.35x smaller, still frames 1.25x). Zip where
+// some value is beyond float16's range or not finite (PXR24 would round it).
+void write_half_precision_exr(const std::string& path, const OIIO::ImageBuf& image,
+                              const Attributes& attributes);
 
 // "frame_0007.exr": the name of frame k in a frame folder (kept estimates and references, and
 // what `aoeval compare --sequence` reads).

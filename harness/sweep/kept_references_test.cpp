@@ -1,11 +1,14 @@
 // The kept files' precision (kept_references.h): every value rounded to the nearest float16, still
 // float32, within 2^-11 of it relative (4.9e-4 absolute in [0, 1]), idempotent, and a value
-// beyond float16's range kept as it is; and the sweep spec's adaptive timing keys.
+// beyond float16's range kept as it is; written PXR24 compressed and read back bit for bit (zip
+// when a value is beyond float16's range); and the sweep spec's adaptive timing keys.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "base/errors.h"
+#include "base/testing/test_temp_dir.h"
 #include "harness/sweep/kept_references.h"
 #include "harness/sweep/sweep_spec.h"
 
@@ -42,6 +45,41 @@ TEST(KeptReferences, HalfPrecisionIsWithinFloat16sStepAndIdempotent) {
   const OIIO::ImageBuf again = at_half_precision(rounded);
   for (int x = 0; x < 64; ++x)
     EXPECT_EQ(again.getchannel(x, 1, 0, 0), rounded.getchannel(x, 1, 0, 0));
+}
+
+// A noisy image at float16 precision, written compact and read back: every bit kept, PXR24 chosen;
+// one value beyond float16's range: zip, and that value kept exactly too.
+TEST(KeptReferences, CompactFilesReadBackBitForBit) {
+  OIIO::ImageSpec spec(97, 31, 3, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"A", "AO", "AO_stderr"};
+  OIIO::ImageBuf image(spec);
+  uint32_t state = 12345;
+  for (int y = 0; y < 31; ++y)
+    for (int x = 0; x < 97; ++x) {
+      state = state * 1664525u + 1013904223u;
+      const float u = static_cast<float>(state >> 8) / 16777216.0f;
+      const float v[3] = {1.0f, u, 1e-3f * u * u};  // subnormal-to-normal float16 range
+      image.setpixel(x, y, v);
+    }
+  const std::string dir = testutil::test_temp_dir("kept_compact").string();
+  for (const bool beyond : {false, true}) {
+    if (beyond) image.setpixel(5, 7, std::vector<float>{1.0f, 1.0e6f + 1.0f, 0.0f}.data());
+    const std::string path = dir + (beyond ? "/beyond.exr" : "/half.exr");
+    write_half_precision_exr(path, image, {});
+    const OIIO::ImageBuf rounded = at_half_precision(image);
+    EXPECT_EQ(holds_only_float16_values(rounded), !beyond);
+    OIIO::ImageBuf back(path);
+    ASSERT_TRUE(back.read(0, 0, true, OIIO::TypeDesc::FLOAT));
+    EXPECT_EQ(back.spec().get_string_attribute("compression"), beyond ? "zip" : "pxr24");
+    int differing = 0;
+    for (int y = 0; y < 31; ++y)
+      for (int x = 0; x < 97; ++x)
+        for (int c = 0; c < 3; ++c) {
+          const float a = back.getchannel(x, y, 0, c), b = rounded.getchannel(x, y, 0, c);
+          differing += std::memcmp(&a, &b, sizeof a) != 0;
+        }
+    EXPECT_EQ(differing, 0);
+  }
 }
 
 TEST(KeptReferences, AdaptiveTimingKeysParse) {

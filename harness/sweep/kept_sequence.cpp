@@ -53,8 +53,11 @@ std::vector<KeptImage> keep_sequence(const std::string& out, const std::string& 
   std::vector<KeptImage> images;
   for (const KeptFrame& f : keep_frames ? m.kept_frames : std::vector<KeptFrame>{}) {
     const std::string estimate = (dir_rel / frame_file_name(f.frame)).string();
-    write_exr((fs::path(out) / estimate).string(),
-              references.exact() ? f.estimate : at_half_precision(f.estimate), f.attributes);
+    if (references.exact())
+      write_exr((fs::path(out) / estimate).string(), f.estimate, f.attributes);
+    else
+      write_half_precision_exr((fs::path(out) / estimate).string(),
+                               only_channels(f.estimate, {"A", "AO"}, estimate), f.attributes);
     nlohmann::json entry = {{"frame", f.frame}, {"estimate", estimate}};
     images.push_back({frame_image_role(f.frame, "estimate"), estimate});
     if (!f.reference_cache.empty()) {

@@ -3,9 +3,10 @@
 // folder <out>/<base>/sequences/<file_stem_for(run name)>/ (base "" for a sweep, runs/<run id>
 // for a suite run):
 //   frame_KKKK.exr   the estimate of each kept frame (kept_sequence_frames(): at most
-//                    kMaxKeptFrames, float AO and A as the row's estimate EXR; at float16
-//                    precision unless `references.exact()`, as the kept references are), so a
-//                    point costs at most 48 still estimates on disk
+//                    kMaxKeptFrames, float AO and A as the row's estimate EXR; unless
+//                    `references.exact()`, at float16 precision as the kept references are, and
+//                    AO and A only: the estimator's extra channels, e.g. a bent normal, are in
+//                    the row's estimate EXR), so a point costs at most 48 still estimates on disk
 //   sequence.json    the report's manifest: frames, fps, the kept frames with their estimate and
 //                    reference EXRs (relative to <out>), rmse_excess by frame (matched, and
 //                    true_rmse_excess by frame) and by frames since disocclusion, disoccluded
