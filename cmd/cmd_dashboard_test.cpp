@@ -195,7 +195,7 @@ TEST_F(DashboardCli, AnEditedShaderIsNamedOnTheVerdictLine) {
            "  imageStore(aoeval_out, p, vec4(aoeval_covered(p) ? "
         << level << " : 0.0));\n}\n";
   };
-  shader("level");
+  shader("aoeval.params.level");
   std::ofstream(dir / "dim.json") << R"J({"name": "dim", "scenes": ["cornell-box"],
     "res": [32, 24], "reference": {"spp": 16, "sampler": "sobol"},
     "timing": {"warmup": 0, "repetitions": 3}, "runs": [{"estimator": "dim"}]})J";
@@ -210,13 +210,13 @@ TEST_F(DashboardCli, AnEditedShaderIsNamedOnTheVerdictLine) {
   EXPECT_EQ(same.code, 0) << same.out << same.err;
   EXPECT_EQ(same.out.find("code changed"), std::string::npos) << same.out;
 
-  shader("0.8 * level");
+  shader("0.8 * aoeval.params.level");
   ASSERT_EQ(run("sweep dim.json --out g3" + sweep).code, 0);
   Result edited = run(dash);
   const auto at = edited.out.find("CHANGED dim level=0.9 scene cornell-box view ");
   ASSERT_NE(at, std::string::npos) << edited.out << edited.err;
   const std::string line = edited.out.substr(at, edited.out.find('\n', at) - at);
-  EXPECT_NE(line.find(": darker by 0.18 mean AO"), std::string::npos) << line;
+  EXPECT_NE(line.find(": darker by 0.180 mean AO"), std::string::npos) << line;
   EXPECT_EQ(line.find("parameters changed"), std::string::npos) << line;
   const auto code = line.find("; code changed: glsl-plugin:dim ");
   ASSERT_NE(code, std::string::npos) << line;
