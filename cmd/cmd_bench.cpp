@@ -63,6 +63,10 @@ void add_bench_command(CLI::App& app) {
   sc->add_option("--copies-max", scale.copies_max, "build copies for N up to this");
   sc->add_option("--cull", scale.cull, "cull_occlusion of the tree estimators")
       ->check(CLI::Range(0.0, 0.25));
+  sc->add_flag("--cached-references", scale.cached_references,
+               "serve references from the reference cache and fill it (no Mrays/s then)");
+  sc->add_option("--far", scale.far, "far_field_angle of the far-field rows (repeatable)")
+      ->check(CLI::Range(0.0, 0.9));
   sc->add_option("--out", scale.out_dir, "output folder (bench_scale.json, .md, .png)");
   sc->callback([] { bench_scale(scale); });
 

@@ -1,4 +1,5 @@
-// `aoeval scenes [list|show NAME]`: the corpus, its sizes and its costs.
+// `aoeval scenes [list|show NAME|export NAME]`: the corpus, its sizes and its costs, and a scene as
+// another renderer sees it.
 #include <sys/resource.h>
 
 #include <chrono>
@@ -6,11 +7,14 @@
 #include <nlohmann/json.hpp>
 
 #include "base/errors.h"
+#include "base/resolution.h"
+#include "base/text_files.h"
 #include "cmd/commands.h"
 #include "harness/evaluation/progress.h"
 #include "scenes/corpus.h"
 #include "scenes/embree_scene.h"
 #include "scenes/instances.h"
+#include "scenes/scene_export.h"
 
 namespace aoeval {
 
@@ -159,6 +163,28 @@ void show_scene(const std::string& name, bool json) {
   }
 }
 
+struct ExportOptions {
+  std::string name, view, res, ply, camera;
+};
+
+// The triangles as the reference traces them (PLY) and the view's camera (JSON): what
+// tools/cycles_ao_compare.py hands to Blender.
+void export_scene(const ExportOptions& o) {
+  const auto [w, h] = parse_resolution(o.res);
+  Scene s = load_scene(o.name);
+  const View& view = s.view(o.view);
+  const Camera camera = make_camera(view, w, h);
+  const std::string camera_text = camera_to_json(s, view, camera).dump(2) + "\n";
+  write_scene_ply(s, o.ply);
+  if (o.camera.empty()) return;
+  try {  // both files or neither
+    write_text(o.camera, camera_text);
+  } catch (...) {
+    std::remove(o.ply.c_str());
+    throw;
+  }
+}
+
 }  // namespace
 
 void add_scenes_command(CLI::App& app) {
@@ -174,9 +200,20 @@ void add_scenes_command(CLI::App& app) {
   static std::string name;
   show->add_option("NAME", name, "corpus name or scene file")->required();
   show->add_flag("--json", json, "print JSON instead of text");
+  auto* exporter = cmd->add_subcommand(
+      "export", "the world-space triangles (binary PLY) and a view's camera (JSON) of a scene");
+  static ExportOptions export_options;
+  exporter->add_option("NAME", export_options.name, "corpus name or scene file")->required();
+  exporter->add_option("--out", export_options.ply, "output PLY file")->required();
+  exporter->add_option("--camera", export_options.camera, "output JSON file: the view's camera");
+  exporter->add_option("--view", export_options.view, "view name (default: the scene's first)");
+  exporter->add_option("--res", export_options.res,
+                       "resolution WIDTHxHEIGHT (default: the view's)");
   list->add_flag("--json", json, "print JSON instead of a table");
-  cmd->callback([cmd, show] {
-    if (show->parsed())
+  cmd->callback([cmd, show, exporter] {
+    if (exporter->parsed())
+      export_scene(export_options);
+    else if (show->parsed())
       show_scene(name, json);
     else
       list_scenes(json);

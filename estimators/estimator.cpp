@@ -22,6 +22,55 @@ const char* param_type_name(ParamType t) {
   return "real";
 }
 
+ParamSpec real_param(RealParam p) {
+  return {.name = std::move(p.name),
+          .type = ParamType::real,
+          .default_value = p.def,
+          .min = p.min,
+          .max = p.max,
+          .log_scale = p.spacing == Spacing::log,
+          .unit = std::move(p.unit),
+          .meaning = std::move(p.meaning),
+          .choices = {}};
+}
+
+ParamSpec int_param(IntParam p) {
+  ParamSpec s = real_param({.name = std::move(p.name),
+                            .def = 0.0,
+                            .min = p.min,
+                            .max = p.max,
+                            .spacing = p.spacing,
+                            .unit = std::move(p.unit),
+                            .meaning = std::move(p.meaning)});
+  s.type = ParamType::integer;
+  s.default_value = p.def;
+  return s;
+}
+
+ParamSpec bool_param(BoolParam p) {
+  return {.name = std::move(p.name),
+          .type = ParamType::boolean,
+          .default_value = p.def,
+          .min = 0,
+          .max = 0,
+          .log_scale = false,
+          .unit = "",
+          .meaning = std::move(p.meaning),
+          .choices = {}};
+}
+
+ParamSpec choice_param(ChoiceParam p) {
+  return {.name = std::move(p.name),
+          .type = ParamType::choice,
+          .default_value = std::move(p.def),
+          .min = 0,
+          .max = 0,
+          .log_scale = false,
+          .unit = "",
+          .meaning = std::move(p.meaning),
+          .choices = std::move(p.choices)};
+}
+
 const char* backend_name(Backend b) {
   switch (b) {
     case Backend::cpu:

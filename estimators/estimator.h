@@ -29,10 +29,7 @@ enum class ParamType { real, integer, boolean, choice };
 const char* param_type_name(ParamType t);
 
 // One parameter, declared once (XeGTAO's settings, pbrt's parameter dictionaries). Rows are written
-// with the builders below, one per type, so that a row reads as its type and its values:
-// `real_param("R", 0.3, 0.01, 10.0, Spacing::log, "scene units", "...")`. A row written as a
-// designated initialiser writes every field (GCC 12's -Wmissing-field-initializers warns of one
-// that leaves a field out).
+// with the builders below, one per type, each field by name (RealParam, ...).
 struct ParamSpec {
   std::string name;  // the --set key and the results column
   ParamType type = ParamType::real;
@@ -47,56 +44,41 @@ struct ParamSpec {
 // How sweeps and plots space a number parameter's values (ParamSpec::log_scale).
 enum class Spacing { linear, log };
 
-// The ParamSpec rows of each type, every field in ParamSpec's order. A number's default, range,
-// spacing and unit ("" for none) are written at the call; a boolean or a choice has no range,
-// spacing or unit (0, 0, linear, ""), and only a choice has choices.
-// A number row: what real_param and int_param write, apart from the type and the default's.
-inline ParamSpec number_param(ParamType type, std::string name, nlohmann::json default_value,
-                              double min, double max, Spacing spacing, std::string unit,
-                              std::string meaning) {
-  return {.name = std::move(name),
-          .type = type,
-          .default_value = std::move(default_value),
-          .min = min,
-          .max = max,
-          .log_scale = spacing == Spacing::log,
-          .unit = std::move(unit),
-          .meaning = std::move(meaning),
-          .choices = {}};
-}
-inline ParamSpec real_param(std::string name, double default_value, double min, double max,
-                            Spacing spacing, std::string unit, std::string meaning) {
-  return number_param(ParamType::real, std::move(name), default_value, min, max, spacing,
-                      std::move(unit), std::move(meaning));
-}
-inline ParamSpec int_param(std::string name, int64_t default_value, double min, double max,
-                           Spacing spacing, std::string unit, std::string meaning) {
-  return number_param(ParamType::integer, std::move(name), default_value, min, max, spacing,
-                      std::move(unit), std::move(meaning));
-}
-inline ParamSpec bool_param(std::string name, bool default_value, std::string meaning) {
-  return {.name = std::move(name),
-          .type = ParamType::boolean,
-          .default_value = default_value,
-          .min = 0,
-          .max = 0,
-          .log_scale = false,
-          .unit = "",
-          .meaning = std::move(meaning),
-          .choices = {}};
-}
-inline ParamSpec choice_param(std::string name, std::string default_value,
-                              std::vector<std::string> choices, std::string meaning) {
-  return {.name = std::move(name),
-          .type = ParamType::choice,
-          .default_value = std::move(default_value),
-          .min = 0,
-          .max = 0,
-          .log_scale = false,
-          .unit = "",
-          .meaning = std::move(meaning),
-          .choices = std::move(choices)};
-}
+// The ParamSpec rows of each type, written as names, not positions (STYLE: C++20 designated
+// initialisers, every field named, so a row reads like XeGTAO's commented settings):
+//   real_param({.name = "R", .def = 0.3, .min = 1e-4, .max = 1e4, .spacing = Spacing::log,
+//               .unit = "scene units", .meaning = "..."})
+// A number has a default, an inclusive range, a spacing and a unit ("" for none); a boolean or a
+// choice has none of these (ParamSpec's 0, 0, linear, ""), and only a choice has choices.
+struct RealParam {
+  std::string name;
+  double def;
+  double min, max;
+  Spacing spacing;
+  std::string unit, meaning;
+};
+struct IntParam {
+  std::string name;
+  int64_t def;
+  double min, max;
+  Spacing spacing;
+  std::string unit, meaning;
+};
+struct BoolParam {
+  std::string name;
+  bool def;
+  std::string meaning;
+};
+struct ChoiceParam {
+  std::string name;
+  std::string def;
+  std::vector<std::string> choices;
+  std::string meaning;
+};
+ParamSpec real_param(RealParam p);
+ParamSpec int_param(IntParam p);
+ParamSpec bool_param(BoolParam p);
+ParamSpec choice_param(ChoiceParam p);
 
 // A complete, validated set of parameter values: every declared parameter, defaults filled in.
 class ParamSet {

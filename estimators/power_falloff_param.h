@@ -14,16 +14,25 @@
 namespace aoeval {
 
 inline ParamSpec power_exponent_param(std::string name, std::string meaning) {
-  return real_param(std::move(name), 2.0, 1e-3, 1e3, Spacing::linear, "", std::move(meaning));
+  return real_param({.name = std::move(name),
+                     .def = 2.0,
+                     .min = 1e-3,
+                     .max = 1e3,
+                     .spacing = Spacing::linear,
+                     .unit = "",
+                     .meaning = std::move(meaning)});
 }
 
 // `falloff` and `falloff_k`, in this order; `range` names the estimator's own range parameter
 // (raytraced's dmax, rtao's t_max) in the meanings.
 inline std::vector<ParamSpec> falloff_params(const std::string& range) {
   return {
-      choice_param("falloff", "none", {"none", "linear", "sqrt", "exp", "power"},
-                   "occluder weight 1 - rho(d/" + range +
-                       "): none, linear, sqrt, exp or power (rho(x) = x^falloff_k) (CONTRACT §3)"),
+      choice_param(
+          {.name = "falloff",
+           .def = "none",
+           .choices = {"none", "linear", "sqrt", "exp", "power"},
+           .meaning = "occluder weight 1 - rho(d/" + range +
+                      "): none, linear, sqrt, exp or power (rho(x) = x^falloff_k) (CONTRACT §3)"}),
       power_exponent_param("falloff_k",
                            "the exponent K of falloff power, rho(x) = x^K (1 = linear, 0.5 = "
                            "sqrt); unused otherwise")};

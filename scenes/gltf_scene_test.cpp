@@ -1,5 +1,7 @@
-// glTF scenes (issue 44): the test scene of scenes/testdata/gltf (written by make_animated.py,
-// which also computed every node's world matrix per frame in Python: animated_expected.json).
+// glTF scenes (issue 44): the test scenes of scenes/testdata/gltf: animated.gltf (written by
+// make_animated.py, which also computed every node's world matrix per frame in Python:
+// animated_expected.json) and blender_animated.glb (written by Blender's exporter,
+// make_blender_asset.py, with the matrices Blender evaluated: blender_expected.json).
 // Views and sequences, the shared mesh, interpolation, and G-buffer motion vectors against the
 // Python poses.
 #include <gtest/gtest.h>
@@ -21,11 +23,6 @@ namespace aoeval {
 namespace {
 
 const std::string kDir = std::string(AOEVAL_SOURCE_DIR) + "/scenes/testdata/gltf/";
-
-nlohmann::json expected() {
-  std::ifstream in(kDir + "animated_expected.json");
-  return nlohmann::json::parse(in);
-}
 
 glm::dmat4 matrix(const nlohmann::json& rows) {  // row-major lists -> glm (column-major)
   glm::dmat4 m(1.0);
@@ -130,32 +127,42 @@ Pinhole pinhole(const glm::dmat4& w, double yfov, int width, int height) {
   return c;
 }
 
-// Motion of every covered pixel of frame k against the Python poses: the surface point P_k is taken
-// into its node's space with frame k's world matrix and back out with frame k - 1's, and both are
-// projected through the Python cameras.
-void check_motion(const std::string& animation, int k, double& worst, size_t& moving) {
-  const Scene s = load_gltf_scene(kDir + "animated.gltf");
-  const nlohmann::json e = expected();
+// A glTF asset and the poses its generator computed on its own: each node's world matrix per frame.
+struct PosedAsset {
+  std::string gltf, expected;
+  std::vector<int> node_of;  // placement id (floor, boxA, boxB) -> index in the expected nodes
+  int camera, moving;        // the camera's and the moving box's index there
+};
+const PosedAsset kPython{"animated.gltf", "animated_expected.json", {0, 1, 3}, 4, 3};
+// Written by Blender 3.4 (make_blender_asset.py): matrices as Blender evaluates them.
+const PosedAsset kBlender{"blender_animated.glb", "blender_expected.json", {0, 1, 2}, 3, 2};
+
+// Motion of every covered pixel of frame k against the generator's poses: the surface point P_k is
+// taken into its node's space with frame k's world matrix and back out with frame k - 1's, and
+// both are projected through the generator's cameras.
+void check_motion(const PosedAsset& a, const std::string& animation, int k, double& worst,
+                  size_t& moving) {
+  const Scene s = load_gltf_scene(kDir + a.gltf);
+  std::ifstream in(kDir + a.expected);
+  const nlohmann::json e = nlohmann::json::parse(in);
   const View& view = s.view("cam@" + animation);
   const GBuffer g = render_frame_gbuffer(s, view, k, 320, 240);
   ASSERT_EQ(g.motion.size(), g.pixel_count());
   const auto& frames = e["animations"][animation];
-  // Placement ids: floor, boxA, boxB -> Python's node indices.
-  const int node_of[3] = {0, 1, 3};
   const double yfov = e["yfov"].get<double>();
-  const Pinhole now = pinhole(matrix(frames[k]["world"][4]), yfov, 320, 240);
-  const Pinhole before = pinhole(matrix(frames[k - 1]["world"][4]), yfov, 320, 240);
+  const Pinhole now = pinhole(matrix(frames[k]["world"][a.camera]), yfov, 320, 240);
+  const Pinhole before = pinhole(matrix(frames[k - 1]["world"][a.camera]), yfov, 320, 240);
   size_t checked = 0;
   for (size_t p = 0; p < g.pixel_count(); ++p) {
     if (!g.covered(p)) continue;
-    const int node = node_of[static_cast<int>(g.object_id[p])];
+    const int node = a.node_of.at(static_cast<size_t>(g.object_id[p]));
     const glm::dvec3 pk(g.position[p]);
     const glm::dvec4 local = glm::inverse(matrix(frames[k]["world"][node])) * glm::dvec4(pk, 1.0);
     const glm::dvec3 prev(matrix(frames[k - 1]["world"][node]) * local);
     const glm::dvec2 want = now.project(pk) - before.project(prev);
     const double err = glm::length(want - glm::dvec2(g.motion[p]));
     worst = std::max(worst, err);
-    if (glm::length(want) > 0.05 && node == 3) ++moving;
+    if (glm::length(want) > 0.05 && node == a.moving) ++moving;
     ++checked;
   }
   EXPECT_GT(checked, 10000u);
@@ -164,11 +171,28 @@ void check_motion(const std::string& animation, int k, double& worst, size_t& mo
 TEST(GltfScene, MotionVectorsAgreeWithIndependentPoses) {
   double worst = 0.0;
   size_t moving_box = 0;
-  for (int k : {1, 16, 30, 45, 60}) check_motion("fly", k, worst, moving_box);
-  for (int k : {15, 16}) check_motion("hop", k, worst, moving_box);
+  for (int k : {1, 16, 30, 45, 60}) check_motion(kPython, "fly", k, worst, moving_box);
+  for (int k : {15, 16}) check_motion(kPython, "hop", k, worst, moving_box);
   std::printf("worst motion difference %.3g px; %zu moving boxB pixels\n", worst, moving_box);
   EXPECT_LT(worst, 1e-3);
   EXPECT_GT(moving_box, 1000u);  // boxB (instanced, under the turning rig) is seen moving
+}
+
+// Must-show 1 with Blender: its exporter's .glb (camera and object animation, a linked duplicate)
+// against the matrices Blender itself evaluated, turned to glTF's Y up (make_blender_asset.py).
+TEST(GltfScene, BlenderAssetMotionAgreesWithBlendersOwnMatrices) {
+  const Scene s = load_gltf_scene(kDir + kBlender.gltf);
+  ASSERT_EQ(s.objects.size(), 2u);
+  EXPECT_EQ(s.objects[1].name, "cube");  // one mesh for boxA and its linked duplicate boxB
+  EXPECT_EQ(s.objects[1].instance_names, (std::vector<std::string>{"boxA", "boxB"}));
+  EXPECT_EQ(s.view("cam@Animation").frame_count(), 61);
+  double worst = 0.0;
+  size_t moving_box = 0;
+  for (int k : {1, 10, 30, 41, 60}) check_motion(kBlender, "Animation", k, worst, moving_box);
+  std::printf("Blender asset: worst motion difference %.3g px; %zu moving boxB pixels\n", worst,
+              moving_box);
+  EXPECT_LT(worst, 1e-3);
+  EXPECT_GT(moving_box, 1000u);
 }
 
 // The bad inputs of issue 44, each named by its glTF path.

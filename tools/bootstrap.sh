@@ -27,7 +27,9 @@ packages=(
 # The sanitizer stage (tools/sanitize.sh) builds with clang, its sanitizers and libFuzzer.
 if [ "${1:-}" = "--test" ]; then
   # slurmctld, slurmd, slurm-client and munge: the one-node Slurm cluster of the --slurm test (issue 19).
-  packages+=(chromium clang libclang-rt-14-dev slurmctld slurmd slurm-client munge)
+  # blender: Cycles, the independent ray tracer that cycles_ao_test checks `aoeval reference`
+  # against, and the maker of the glTF test asset (scenes/testdata/gltf/make_blender_asset.py).
+  packages+=(chromium clang libclang-rt-14-dev slurmctld slurmd slurm-client munge blender)
   command -v node >/dev/null && command -v npm >/dev/null || packages+=(nodejs npm)
 fi
 

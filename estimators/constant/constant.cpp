@@ -28,8 +28,14 @@ EstimatorInfo constant_estimator() {
       "Fig. 12 bottom row (ambient term only)";
   info.backend = Backend::cpu;
   info.inputs = {EstimatorInput::gbuffer};
-  info.params = {real_param("value", 1.0, 0.0, 1.0, Spacing::linear, "",
-                            "the AO every pixel gets (1 = ambient only, no occlusion)")};
+  info.params = {
+      real_param({.name = "value",
+                  .def = 1.0,
+                  .min = 0.0,
+                  .max = 1.0,
+                  .spacing = Spacing::linear,
+                  .unit = "",
+                  .meaning = "the AO every pixel gets (1 = ambient only, no occlusion)"})};
   info.definition_doc = "cosine-weighted, unbounded (it stands in for true AO)";
   info.definition = [](const ParamSet&) { return AoDefinition{}; };
   info.create = [](const ParamSet& p) {

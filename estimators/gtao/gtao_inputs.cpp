@@ -45,67 +45,134 @@ TemporalDefaults gtao_temporal_defaults() {
 
 std::vector<ParamSpec> gtao_param_specs() {
   std::vector<ParamSpec> params = {
+      real_param({.name = "R",
+                  .def = 0.3,
+                  .min = 1e-4,
+                  .max = 1e4,
+                  .spacing = Spacing::log,
+                  .unit = "scene units",
+                  .meaning = "radius: samples farther than R from P do not occlude (dmax of the "
+                             "definition, eq. 7)"}),
+      int_param(
+          {.name = "slices",
+           .def = 4,
+           .min = 1,
+           .max = 64,
+           .spacing = Spacing::linear,
+           .unit = "directions",
+           .meaning =
+               "slices per pixel, evenly spaced in [0, pi) around v and rotated per pixel (eq. "
+               "3, §5.2)"}),
+      int_param({.name = "steps",
+                 .def = 8,
+                 .min = 1,
+                 .max = 128,
+                 .spacing = Spacing::linear,
+                 .unit = "samples",
+                 .meaning = "horizon samples per side of each slice (eq. 7)"}),
       real_param(
-          "R", 0.3, 1e-4, 1e4, Spacing::log, "scene units",
-          "radius: samples farther than R from P do not occlude (dmax of the definition, eq. 7)"),
-      int_param("slices", 4, 1, 64, Spacing::linear, "directions",
-                "slices per pixel, evenly spaced in [0, pi) around v and rotated per pixel (eq. "
-                "3, §5.2)"),
-      int_param("steps", 8, 1, 128, Spacing::linear, "samples",
-                "horizon samples per side of each slice (eq. 7)"),
-      real_param(
-          "falloff", 0.0, 0.0, 1.0, Spacing::linear, "fraction of R",
-          "falloff range: a sample's horizon fades linearly to the tangent plane between (1 - "
-          "falloff) R and R; 0 = hard cut at R (the definition's falloff none)"),
-      real_param(
-          "power", 2.0, 0.25, 8.0, Spacing::linear, "",
-          "sample distribution: sample k of a side lies at ((k + u) / steps)^power of the screen "
-          "radius (plus one pixel); > 1 puts more samples near P"),
+          {.name = "falloff",
+           .def = 0.0,
+           .min = 0.0,
+           .max = 1.0,
+           .spacing = Spacing::linear,
+           .unit = "fraction of R",
+           .meaning =
+               "falloff range: a sample's horizon fades linearly to the tangent plane between (1 - "
+               "falloff) R and R; 0 = hard cut at R (the definition's falloff none)"}),
+      real_param({.name = "power",
+                  .def = 2.0,
+                  .min = 0.25,
+                  .max = 8.0,
+                  .spacing = Spacing::linear,
+                  .unit = "",
+                  .meaning = "sample distribution: sample k of a side lies at ((k + u) / "
+                             "steps)^power of the screen "
+                             "radius (plus one pixel); > 1 puts more samples near P"}),
       // Default 0.05 from `aoeval figures gtao-thickness` (README, "Thin occluders"): the least
       // worst ratio to each scene's own best rmse_excess over picket-fence, chair, wires, bunny,
       // dragon and cornell-box (1.49, on picket-fence; thin scenes are best at 0.1-0.2, thick
       // ones at 0-0.05: no one value serves both within 5 %).
-      real_param("thickness", 0.05, 0.0, 1.0, Spacing::linear, "",
-                 "thin-occluder compensation (the paper's thickness heuristic): a sample below "
-                 "the horizon "
-                 "pulls it down by this fraction; 0 = off (the exact horizon of a heightfield); "
-                 "0.05 = the "
-                 "least worst error over thin and thick scenes (figure gtao-thickness)"),
       real_param(
-          "final_power", 1.0, 0.1, 8.0, Spacing::linear, "",
-          "AO^final_power, an artistic contrast control; 1 estimates the declared definition"),
-      bool_param(
-          "normalise", true,
-          "divide by the same slice sum over the unoccluded hemisphere, so that an open surface "
-          "is "
-          "exactly 1 with any slice count (ours); false: the paper's (1/slices) sum |n_p| a^"),
-      bool_param(
-          "bent", true,
-          "also output the bent normal (bent.X/Y/Z, world space, unit): the cosine-weighted mean "
-          "unoccluded direction in closed form (Algorithm 2)"),
-      bool_param(
-          "denoise", true,
-          "spatial denoise: depth-aware tile x tile average over one period of the noise (§5.2)"),
-      bool_param(
-          "jitter", true,
-          "per-pixel slice rotation and sample offset from the tiled noise (§5.2); off: the same "
-          "slices and samples everywhere"),
-      int_param("tile", 4, 1, 16, Spacing::linear, "pixels",
-                "side of the tiled noise texture and of the denoise window (§5.2: 4)"),
-      int_param("seed", 7, 0, 1e15, Spacing::linear, "", "seed of the noise texture"),
+          {.name = "thickness",
+           .def = 0.05,
+           .min = 0.0,
+           .max = 1.0,
+           .spacing = Spacing::linear,
+           .unit = "",
+           .meaning =
+               "thin-occluder compensation (the paper's thickness heuristic): a sample below "
+               "the horizon "
+               "pulls it down by this fraction; 0 = off (the exact horizon of a heightfield); "
+               "0.05 = the "
+               "least worst error over thin and thick scenes (figure gtao-thickness)"}),
+      real_param({.name = "final_power",
+                  .def = 1.0,
+                  .min = 0.1,
+                  .max = 8.0,
+                  .spacing = Spacing::linear,
+                  .unit = "",
+                  .meaning = "AO^final_power, an artistic contrast control; 1 estimates the "
+                             "declared definition"}),
+      bool_param({.name = "normalise",
+                  .def = true,
+                  .meaning = "divide by the same slice sum over the unoccluded hemisphere, so that "
+                             "an open surface "
+                             "is "
+                             "exactly 1 with any slice count (ours); false: the paper's (1/slices) "
+                             "sum |n_p| a^"}),
+      bool_param({.name = "bent",
+                  .def = true,
+                  .meaning = "also output the bent normal (bent.X/Y/Z, world space, unit): the "
+                             "cosine-weighted mean "
+                             "unoccluded direction in closed form (Algorithm 2)"}),
+      bool_param({.name = "denoise",
+                  .def = true,
+                  .meaning = "spatial denoise: depth-aware tile x tile average over one period of "
+                             "the noise (§5.2)"}),
+      bool_param({.name = "jitter",
+                  .def = true,
+                  .meaning = "per-pixel slice rotation and sample offset from the tiled noise "
+                             "(§5.2); off: the same "
+                             "slices and samples everywhere"}),
+      int_param({.name = "tile",
+                 .def = 4,
+                 .min = 1,
+                 .max = 16,
+                 .spacing = Spacing::linear,
+                 .unit = "pixels",
+                 .meaning = "side of the tiled noise texture and of the denoise window (§5.2: 4)"}),
+      int_param({.name = "seed",
+                 .def = 7,
+                 .min = 0,
+                 .max = 1e15,
+                 .spacing = Spacing::linear,
+                 .unit = "",
+                 .meaning = "seed of the noise texture"}),
       resolution_param(),
       int_param(
-          "rotations", 1, 1, 16, Spacing::linear, "frames",
-          "temporal noise over a sequence (§5.2: 6 rotations): 1 = a new noise texture every "
-          "frame "
-          "(seed + k); N > 1 = one texture rotated by j/N of the slice spacing at frame k (the "
-          "paper's order for N = 6), its sample offset moved by 1/4 step every N frames"),
+          {.name = "rotations",
+           .def = 1,
+           .min = 1,
+           .max = 16,
+           .spacing = Spacing::linear,
+           .unit = "frames",
+           .meaning =
+               "temporal noise over a sequence (§5.2: 6 rotations): 1 = a new noise texture every "
+               "frame "
+               "(seed + k); N > 1 = one texture rotated by j/N of the slice spacing at frame k "
+               "(the "
+               "paper's order for N = 6), its sample offset moved by 1/4 step every N frames"}),
       bool_param(
-          "temporal", false,
-          "accumulate the frames of a sequence with the shared temporal stage (§5.2's temporal "
-          "reprojection; estimators/temporal/): reprojection, disocclusion reset, exponential "
-          "history, clamp; false = each frame its own estimate. A still view is frame 0 either "
-          "way"),
+          {.name = "temporal",
+           .def = false,
+           .meaning =
+               "accumulate the frames of a sequence with the shared temporal stage (§5.2's "
+               "temporal "
+               "reprojection; estimators/temporal/): reprojection, disocclusion reset, exponential "
+               "history, clamp; false = each frame its own estimate. A still view is frame 0 "
+               "either "
+               "way"}),
   };
   // The stage's own parameters, read only when temporal is on (temporal_stage.h).
   for (ParamSpec& p : temporal_params(gtao_temporal_defaults())) params.push_back(std::move(p));

@@ -40,39 +40,82 @@ TemporalDefaults hbao_temporal_defaults() {
 
 std::vector<ParamSpec> hbao_param_specs() {
   std::vector<ParamSpec> params = {
-      real_param("R", 0.3, 1e-4, 1e4, Spacing::log, "scene units",
-                 "radius of influence: horizon and normal rays stop at distance R (§3.1, §3.6; "
-                 "Fig. 6, 11)"),
+      real_param(
+          {.name = "R",
+           .def = 0.3,
+           .min = 1e-4,
+           .max = 1e4,
+           .spacing = Spacing::log,
+           .unit = "scene units",
+           .meaning =
+               "radius of influence: horizon and normal rays stop at distance R (§3.1, §3.6; "
+               "Fig. 6, 11)"}),
+      int_param({.name = "Nd",
+                 .def = 8,
+                 .min = 1,
+                 .max = 64,
+                 .spacing = Spacing::linear,
+                 .unit = "directions",
+                 .meaning = "horizon directions theta around the normal, each a lune of 2 pi / Nd "
+                            "(§3.1, eq. 5-6)"}),
+      int_param({.name = "Ns",
+                 .def = 18,
+                 .min = 1,
+                 .max = 256,
+                 .spacing = Spacing::linear,
+                 .unit = "steps",
+                 .meaning = "steps of R / Ns per horizon and normal ray (Fig. 4 line 2, §3.6)"}),
+      int_param({.name = "Nn",
+                 .def = 1,
+                 .min = 0,
+                 .max = 16,
+                 .spacing = Spacing::linear,
+                 .unit = "rays",
+                 .meaning =
+                     "normal-occlusion rays per direction above the horizon, 0 disables O_N (§3.3, "
+                     "eq. 7-12)"}),
+      bool_param({.name = "attenuation",
+                  .def = true,
+                  .meaning = "weight each occluder at distance r by 1 - r/R (§3.5); the "
+                             "definition's linear falloff"}),
+      bool_param({.name = "offset",
+                  .def = true,
+                  .meaning = "start rays at P' = P + z/(f res) n against banding at grazing angles "
+                             "(eq. 13, §4.1.1)"}),
+      bool_param({.name = "jitter",
+                  .def = true,
+                  .meaning = "per-pixel rotation alpha and step jitter beta from the tiled random "
+                             "texture (§4.1.2)"}),
       int_param(
-          "Nd", 8, 1, 64, Spacing::linear, "directions",
-          "horizon directions theta around the normal, each a lune of 2 pi / Nd (§3.1, eq. 5-6)"),
-      int_param("Ns", 18, 1, 256, Spacing::linear, "steps",
-                "steps of R / Ns per horizon and normal ray (Fig. 4 line 2, §3.6)"),
-      int_param("Nn", 1, 0, 16, Spacing::linear, "rays",
-                "normal-occlusion rays per direction above the horizon, 0 disables O_N (§3.3, "
-                "eq. 7-12)"),
+          {.name = "tile",
+           .def = 4,
+           .min = 1,
+           .max = 64,
+           .spacing = Spacing::linear,
+           .unit = "pixels",
+           .meaning = "side of the tiled random texture of (cos alpha, sin alpha, beta) (§4.1.2)"}),
       bool_param(
-          "attenuation", true,
-          "weight each occluder at distance r by 1 - r/R (§3.5); the definition's linear falloff"),
-      bool_param(
-          "offset", true,
-          "start rays at P' = P + z/(f res) n against banding at grazing angles (eq. 13, §4.1.1)"),
-      bool_param(
-          "jitter", true,
-          "per-pixel rotation alpha and step jitter beta from the tiled random texture (§4.1.2)"),
-      int_param("tile", 4, 1, 64, Spacing::linear, "pixels",
-                "side of the tiled random texture of (cos alpha, sin alpha, beta) (§4.1.2)"),
-      bool_param("blur", true,
-                 "5x5 Gaussian weighted by the inverse depth deviation from the centre (§4.1.3)"),
-      int_param(
-          "seed", 7, 0, 1e15, Spacing::linear, "",
-          "seed of the random texture (§4.1.2); frame k of a sequence draws it from seed + k"),
+          {.name = "blur",
+           .def = true,
+           .meaning =
+               "5x5 Gaussian weighted by the inverse depth deviation from the centre (§4.1.3)"}),
+      int_param({.name = "seed",
+                 .def = 7,
+                 .min = 0,
+                 .max = 1e15,
+                 .spacing = Spacing::linear,
+                 .unit = "",
+                 .meaning = "seed of the random texture (§4.1.2); frame k of a sequence draws it "
+                            "from seed + k"}),
       resolution_param(),
-      bool_param("temporal", false,
-                 "accumulate the frames of a sequence (each with the random texture of seed + k) "
-                 "with the shared temporal stage (estimators/temporal/): reprojection, "
-                 "disocclusion reset, exponential history; false = each frame its own estimate. "
-                 "A still view is frame 0 either way"),
+      bool_param(
+          {.name = "temporal",
+           .def = false,
+           .meaning =
+               "accumulate the frames of a sequence (each with the random texture of seed + k) "
+               "with the shared temporal stage (estimators/temporal/): reprojection, "
+               "disocclusion reset, exponential history; false = each frame its own estimate. "
+               "A still view is frame 0 either way"}),
   };
   // The stage's own parameters, read only when temporal is on (temporal_stage.h).
   for (ParamSpec& p : temporal_params(hbao_temporal_defaults())) params.push_back(std::move(p));

@@ -200,21 +200,43 @@ EstimatorInfo obscurances_estimator() {
   info.backend = Backend::embree;
   info.inputs = {EstimatorInput::gbuffer, EstimatorInput::scene_geometry};
   info.params = {
-      int_param("rays", 16, 1, 65536, Spacing::log, "rays",
-                "Nobs: obscurance rays per pixel, cosine-distributed (§4.1; Fig. 6 uses 16)"),
-      real_param("dmax", 1.0, 1e-6, 1e6, Spacing::log, "scene units",
-                 "maximum distance of interaction: rho = 1 beyond it (eq. 2; Fig. 7)"),
+      int_param({.name = "rays",
+                 .def = 16,
+                 .min = 1,
+                 .max = 65536,
+                 .spacing = Spacing::log,
+                 .unit = "rays",
+                 .meaning =
+                     "Nobs: obscurance rays per pixel, cosine-distributed (§4.1; Fig. 6 uses 16)"}),
+      real_param({.name = "dmax",
+                  .def = 1.0,
+                  .min = 1e-6,
+                  .max = 1e6,
+                  .spacing = Spacing::log,
+                  .unit = "scene units",
+                  .meaning = "maximum distance of interaction: rho = 1 beyond it (eq. 2; Fig. 7)"}),
       choice_param(
-          "rho", "sqrt", {"exp", "sqrt", "constant", "power"},
-          "obscurance function (§3): sqrt = sqrt(d/dmax), exp = (1-e^(-4d/dmax))/(1-e^-4), "
-          "constant = 0 within dmax (AO), power = (d/dmax)^rho_k (CONTRACT §3 power:K)"),
+          {.name = "rho",
+           .def = "sqrt",
+           .choices = {"exp", "sqrt", "constant", "power"},
+           .meaning =
+               "obscurance function (§3): sqrt = sqrt(d/dmax), exp = (1-e^(-4d/dmax))/(1-e^-4), "
+               "constant = 0 within dmax (AO), power = (d/dmax)^rho_k (CONTRACT §3 power:K)"}),
       power_exponent_param(
           "rho_k",
           "the exponent K of rho = power, rho(x) = x^K (1 = linear, 0.5 = sqrt); unused otherwise"),
-      choice_param("sampling", "systematic", {"random", "systematic"},
-                   "random, or systematic: an n1 x n2 grid with one random offset (§4.2)"),
-      int_param("seed", 7, 0, 1e15, Spacing::linear, "",
-                "random seed (the references use 1, so the two never share samples)"),
+      choice_param(
+          {.name = "sampling",
+           .def = "systematic",
+           .choices = {"random", "systematic"},
+           .meaning = "random, or systematic: an n1 x n2 grid with one random offset (§4.2)"}),
+      int_param({.name = "seed",
+                 .def = 7,
+                 .min = 0,
+                 .max = 1e15,
+                 .spacing = Spacing::linear,
+                 .unit = "",
+                 .meaning = "random seed (the references use 1, so the two never share samples)"}),
   };
   info.definition_doc =
       "cosine weighting, dmax = dmax, falloff = rho (sqrt -> sqrt, exp -> exp, constant -> none, "

@@ -81,7 +81,13 @@ TEST(GlslPlugin, SpirvIsCachedByContent) {
   EXPECT_EQ(second.local_size[0], 4u);
   EXPECT_EQ(second.local_size[1], 2u);
   // Other parameters change the preamble, so the entry.
-  const ParamSpec p = real_param("r", 0.5, 0, 1, Spacing::linear, "", "m");
+  const ParamSpec p = real_param({.name = "r",
+                                  .def = 0.5,
+                                  .min = 0,
+                                  .max = 1,
+                                  .spacing = Spacing::linear,
+                                  .unit = "",
+                                  .meaning = "m"});
   EXPECT_FALSE(compile_glsl_compute("a.comp", source, {p}).from_cache);
   EXPECT_FALSE(compile_glsl_compute("a.comp", source + "\n", {}).from_cache);
 }
@@ -90,9 +96,16 @@ TEST(GlslPlugin, TheAbiTextDeclaresEveryBindingAndTheParametersInOrder) {
   const std::string text = glsl_abi_text();
   for (int b = 0; b <= 11; ++b)
     EXPECT_NE(text.find("binding = " + std::to_string(b)), std::string::npos) << b;
-  const std::vector<ParamSpec> params = {real_param("zeta", 0.5, 0, 1, Spacing::linear, "", "m"),
-                                         bool_param("alpha", true, "m"),
-                                         choice_param("mode", "b", {"a", "b"}, "m")};
+  const std::vector<ParamSpec> params = {
+      real_param({.name = "zeta",
+                  .def = 0.5,
+                  .min = 0,
+                  .max = 1,
+                  .spacing = Spacing::linear,
+                  .unit = "",
+                  .meaning = "m"}),
+      bool_param({.name = "alpha", .def = true, .meaning = "m"}),
+      choice_param({.name = "mode", .def = "b", .choices = {"a", "b"}, .meaning = "m"})};
   for (const char* name :
        {"aoeval_motion", "aoeval_disoccluded", "aoeval_history", "aoeval_state", "int frame;"})
     EXPECT_NE(text.find(name), std::string::npos) << name;

@@ -133,19 +133,46 @@ EstimatorInfo raymarch_ssao_estimator() {
   info.backend = Backend::cpu;
   info.inputs = {EstimatorInput::gbuffer};
   info.params = {
-      real_param("R", 0.3, 1e-4, 1e4, Spacing::log, "scene units",
-                 "radius of influence: rays stop at distance R (hbao-split's R, §3.6)"),
-      int_param("Ns", 18, 1, 256, Spacing::linear, "steps",
-                "steps of R / Ns per ray, jittered by beta in (-1, 1) (§3.6, §4.1.2)"),
-      int_param("rays", 16, 1, 4096, Spacing::log, "rays",
-                "cosine-distributed rays per pixel (eq. 1 by Monte Carlo; Fig. 12's ray count)"),
+      real_param(
+          {.name = "R",
+           .def = 0.3,
+           .min = 1e-4,
+           .max = 1e4,
+           .spacing = Spacing::log,
+           .unit = "scene units",
+           .meaning = "radius of influence: rays stop at distance R (hbao-split's R, §3.6)"}),
+      int_param({.name = "Ns",
+                 .def = 18,
+                 .min = 1,
+                 .max = 256,
+                 .spacing = Spacing::linear,
+                 .unit = "steps",
+                 .meaning = "steps of R / Ns per ray, jittered by beta in (-1, 1) (§3.6, §4.1.2)"}),
+      int_param(
+          {.name = "rays",
+           .def = 16,
+           .min = 1,
+           .max = 4096,
+           .spacing = Spacing::log,
+           .unit = "rays",
+           .meaning =
+               "cosine-distributed rays per pixel (eq. 1 by Monte Carlo; Fig. 12's ray count)"}),
+      bool_param({.name = "attenuation",
+                  .def = true,
+                  .meaning = "weight an occluder at distance r by 1 - r/R (§3.5); the definition's "
+                             "linear falloff"}),
       bool_param(
-          "attenuation", true,
-          "weight an occluder at distance r by 1 - r/R (§3.5); the definition's linear falloff"),
-      bool_param("offset", true,
-                 "start rays at P' = P + z/(f res) n against banding at grazing angles (eq. 13)"),
-      int_param("seed", 7, 0, 1e15, Spacing::linear, "",
-                "seed of the ray directions and step jitters"),
+          {.name = "offset",
+           .def = true,
+           .meaning =
+               "start rays at P' = P + z/(f res) n against banding at grazing angles (eq. 13)"}),
+      int_param({.name = "seed",
+                 .def = 7,
+                 .min = 0,
+                 .max = 1e15,
+                 .spacing = Spacing::linear,
+                 .unit = "",
+                 .meaning = "seed of the ray directions and step jitters"}),
   };
   info.definition_doc =
       "cosine weighting (eq. 1), dmax = R, falloff linear when attenuation is on (an occluder at "

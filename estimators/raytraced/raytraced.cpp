@@ -48,16 +48,38 @@ EstimatorInfo raytraced_estimator() {
   info.backend = Backend::embree;
   info.inputs = {EstimatorInput::gbuffer, EstimatorInput::scene_geometry};
   info.params = {
-      int_param("rays", 16, 1, 65536, Spacing::log, "rays", "rays per pixel"),
+      int_param({.name = "rays",
+                 .def = 16,
+                 .min = 1,
+                 .max = 65536,
+                 .spacing = Spacing::log,
+                 .unit = "rays",
+                 .meaning = "rays per pixel"}),
+      choice_param({.name = "weighting",
+                    .def = "cosine",
+                    .choices = {"cosine", "uniform"},
+                    .meaning = "direction weighting: cosine (Dimitrov et al. eq. 1) or uniform "
+                               "(Hegeman et al. eq. 3)"}),
+      real_param({.name = "dmax",
+                  .def = 0.0,
+                  .min = 0.0,
+                  .max = 1e6,
+                  .spacing = Spacing::linear,
+                  .unit = "scene units",
+                  .meaning = "occluder range; 0 = unbounded (CONTRACT §3)"}),
       choice_param(
-          "weighting", "cosine", {"cosine", "uniform"},
-          "direction weighting: cosine (Dimitrov et al. eq. 1) or uniform (Hegeman et al. eq. 3)"),
-      real_param("dmax", 0.0, 0.0, 1e6, Spacing::linear, "scene units",
-                 "occluder range; 0 = unbounded (CONTRACT §3)"),
-      choice_param("sampler", "random", {"random", "stratified", "sobol"},
-                   "random, stratified (Mendez et al. §4.2 systematic) or sobol (Owen-scrambled)"),
-      int_param("seed", 7, 0, 1e15, Spacing::linear, "",
-                "random seed (the references use 1, so the two never share samples)"),
+          {.name = "sampler",
+           .def = "random",
+           .choices = {"random", "stratified", "sobol"},
+           .meaning =
+               "random, stratified (Mendez et al. §4.2 systematic) or sobol (Owen-scrambled)"}),
+      int_param({.name = "seed",
+                 .def = 7,
+                 .min = 0,
+                 .max = 1e15,
+                 .spacing = Spacing::linear,
+                 .unit = "",
+                 .meaning = "random seed (the references use 1, so the two never share samples)"}),
   };
   // falloff and falloff_k after dmax: the declaration rtao shares (power_falloff_param.h).
   const std::vector<ParamSpec> falloff = falloff_params("dmax");

@@ -97,17 +97,30 @@ EstimatorInfo reeves_blau_estimator() {
   info.backend = Backend::cpu;
   info.inputs = {EstimatorInput::gbuffer, EstimatorInput::tree_proxies};
   info.params = {
-      real_param("attenuation", 0.0, 0.0, 1e6, Spacing::linear, "1/scene units",
-                 "k of V = exp(-k depth); 0 = lambda, the leaves a ray meets per unit length "
-                 "(Hegeman et al. "
-                 "§3)"),
-      choice_param("envelope", "sphere", {"sphere", "ellipsoid"},
-                   "the tree envelope the depth is measured in: the bounding sphere or the moment "
-                   "ellipsoid"),
-      choice_param("proxy_source", "auto", {"auto", "derived"},
-                   "auto: the scene file's proxy when it has one of this kind, else derived; "
-                   "derived: always "
-                   "derive from the leaves"),
+      real_param({.name = "attenuation",
+                  .def = 0.0,
+                  .min = 0.0,
+                  .max = 1e6,
+                  .spacing = Spacing::linear,
+                  .unit = "1/scene units",
+                  .meaning =
+                      "k of V = exp(-k depth); 0 = lambda, the leaves a ray meets per unit length "
+                      "(Hegeman et al. "
+                      "§3)"}),
+      choice_param(
+          {.name = "envelope",
+           .def = "sphere",
+           .choices = {"sphere", "ellipsoid"},
+           .meaning =
+               "the tree envelope the depth is measured in: the bounding sphere or the moment "
+               "ellipsoid"}),
+      choice_param({.name = "proxy_source",
+                    .def = "auto",
+                    .choices = {"auto", "derived"},
+                    .meaning =
+                        "auto: the scene file's proxy when it has one of this kind, else derived; "
+                        "derived: always "
+                        "derive from the leaves"}),
   };
   info.definition_doc =
       "uniform-weighted, unbounded: compared against Hegeman et al.'s eq. 3 ambient visibility";

@@ -131,42 +131,99 @@ class RtaoEstimator : public Estimator {
 
 std::vector<ParamSpec> rtao_params() {
   std::vector<ParamSpec> params = {
-      int_param("rays", 1, 1, 1024, Spacing::log, "rays", "cosine rays per pixel per frame"),
-      real_param("t_max", 0.0, 0.0, 1e6, Spacing::linear, "scene units",
-                 "ray length, the definition's dmax; 0 = unbounded (CONTRACT §3)"),
+      int_param({.name = "rays",
+                 .def = 1,
+                 .min = 1,
+                 .max = 1024,
+                 .spacing = Spacing::log,
+                 .unit = "rays",
+                 .meaning = "cosine rays per pixel per frame"}),
+      real_param({.name = "t_max",
+                  .def = 0.0,
+                  .min = 0.0,
+                  .max = 1e6,
+                  .spacing = Spacing::linear,
+                  .unit = "scene units",
+                  .meaning = "ray length, the definition's dmax; 0 = unbounded (CONTRACT §3)"}),
   };
   // falloff and falloff_k: the declaration raytraced uses (power_falloff_param.h), so rtao
   // accepts every falloff raytraced does, power:K included (CONTRACT §3).
   for (ParamSpec& p : falloff_params("t_max")) params.push_back(std::move(p));
   const std::vector<ParamSpec> rest = {
-      int_param("seed", 7, 0, 1e15, Spacing::linear, "",
-                "random seed of the per-pixel Owen scrambles; frame k takes the sequence's "
-                "points from k rays on (the seed rule)"),
-      bool_param("temporal", true,
-                 "accumulate over frames with the shared temporal stage (Schied et al. 2017 "
-                 "§4.1); false = each frame's rays alone"),
+      int_param({.name = "seed",
+                 .def = 7,
+                 .min = 0,
+                 .max = 1e15,
+                 .spacing = Spacing::linear,
+                 .unit = "",
+                 .meaning =
+                     "random seed of the per-pixel Owen scrambles; frame k takes the sequence's "
+                     "points from k rays on (the seed rule)"}),
+      bool_param({.name = "temporal",
+                  .def = true,
+                  .meaning =
+                      "accumulate over frames with the shared temporal stage (Schied et al. 2017 "
+                      "§4.1); false = each frame's rays alone"}),
   };
   params.insert(params.end(), rest.begin(), rest.end());
   for (ParamSpec& p : temporal_params(rtao_temporal_defaults())) params.push_back(std::move(p));
   const std::vector<ParamSpec> svgf = {
-      int_param("variance_frames", 4, 1, 4096, Spacing::log, "frames",
-                "history length from which the variance is temporal; shorter histories "
-                "estimate it over a bilateral neighbourhood (Schied et al. 2017 §4.2)"),
-      int_param("variance_radius", 3, 0, 8, Spacing::linear, "pixels",
-                "half-width of that spatial variance estimate: (2 r + 1)^2 pixels, the paper's "
-                "7x7 at 3 (Schied et al. 2017 §4.2); 0 = the pixel's own moments"),
-      int_param("atrous_iterations", 5, 0, 10, Spacing::linear, "passes",
-                "edge-avoiding a-trous wavelet passes, 5x5 B3 kernel, step 2^i (Schied et al. "
-                "2017 §4.3, eq. 1); 0 = no spatial filter"),
-      real_param("sigma_z", 1.0, 1e-3, 1e3, Spacing::log, "",
-                 "depth edge-stopping: w_z = exp(-|z_p - z_q| / (sigma_z |grad z . (p - q)|)) "
-                 "(Schied et al. 2017 eq. 3)"),
-      real_param("sigma_n", 128.0, 0.0, 1e4, Spacing::linear, "",
-                 "normal edge-stopping exponent: w_n = max(0, n_p . n_q)^sigma_n (Schied et al. "
-                 "2017 eq. 4)"),
-      real_param("sigma_l", 4.0, 1e-3, 1e3, Spacing::log, "standard deviations",
-                 "AO (luminance) edge-stopping: w_l = exp(-|l_p - l_q| / (sigma_l sqrt(g3x3 "
-                 "Var))) (Schied et al. 2017 eq. 5)"),
+      int_param({.name = "variance_frames",
+                 .def = 4,
+                 .min = 1,
+                 .max = 4096,
+                 .spacing = Spacing::log,
+                 .unit = "frames",
+                 .meaning =
+                     "history length from which the variance is temporal; shorter histories "
+                     "estimate it over a bilateral neighbourhood (Schied et al. 2017 §4.2)"}),
+      int_param(
+          {.name = "variance_radius",
+           .def = 3,
+           .min = 0,
+           .max = 8,
+           .spacing = Spacing::linear,
+           .unit = "pixels",
+           .meaning =
+               "half-width of that spatial variance estimate: (2 r + 1)^2 pixels, the paper's "
+               "7x7 at 3 (Schied et al. 2017 §4.2); 0 = the pixel's own moments"}),
+      int_param({.name = "atrous_iterations",
+                 .def = 5,
+                 .min = 0,
+                 .max = 10,
+                 .spacing = Spacing::linear,
+                 .unit = "passes",
+                 .meaning =
+                     "edge-avoiding a-trous wavelet passes, 5x5 B3 kernel, step 2^i (Schied et al. "
+                     "2017 §4.3, eq. 1); 0 = no spatial filter"}),
+      real_param({.name = "sigma_z",
+                  .def = 1.0,
+                  .min = 1e-3,
+                  .max = 1e3,
+                  .spacing = Spacing::log,
+                  .unit = "",
+                  .meaning =
+                      "depth edge-stopping: w_z = exp(-|z_p - z_q| / (sigma_z |grad z . (p - q)|)) "
+                      "(Schied et al. 2017 eq. 3)"}),
+      real_param(
+          {.name = "sigma_n",
+           .def = 128.0,
+           .min = 0.0,
+           .max = 1e4,
+           .spacing = Spacing::linear,
+           .unit = "",
+           .meaning =
+               "normal edge-stopping exponent: w_n = max(0, n_p . n_q)^sigma_n (Schied et al. "
+               "2017 eq. 4)"}),
+      real_param({.name = "sigma_l",
+                  .def = 4.0,
+                  .min = 1e-3,
+                  .max = 1e3,
+                  .spacing = Spacing::log,
+                  .unit = "standard deviations",
+                  .meaning =
+                      "AO (luminance) edge-stopping: w_l = exp(-|l_p - l_q| / (sigma_l sqrt(g3x3 "
+                      "Var))) (Schied et al. 2017 eq. 5)"}),
   };
   params.insert(params.end(), svgf.begin(), svgf.end());
   return params;

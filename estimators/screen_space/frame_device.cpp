@@ -128,10 +128,13 @@ void check_frame_matches_camera(const ScreenSpaceFrame& frame, const Camera& cam
 ParamSpec frame_source_param(const std::string& geometry_pass) {
   const std::string timed_as =
       geometry_pass.empty() ? "timed as geometry_ms" : "timed as geometry_ms, " + geometry_pass;
-  return choice_param("gbuffer", "raster", {"raster", "embree"},
-                      "raster: the scene rasterised on the device every frame (" + timed_as +
-                          "); embree: the shared Embree G-buffer, uploaded once in prepare() (no "
-                          "geometry_ms)");
+  return choice_param(
+      {.name = "gbuffer",
+       .def = "raster",
+       .choices = {"raster", "embree"},
+       .meaning = "raster: the scene rasterised on the device every frame (" + timed_as +
+                  "); embree: the shared Embree G-buffer, uploaded once in prepare() (no "
+                  "geometry_ms)"});
 }
 
 bool rasterises_frame(const ParamSet& params) {

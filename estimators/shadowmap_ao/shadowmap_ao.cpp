@@ -457,46 +457,99 @@ EstimatorInfo shadowmap_ao_estimator() {
   info.backend = Backend::vulkan;
   info.inputs = {EstimatorInput::gbuffer, EstimatorInput::scene_geometry};
   info.params = {
-      int_param("lights", 256, 1, 4096, Spacing::log, "lights",
-                "shadow-casting directional lights (§17.3: \"128 to 1024 is required for good "
-                "results\")"),
-      int_param("resolution", 512, 16, 4096, Spacing::log, "texels",
-                "texels per side of each light's orthographic shadow map (its extent: fit)"),
-      choice_param(
-          "fit", "receivers", {"receivers", "scene"},
-          "each light's map laterally: receivers = the extent of the receivers as that light sees "
-          "them (mode pixel: the covered G-buffer points; vertex: the baked triangle centres), as "
-          "cascaded shadow maps fit the view; scene = the scene's bounding sphere (GPU Gems' "
-          "whole-object map, which spends the texels on what no receiver needs). Depth covers the "
-          "sphere either way, so every occluder is drawn"),
-      choice_param(
-          "distribution", "uniform", {"uniform", "latlong"},
-          "light placement: uniform (spherical Fibonacci lattice under a seeded rotation, §17.3's "
-          "\"uniform distribution on the sphere\") or latlong (evenly spaced latitudes and "
-          "longitudes, which \"concentrate too many samples at the poles\")"),
-      choice_param("layout", "sphere", {"sphere", "dome"},
-                   "sphere, or dome: lights over the +Y hemisphere only, the ground assumed to "
-                   "block the rest "
-                   "(§17.3: \"a dome or a hemisphere can be used instead\")"),
-      real_param("bias", 1.0, 0.0, 64.0, Spacing::linear, "texels",
-                 "constant depth bias of the shadow test at the receiver"),
-      real_param(
-          "slope_bias", 1.0, 0.0, 64.0, Spacing::linear, "texels",
-          "slope-scaled depth bias: slope_bias * tan(angle between light and surface normal), tan "
-          "capped at 1000 (§17.3's \"streaking ... at the transition from lit to shadowed\")"),
+      int_param({.name = "lights",
+                 .def = 256,
+                 .min = 1,
+                 .max = 4096,
+                 .spacing = Spacing::log,
+                 .unit = "lights",
+                 .meaning =
+                     "shadow-casting directional lights (§17.3: \"128 to 1024 is required for good "
+                     "results\")"}),
       int_param(
-          "lights_per_pass", 8, 1, 16, Spacing::linear, "lights",
-          "shadow maps tested in one accumulation pass (§17.3: \"accumulate eight shadows in the "
-          "shader at once\")"),
+          {.name = "resolution",
+           .def = 512,
+           .min = 16,
+           .max = 4096,
+           .spacing = Spacing::log,
+           .unit = "texels",
+           .meaning = "texels per side of each light's orthographic shadow map (its extent: fit)"}),
       choice_param(
-          "weighting", "uniform", {"uniform", "cosine"},
-          "uniform: every light above the surface counts 1 (the chapter's accessibility); cosine: "
-          "each counts n.l, estimating the cosine-weighted AO"),
+          {.name = "fit",
+           .def = "receivers",
+           .choices = {"receivers", "scene"},
+           .meaning =
+               "each light's map laterally: receivers = the extent of the receivers as that light "
+               "sees "
+               "them (mode pixel: the covered G-buffer points; vertex: the baked triangle "
+               "centres), as "
+               "cascaded shadow maps fit the view; scene = the scene's bounding sphere (GPU Gems' "
+               "whole-object map, which spends the texels on what no receiver needs). Depth covers "
+               "the "
+               "sphere either way, so every occluder is drawn"}),
       choice_param(
-          "mode", "pixel", {"pixel", "vertex"},
-          "pixel: every camera G-buffer pixel is a receiver; vertex: triangle centres baked, "
-          "area-averaged to vertices and interpolated per pixel (§17.2, §17.4), as vertex-baked"),
-      int_param("seed", 7, 0, 1e15, Spacing::linear, "", "random seed of the lights' rotation"),
+          {.name = "distribution",
+           .def = "uniform",
+           .choices = {"uniform", "latlong"},
+           .meaning =
+               "light placement: uniform (spherical Fibonacci lattice under a seeded rotation, "
+               "§17.3's "
+               "\"uniform distribution on the sphere\") or latlong (evenly spaced latitudes and "
+               "longitudes, which \"concentrate too many samples at the poles\")"}),
+      choice_param(
+          {.name = "layout",
+           .def = "sphere",
+           .choices = {"sphere", "dome"},
+           .meaning = "sphere, or dome: lights over the +Y hemisphere only, the ground assumed to "
+                      "block the rest "
+                      "(§17.3: \"a dome or a hemisphere can be used instead\")"}),
+      real_param({.name = "bias",
+                  .def = 1.0,
+                  .min = 0.0,
+                  .max = 64.0,
+                  .spacing = Spacing::linear,
+                  .unit = "texels",
+                  .meaning = "constant depth bias of the shadow test at the receiver"}),
+      real_param({.name = "slope_bias",
+                  .def = 1.0,
+                  .min = 0.0,
+                  .max = 64.0,
+                  .spacing = Spacing::linear,
+                  .unit = "texels",
+                  .meaning = "slope-scaled depth bias: slope_bias * tan(angle between light and "
+                             "surface normal), tan "
+                             "capped at 1000 (§17.3's \"streaking ... at the transition from lit "
+                             "to shadowed\")"}),
+      int_param({.name = "lights_per_pass",
+                 .def = 8,
+                 .min = 1,
+                 .max = 16,
+                 .spacing = Spacing::linear,
+                 .unit = "lights",
+                 .meaning = "shadow maps tested in one accumulation pass (§17.3: \"accumulate "
+                            "eight shadows in the "
+                            "shader at once\")"}),
+      choice_param({.name = "weighting",
+                    .def = "uniform",
+                    .choices = {"uniform", "cosine"},
+                    .meaning = "uniform: every light above the surface counts 1 (the chapter's "
+                               "accessibility); cosine: "
+                               "each counts n.l, estimating the cosine-weighted AO"}),
+      choice_param(
+          {.name = "mode",
+           .def = "pixel",
+           .choices = {"pixel", "vertex"},
+           .meaning =
+               "pixel: every camera G-buffer pixel is a receiver; vertex: triangle centres baked, "
+               "area-averaged to vertices and interpolated per pixel (§17.2, §17.4), as "
+               "vertex-baked"}),
+      int_param({.name = "seed",
+                 .def = 7,
+                 .min = 0,
+                 .max = 1e15,
+                 .spacing = Spacing::linear,
+                 .unit = "",
+                 .meaning = "random seed of the lights' rotation"}),
   };
   info.definition_doc = "the weighting parameter's (uniform or cosine), unbounded, no falloff";
   info.definition = [](const ParamSet& p) {

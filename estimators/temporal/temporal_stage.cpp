@@ -12,47 +12,108 @@ namespace aoeval {
 
 std::vector<ParamSpec> temporal_params(const TemporalDefaults& d) {
   return {
-      choice_param("history_read",
-                   d.history_read == HistoryRead::catmull_rom ? "catmull-rom" : "bilinear",
-                   {"catmull-rom", "bilinear"},
-                   "temporal stage: how the history is resampled at the reprojected position: "
-                   "the 4x4 Catmull-Rom spline (Keys 1981; TAA's bicubic history read, Karis "
-                   "2014), bilinear where a tap is invalid, or bilinear everywhere (blurs under "
-                   "motion)"),
-      int_param("history_limit", d.history_limit, 1, 4096, Spacing::log, "frames",
-                "temporal stage: the longest history a pixel keeps; the blend factor is never "
-                "below 1/(history_limit+1) (Schied et al. 2017 §4.1, history length)"),
-      real_param("alpha_min", d.alpha_min, 0.0, 1.0, Spacing::linear, "",
-                 "temporal stage: the smallest weight of the current frame, alpha = "
-                 "max(alpha_min, 1/(L+1)) (Schied et al. 2017 §4.1; 1 = no history)"),
-      bool_param("clamp", d.clamp,
-                 "temporal stage: clamp the reprojected history to the current frame's "
-                 "neighbourhood, mean +- max(gamma sigma, clamp_sigma_min) (Salvi 2016)"),
-      real_param("gamma", d.gamma, 0.0, 100.0, Spacing::linear, "standard deviations",
-                 "temporal stage: half-width of the clamp range around the neighbourhood's mean "
-                 "(Salvi 2016; the D3D12 denoised AO sample's std.dev gamma)"),
+      choice_param(
+          {.name = "history_read",
+           .def = d.history_read == HistoryRead::catmull_rom ? "catmull-rom" : "bilinear",
+           .choices = {"catmull-rom", "bilinear"},
+           .meaning = "temporal stage: how the history is resampled at the reprojected position: "
+                      "the 4x4 Catmull-Rom spline (Keys 1981; TAA's bicubic history read, Karis "
+                      "2014), bilinear where a tap is invalid, or bilinear everywhere (blurs under "
+                      "motion)"}),
+      int_param({.name = "history_limit",
+                 .def = d.history_limit,
+                 .min = 1,
+                 .max = 4096,
+                 .spacing = Spacing::log,
+                 .unit = "frames",
+                 .meaning =
+                     "temporal stage: the longest history a pixel keeps; the blend factor is never "
+                     "below 1/(history_limit+1) (Schied et al. 2017 §4.1, history length)"}),
+      real_param({.name = "alpha_min",
+                  .def = d.alpha_min,
+                  .min = 0.0,
+                  .max = 1.0,
+                  .spacing = Spacing::linear,
+                  .unit = "",
+                  .meaning = "temporal stage: the smallest weight of the current frame, alpha = "
+                             "max(alpha_min, 1/(L+1)) (Schied et al. 2017 §4.1; 1 = no history)"}),
+      bool_param({.name = "clamp",
+                  .def = d.clamp,
+                  .meaning =
+                      "temporal stage: clamp the reprojected history to the current frame's "
+                      "neighbourhood, mean +- max(gamma sigma, clamp_sigma_min) (Salvi 2016)"}),
       real_param(
-          "clamp_sigma_min", d.clamp_sigma_min, 0.0, 1.0, Spacing::linear, "AO",
-          "temporal stage: the smallest half-width of the clamp range, so that a flat "
-          "noisy neighbourhood does not clamp at random (the D3D12 sample's minimum std.dev)"),
-      int_param("clamp_radius", d.clamp_radius, 0, 16, Spacing::linear, "pixels",
-                "temporal stage: the clamp's neighbourhood is (2 clamp_radius + 1)^2 pixels of "
-                "the current frame (1 = the 3x3 of TAA)"),
-      real_param("antilag", d.antilag, 0.0, 100.0, Spacing::linear, "standard errors",
-                 "temporal stage: anti-lag threshold: where this frame's window mean differs "
-                 "from the history's by more than antilag sigma/sqrt(n) + antilag_min, the "
-                 "history is shortened by (threshold/difference)^2 (A-SVGF's temporal gradient, "
-                 "Schied et al. 2018; NRD REBLUR anti-lag); 0 = off"),
-      real_param("antilag_min", d.antilag_min, 0.0, 1.0, Spacing::linear, "AO",
-                 "temporal stage: the smallest anti-lag threshold, so that a flat, noiseless "
-                 "window does not shorten the history for a rounding"),
-      int_param("antilag_radius", d.antilag_radius, 0, 16, Spacing::linear, "pixels",
-                "temporal stage: the anti-lag window is (2 antilag_radius + 1)^2 pixels (its mean "
-                "low-passes the noise the comparison must ignore)"),
-      int_param("antilag_frames", d.antilag_frames, 1, 64, Spacing::log, "frames",
-                "temporal stage: anti-lag compares the slow history with a fast history of the "
-                "window mean at most this long (NRD REBLUR's fast history), whose noise is "
-                "sqrt(antilag_frames) times smaller than one frame's; 1 = this frame's window"),
+          {.name = "gamma",
+           .def = d.gamma,
+           .min = 0.0,
+           .max = 100.0,
+           .spacing = Spacing::linear,
+           .unit = "standard deviations",
+           .meaning =
+               "temporal stage: half-width of the clamp range around the neighbourhood's mean "
+               "(Salvi 2016; the D3D12 denoised AO sample's std.dev gamma)"}),
+      real_param({.name = "clamp_sigma_min",
+                  .def = d.clamp_sigma_min,
+                  .min = 0.0,
+                  .max = 1.0,
+                  .spacing = Spacing::linear,
+                  .unit = "AO",
+                  .meaning =
+                      "temporal stage: the smallest half-width of the clamp range, so that a flat "
+                      "noisy neighbourhood does not clamp at random (the D3D12 sample's minimum "
+                      "std.dev)"}),
+      int_param(
+          {.name = "clamp_radius",
+           .def = d.clamp_radius,
+           .min = 0,
+           .max = 16,
+           .spacing = Spacing::linear,
+           .unit = "pixels",
+           .meaning =
+               "temporal stage: the clamp's neighbourhood is (2 clamp_radius + 1)^2 pixels of "
+               "the current frame (1 = the 3x3 of TAA)"}),
+      real_param(
+          {.name = "antilag",
+           .def = d.antilag,
+           .min = 0.0,
+           .max = 100.0,
+           .spacing = Spacing::linear,
+           .unit = "standard errors",
+           .meaning =
+               "temporal stage: anti-lag threshold: where this frame's window mean differs "
+               "from the history's by more than antilag sigma/sqrt(n) + antilag_min, the "
+               "history is shortened by (threshold/difference)^2 (A-SVGF's temporal gradient, "
+               "Schied et al. 2018; NRD REBLUR anti-lag); 0 = off"}),
+      real_param({.name = "antilag_min",
+                  .def = d.antilag_min,
+                  .min = 0.0,
+                  .max = 1.0,
+                  .spacing = Spacing::linear,
+                  .unit = "AO",
+                  .meaning =
+                      "temporal stage: the smallest anti-lag threshold, so that a flat, noiseless "
+                      "window does not shorten the history for a rounding"}),
+      int_param(
+          {.name = "antilag_radius",
+           .def = d.antilag_radius,
+           .min = 0,
+           .max = 16,
+           .spacing = Spacing::linear,
+           .unit = "pixels",
+           .meaning =
+               "temporal stage: the anti-lag window is (2 antilag_radius + 1)^2 pixels (its mean "
+               "low-passes the noise the comparison must ignore)"}),
+      int_param(
+          {.name = "antilag_frames",
+           .def = d.antilag_frames,
+           .min = 1,
+           .max = 64,
+           .spacing = Spacing::log,
+           .unit = "frames",
+           .meaning =
+               "temporal stage: anti-lag compares the slow history with a fast history of the "
+               "window mean at most this long (NRD REBLUR's fast history), whose noise is "
+               "sqrt(antilag_frames) times smaller than one frame's; 1 = this frame's window"}),
   };
 }
 

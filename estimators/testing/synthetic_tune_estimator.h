@@ -70,11 +70,32 @@ inline const EstimatorInfo& synthetic_tune_estimator() {
     e.backend = Backend::cpu;
     e.inputs = {EstimatorInput::gbuffer};
     e.params = {
-        real_param("x", 1.0, 0.01, 10.0, Spacing::log, "", "error grows with log10(x / 0.5)^2"),
-        int_param("n", 4, 1, 64, Spacing::linear, "", "error 0.4 / n, time grows with n"),
-        choice_param("mode", "a", {"a", "b"}, "b: 0.05 less error, twice the time"),
-        bool_param("flag", false, "true: 0.01 more error"),
-        int_param("seed", 7, 0, 1e15, Spacing::linear, "", "changes nothing"),
+        real_param({.name = "x",
+                    .def = 1.0,
+                    .min = 0.01,
+                    .max = 10.0,
+                    .spacing = Spacing::log,
+                    .unit = "",
+                    .meaning = "error grows with log10(x / 0.5)^2"}),
+        int_param({.name = "n",
+                   .def = 4,
+                   .min = 1,
+                   .max = 64,
+                   .spacing = Spacing::linear,
+                   .unit = "",
+                   .meaning = "error 0.4 / n, time grows with n"}),
+        choice_param({.name = "mode",
+                      .def = "a",
+                      .choices = {"a", "b"},
+                      .meaning = "b: 0.05 less error, twice the time"}),
+        bool_param({.name = "flag", .def = false, .meaning = "true: 0.01 more error"}),
+        int_param({.name = "seed",
+                   .def = 7,
+                   .min = 0,
+                   .max = 1e15,
+                   .spacing = Spacing::linear,
+                   .unit = "",
+                   .meaning = "changes nothing"}),
     };
     e.definition_doc = "cosine-weighted, unbounded";
     e.definition = [](const ParamSet&) { return AoDefinition{}; };

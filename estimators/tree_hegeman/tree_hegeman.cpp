@@ -142,16 +142,29 @@ class HegemanEstimator : public Estimator {
 
 std::vector<ParamSpec> common_params() {
   return {
-      real_param(
-          "alpha_rho", 0.0, 0.0, 1e12, Spacing::linear, "1/scene units^3",
-          "alpha rho of eq. 6 for every tree; 0 = derive 3 lambda / (2 pi R^2) from §3's Poisson "
-          "argument (lambda = leaves met per unit length)"),
-      real_param(
-          "alpha_scale", 1.0, 0.01, 100.0, Spacing::log, "",
-          "multiplies alpha rho: the user-tuned alpha of eq. 6 (§4: chosen by hand per object)"),
-      bool_param("ambient_only", false,
-                 "§4's ambient-only shader (Fig. 12 bottom row): the same per-pixel pass with the "
-                 "visibility left out, every covered pixel 1; a throughput baseline"),
+      real_param({.name = "alpha_rho",
+                  .def = 0.0,
+                  .min = 0.0,
+                  .max = 1e12,
+                  .spacing = Spacing::linear,
+                  .unit = "1/scene units^3",
+                  .meaning = "alpha rho of eq. 6 for every tree; 0 = derive 3 lambda / (2 pi R^2) "
+                             "from §3's Poisson "
+                             "argument (lambda = leaves met per unit length)"}),
+      real_param({.name = "alpha_scale",
+                  .def = 1.0,
+                  .min = 0.01,
+                  .max = 100.0,
+                  .spacing = Spacing::log,
+                  .unit = "",
+                  .meaning = "multiplies alpha rho: the user-tuned alpha of eq. 6 (§4: chosen by "
+                             "hand per object)"}),
+      bool_param(
+          {.name = "ambient_only",
+           .def = false,
+           .meaning =
+               "§4's ambient-only shader (Fig. 12 bottom row): the same per-pixel pass with the "
+               "visibility left out, every covered pixel 1; a throughput baseline"}),
   };
 }
 
@@ -185,8 +198,14 @@ EstimatorInfo hegeman_info(ProxyKind kind) {
       info.paper +=
           "eq. 4-6 per spherical shell, closest centre (§5, Fig. 3 left), eq. 7-8, "
           "eq. 9";
-      info.params.push_back(int_param("shells", 4, 1, 64, Spacing::linear, "shells",
-                                      "number of k-means shells per derived tree envelope (§5)"));
+      info.params.push_back(
+          int_param({.name = "shells",
+                     .def = 4,
+                     .min = 1,
+                     .max = 64,
+                     .spacing = Spacing::linear,
+                     .unit = "shells",
+                     .meaning = "number of k-means shells per derived tree envelope (§5)"}));
       break;
   }
   info.definition_doc =

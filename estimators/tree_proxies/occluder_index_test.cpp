@@ -10,6 +10,7 @@
 #include <random>
 
 #include "base/testing/test_temp_dir.h"
+#include "estimators/tree_proxies/testing_pixels.h"
 #include "estimators/tree_proxies/tree_scene.h"
 #include "scenes/testing_forest.h"
 
@@ -38,19 +39,9 @@ std::vector<hm::UnitMap> forest(size_t n, float extent) {
   return maps;
 }
 
-struct Pixel {
-  glm::vec3 x, n;
-};
+using testutil::Pixel;
 std::vector<Pixel> pixels(size_t count, float extent) {
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  std::vector<Pixel> out;
-  for (size_t k = 0; k < count; ++k) {
-    const float spread = k % 2 == 0 ? 60.0f : extent;
-    const glm::vec3 n = glm::normalize(glm::vec3(0.5f * u(rng), 1.0f, 0.5f * u(rng)));
-    out.push_back({glm::vec3(spread * u(rng), 0.5f + u(rng), spread * u(rng)), n});
-  }
-  return out;
+  return testutil::random_pixels(count, extent, 60.0f, 0.5f, 0.5f, 1.0f);
 }
 
 float every_tree(const std::vector<hm::UnitMap>& maps, const Pixel& p) {

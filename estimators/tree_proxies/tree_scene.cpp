@@ -10,26 +10,60 @@ namespace aoeval {
 
 std::vector<ParamSpec> tree_scene_params() {
   return {
-      choice_param("proxy_source", "auto", {"auto", "derived"},
-                   "auto: the scene file's proxy when it has one of this kind, else derived; "
-                   "derived: always "
-                   "derive from the leaves (§3 bounding sphere, ellipsoid, §5 k-means shells)"),
-      bool_param("ground_horizon", true,
-                 "eq. 7-8: count only the part of a tree's silhouette above the shaded point's "
-                 "tangent plane "
-                 "(false: eq. 8 verbatim)"),
+      choice_param(
+          {.name = "proxy_source",
+           .def = "auto",
+           .choices = {"auto", "derived"},
+           .meaning = "auto: the scene file's proxy when it has one of this kind, else derived; "
+                      "derived: always "
+                      "derive from the leaves (§3 bounding sphere, ellipsoid, §5 k-means shells)"}),
       bool_param(
-          "grass_ground", true,
-          "ground pixels inside a grass field's footprint and below its tips use eq. 9 at their "
-          "height"),
-      real_param("blade_height", 0.0, 0.0, 1e6, Spacing::linear, "scene units",
-                 "h of eq. 9; 0 = each grass object's height (its world-space vertical extent)"),
-      real_param("cull_occlusion", kExactCull, 0.0, 0.25, Spacing::linear, "",
-                 "eq. 7-8: a tree is skipped where its occlusion is at most this by the bound "
-                 "r_max^2 / (2 d^2), i.e. beyond r_max / sqrt(2 cull_occlusion) of its centre, "
-                 "found through a grid over the trees; the default 2^-26 skips only factors that "
-                 "round to 1.0f (bit-equal to every tree), larger values change a pixel by at most "
-                 "the sum of its skipped occlusions; 0 visits every tree"),
+          {.name = "ground_horizon",
+           .def = true,
+           .meaning =
+               "eq. 7-8: count only the part of a tree's silhouette above the shaded point's "
+               "tangent plane "
+               "(false: eq. 8 verbatim)"}),
+      bool_param({.name = "grass_ground",
+                  .def = true,
+                  .meaning = "ground pixels inside a grass field's footprint and below its tips "
+                             "use eq. 9 at their "
+                             "height"}),
+      real_param(
+          {.name = "blade_height",
+           .def = 0.0,
+           .min = 0.0,
+           .max = 1e6,
+           .spacing = Spacing::linear,
+           .unit = "scene units",
+           .meaning =
+               "h of eq. 9; 0 = each grass object's height (its world-space vertical extent)"}),
+      real_param(
+          {.name = "cull_occlusion",
+           .def = kExactCull,
+           .min = 0.0,
+           .max = 0.25,
+           .spacing = Spacing::linear,
+           .unit = "",
+           .meaning =
+               "eq. 7-8: a tree is skipped where its occlusion is at most this by the bound "
+               "r_max^2 / (2 d^2), i.e. beyond r_max / sqrt(2 cull_occlusion) of its centre, "
+               "found through a grid over the trees; the default 2^-26 skips only factors that "
+               "round to 1.0f (bit-equal to every tree), larger values change a pixel by at most "
+               "the sum of its skipped occlusions; 0 visits every tree"}),
+      real_param(
+          {.name = "far_field_angle",
+           .def = 0.7,
+           .min = 0.0,
+           .max = 0.9,
+           .spacing = Spacing::linear,
+           .unit = "radians",
+           .meaning =
+               "eq. 7-8's far field: a group of trees (a node of a hierarchy over them) whose "
+               "bounding sphere's angular radius from the pixel (radius / distance) is at most "
+               "this is one aggregate occluder (the trees' summed silhouettes at their centroid, "
+               "exp(-occlusion) in place of the product of their factors); 0 = every tree on its "
+               "own (the grid; bit-equal to the loop over every tree at the default cull)"}),
   };
 }
 
@@ -41,6 +75,7 @@ TreeSceneOptions tree_scene_options(const ParamSet& p, const ProxyOptions& proxy
   o.grass_ground = p.boolean("grass_ground");
   o.blade_height = p.real("blade_height");
   o.cull = p.real("cull_occlusion");
+  o.far_angle = p.real("far_field_angle");
   return o;
 }
 
@@ -73,7 +108,10 @@ const std::vector<TreeEnvelope>& TreeScene::prepare(const Scene& scene,
     }
     rules_[e.placement] = {Rule::tree, static_cast<int>(outer_.size() - 1)};
   }
-  index_.build(outer_, options.cull);
+  if (options.far_angle > 0.0)
+    far_.build(outer_, options.cull, options.far_angle);
+  else
+    index_.build(outer_, options.cull);
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const SceneObject& o = scene.objects[i];
     const size_t placements = std::max<size_t>(1, o.instances.size());

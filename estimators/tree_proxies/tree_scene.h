@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "estimators/estimator.h"
+#include "estimators/tree_proxies/far_field.h"
 #include "estimators/tree_proxies/hegeman_model.h"
 #include "estimators/tree_proxies/occluder_index.h"
 #include "estimators/tree_proxies/tree_proxy.h"
@@ -30,12 +31,14 @@ struct TreeSceneOptions {
   bool grass_ground;
   double blade_height;
   double cull = kExactCull;  // cull_occlusion: see occluder_index.h
+  double far_angle = 0.0;    // far_field_angle (far_field.h): 0 = the grid, tree by tree; the
+                             // parameter's default is tree_scene_params()'s
 };
 
-// proxy_source, ground_horizon, grass_ground, blade_height, cull_occlusion: declared once for every
-// tree estimator.
+// proxy_source, ground_horizon, grass_ground, blade_height, cull_occlusion, far_field_angle:
+// declared once for every tree estimator.
 std::vector<ParamSpec> tree_scene_params();
-// Reads those five; `proxy` says which envelope the estimator wants.
+// Reads those six; `proxy` says which envelope the estimator wants.
 TreeSceneOptions tree_scene_options(const ParamSet& p, const ProxyOptions& proxy);
 
 class TreeScene {
@@ -75,8 +78,10 @@ class TreeScene {
   }
 
   // Eq. 7-8 for every tree but `skip` within its radius of influence (options.cull, found
-  // through index_), as independent occluders, multiplied in tree order.
+  // through index_), as independent occluders, multiplied in tree order; with far_field_angle > 0
+  // distant groups of trees as one aggregate each (far_field.h).
   float others(const glm::vec3& x, const glm::vec3& n, int skip) const {
+    if (options_.far_angle > 0.0) return far_.visibility(x, n, skip, options_.horizon);
     float v = 1.0f;
     index_.visit(x, [&](uint32_t t) {
       if (static_cast<int>(t) != skip)
@@ -105,7 +110,8 @@ class TreeScene {
   nlohmann::json derived_ = nlohmann::json::object();
   std::vector<ObjectRule> rules_;
   std::vector<hegeman::UnitMap> outer_;  // per tree: the large occluder of eq. 7-8
-  OccluderIndex index_;                  // over outer_
+  OccluderIndex index_;                  // over outer_ (far_field_angle = 0)
+  FarField far_;                         // over outer_ (far_field_angle > 0)
   std::vector<GrassField> fields_;
 };
 

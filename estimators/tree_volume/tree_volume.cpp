@@ -132,25 +132,54 @@ EstimatorInfo tree_volume_estimator() {
   info.backend = Backend::cpu;
   info.inputs = {EstimatorInput::gbuffer, EstimatorInput::tree_proxies};
   info.params = {
-      choice_param(
-          "proxy", "sphere", {"sphere", "ellipsoid", "shells"},
-          "the envelope the chords cross: §3 bounding sphere, §3 ellipsoid (Fig. 8), §5 k-means "
-          "shells (closest centre along the ray)"),
-      int_param("shells", 4, 1, 64, Spacing::linear, "shells",
-                "number of k-means shells per derived envelope (§5; proxy = shells only)"),
-      choice_param("weighting", "uniform", {"uniform", "cosine"},
-                   "hemisphere weight of exp(-lambda chord): uniform (eq. 3's ambient visibility) "
-                   "or cosine"),
+      choice_param({.name = "proxy",
+                    .def = "sphere",
+                    .choices = {"sphere", "ellipsoid", "shells"},
+                    .meaning = "the envelope the chords cross: §3 bounding sphere, §3 ellipsoid "
+                               "(Fig. 8), §5 k-means "
+                               "shells (closest centre along the ray)"}),
       int_param(
-          "rings", 4, 1, 32, Spacing::linear, "directions",
-          "Gauss-Legendre nodes in cos(theta) of the fixed direction set (exact to degree 2 rings "
-          "- 1 in cos(theta))"),
-      int_param("azimuths", 8, 1, 64, Spacing::linear, "directions",
-                "azimuths per ring of the fixed direction set (trapezoid rule; rings x azimuths "
-                "directions in all)"),
-      real_param(
-          "lambda_scale", 1.0, 0.01, 100.0, Spacing::log, "",
-          "multiplies the derived lambda (§3: G A_leaf / V leaves met per unit length, G = 1/2)"),
+          {.name = "shells",
+           .def = 4,
+           .min = 1,
+           .max = 64,
+           .spacing = Spacing::linear,
+           .unit = "shells",
+           .meaning = "number of k-means shells per derived envelope (§5; proxy = shells only)"}),
+      choice_param(
+          {.name = "weighting",
+           .def = "uniform",
+           .choices = {"uniform", "cosine"},
+           .meaning =
+               "hemisphere weight of exp(-lambda chord): uniform (eq. 3's ambient visibility) "
+               "or cosine"}),
+      int_param({.name = "rings",
+                 .def = 4,
+                 .min = 1,
+                 .max = 32,
+                 .spacing = Spacing::linear,
+                 .unit = "directions",
+                 .meaning = "Gauss-Legendre nodes in cos(theta) of the fixed direction set (exact "
+                            "to degree 2 rings "
+                            "- 1 in cos(theta))"}),
+      int_param(
+          {.name = "azimuths",
+           .def = 8,
+           .min = 1,
+           .max = 64,
+           .spacing = Spacing::linear,
+           .unit = "directions",
+           .meaning =
+               "azimuths per ring of the fixed direction set (trapezoid rule; rings x azimuths "
+               "directions in all)"}),
+      real_param({.name = "lambda_scale",
+                  .def = 1.0,
+                  .min = 0.01,
+                  .max = 100.0,
+                  .spacing = Spacing::log,
+                  .unit = "",
+                  .meaning = "multiplies the derived lambda (§3: G A_leaf / V leaves met per unit "
+                             "length, G = 1/2)"}),
   };
   for (ParamSpec& p : tree_scene_params()) info.params.push_back(std::move(p));
   info.definition_doc =

@@ -105,18 +105,36 @@ EstimatorInfo vertex_baked_estimator() {
   info.backend = Backend::embree;
   info.inputs = {EstimatorInput::gbuffer, EstimatorInput::scene_geometry};
   info.params = {
-      int_param(
-          "rays", 128, 1, 65536, Spacing::log, "rays",
-          "rays per triangle and side at its centre (§17.2, Listing 17-1; the chapter used 512)"),
-      int_param(
-          "subdivide", 0, 0, 6, Spacing::linear, "levels",
-          "1:4 midpoint splits of every triangle before baking; 0 = as modelled (§17.2 assumes a "
-          "finely tessellated model)"),
-      choice_param(
-          "sampler", "random", {"random", "stratified", "sobol"},
-          "hemisphere points: random (Listing 17-2's distribution), stratified or sobol (§17.2 "
-          "\"more complex Monte Carlo sampling\")"),
-      int_param("seed", 7, 0, 1e15, Spacing::linear, "", "random seed of the bake"),
+      int_param({.name = "rays",
+                 .def = 128,
+                 .min = 1,
+                 .max = 65536,
+                 .spacing = Spacing::log,
+                 .unit = "rays",
+                 .meaning = "rays per triangle and side at its centre (§17.2, Listing 17-1; the "
+                            "chapter used 512)"}),
+      int_param({.name = "subdivide",
+                 .def = 0,
+                 .min = 0,
+                 .max = 6,
+                 .spacing = Spacing::linear,
+                 .unit = "levels",
+                 .meaning = "1:4 midpoint splits of every triangle before baking; 0 = as modelled "
+                            "(§17.2 assumes a "
+                            "finely tessellated model)"}),
+      choice_param({.name = "sampler",
+                    .def = "random",
+                    .choices = {"random", "stratified", "sobol"},
+                    .meaning = "hemisphere points: random (Listing 17-2's distribution), "
+                               "stratified or sobol (§17.2 "
+                               "\"more complex Monte Carlo sampling\")"}),
+      int_param({.name = "seed",
+                 .def = 7,
+                 .min = 0,
+                 .max = 1e15,
+                 .spacing = Spacing::linear,
+                 .unit = "",
+                 .meaning = "random seed of the bake"}),
   };
   info.definition_doc = "uniform weighting, unbounded (GPU Gems ch. 17 accessibility), always";
   info.definition = [](const ParamSet&) {

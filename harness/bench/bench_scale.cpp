@@ -19,7 +19,9 @@
 #include "estimators/registry.h"
 #include "harness/evaluation/progress.h"
 #include "harness/scoring/metrics.h"
+#include "references/cache_lock.h"
 #include "references/reference.h"
+#include "references/reference_cache.h"
 #include "scenes/camera.h"
 #include "scenes/corpus.h"
 #include "scenes/instances.h"
@@ -82,20 +84,58 @@ struct EstimatorRow {
   nlohmann::json set;
 };
 
-std::vector<EstimatorRow> estimator_rows(double cull) {
+std::vector<EstimatorRow> estimator_rows(double cull, const std::vector<double>& far) {
   std::vector<EstimatorRow> rows;
-  for (const char* e : {"tree-sphere", "tree-ellipsoid", "tree-shells", "tree-volume"})
-    rows.push_back({e, e, {{"cull_occlusion", cull}}});
+  const char* trees[] = {"tree-sphere", "tree-ellipsoid", "tree-shells", "tree-volume"};
+  // The cull rows (a radius only, far_field_angle 0: tree by tree) and the far-field rows.
+  for (const char* e : trees)
+    rows.push_back({e, e, {{"cull_occlusion", cull}, {"far_field_angle", 0.0}}});
+  for (const double a : far) {
+    char label[64];
+    for (const char* e : trees) {
+      std::snprintf(label, sizeof label, "%s far %g", e, a);
+      rows.push_back({label, e, {{"far_field_angle", a}}});
+    }
+  }
   // tree-sphere at the exact cull (every tree that changes a bit) and at 1e-3, beside `cull`.
-  rows.push_back({"tree-sphere exact", "tree-sphere", nlohmann::json::object()});
+  rows.push_back({"tree-sphere exact", "tree-sphere", {{"far_field_angle", 0.0}}});
   if (cull != 1e-3)
-    rows.push_back({"tree-sphere cull 1e-3", "tree-sphere", {{"cull_occlusion", 1e-3}}});
+    rows.push_back({"tree-sphere cull 1e-3",
+                    "tree-sphere",
+                    {{"cull_occlusion", 1e-3}, {"far_field_angle", 0.0}}});
   rows.push_back({"reeves-blau", "reeves-blau", nlohmann::json::object()});
   for (int rays : {1, 4})
     rows.push_back({"raytraced " + std::to_string(rays),
                     "raytraced",
                     {{"rays", rays}, {"weighting", "uniform"}}});
   return rows;
+}
+
+// The reference from the cache, or computed, timed and cached: {image, ms}; ms = 0 when served.
+std::pair<ReferenceImage, double> cached_reference(const Scene& scene, const View& view,
+                                                   const Camera& camera, const EmbreeScene& es,
+                                                   const GBuffer& g,
+                                                   const ReferenceSettings& settings, bool cache) {
+  if (!cache) {
+    const auto t0 = Clock::now();
+    ReferenceImage ref = compute_reference(es, g, settings);
+    return {std::move(ref), ms_since(t0)};
+  }
+  const std::string key = reference_cache_key(scene, camera, settings);
+  const std::string path = reference_cache_path(key);
+  if (auto hit = read_usable_cache_entry(path, key)) return {std::move(*hit), 0.0};
+  const auto t0 = Clock::now();
+  ReferenceImage ref = compute_reference(es, g, settings);
+  const double ms = ms_since(t0);
+  fill_cache_entry_once(
+      path, [&] { return usable_cache_entry(path, key); },
+      [&] {
+        const OIIO::ImageBuf image = reference_to_image(ref, false);
+        Attributes attributes = reference_attributes(scene, view, camera, settings);
+        add_cache_attributes(attributes, key, image);
+        write_exr(path, image, attributes);
+      });
+  return {std::move(ref), ms};
 }
 
 // Least-squares slope of log y against log x over the points where y > 0.
@@ -133,7 +173,7 @@ PlotSeries series(const std::string& label, const std::vector<double>& x,
 
 void bench_scale(const ScaleBenchOptions& o) {
   const auto [w, h] = parse_resolution(o.res);
-  const std::vector<EstimatorRow> rows = estimator_rows(o.cull);
+  const std::vector<EstimatorRow> rows = estimator_rows(o.cull, o.far);
   std::vector<ParamSet> params;
   for (const EstimatorRow& r : rows)
     params.push_back(
@@ -160,14 +200,14 @@ void bench_scale(const ScaleBenchOptions& o) {
       auto t0 = Clock::now();
       const GBuffer g = render_gbuffer(es, camera);
       row["gbuffer_ms"] = ms_since(t0);
-      t0 = Clock::now();
-      const ReferenceImage ref = compute_reference(es, g, settings);
-      const double ref_ms = ms_since(t0);
+      const auto [ref, ref_ms] =
+          cached_reference(scene, view, camera, es, g, settings, o.cached_references);
       size_t covered = 0;
       std::vector<uint8_t> mask(g.pixel_count());
       for (size_t k = 0; k < g.pixel_count(); ++k) covered += mask[k] = g.covered(k);
       row["reference_ms"] = ref_ms;
-      row["mrays_per_s"] = static_cast<double>(covered) * o.spp / (ref_ms * 1e3);
+      row["mrays_per_s"] = ref_ms > 0.0 ? static_cast<double>(covered) * o.spp / (ref_ms * 1e3)
+                                        : NAN;  // served from the cache
       const EstimateContext context{scene, es, g};
       for (size_t k = 0; k < rows.size(); ++k) {
         auto e = find_estimator(rows[k].estimator).create(params[k]);

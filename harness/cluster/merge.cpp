@@ -50,7 +50,7 @@ double ratio(const std::vector<double>& v) {
 // G-buffers) into the merged folder; a file already there (the same reference from another shard)
 // is kept.
 void copy_images(const fs::path& from, const fs::path& to) {
-  for (const char* sub : {"estimates", "runs", "references", "gbuffers/scenes"}) {
+  for (const char* sub : {"estimates", "runs", "references", "gbuffers/scenes", "sequences"}) {
     const fs::path src = from / sub;
     std::error_code ec;
     if (!fs::is_directory(src, ec)) continue;
@@ -58,6 +58,44 @@ void copy_images(const fs::path& from, const fs::path& to) {
     fs::copy(src, to / sub, fs::copy_options::recursive | fs::copy_options::skip_existing, ec);
     if (ec) throw std::runtime_error("merge: cannot copy " + src.string() + ": " + ec.message());
   }
+}
+
+// A row of `dir` as a whole point, as the shard's recorder stored it (suite_record.h
+// point_record): the estimate, a sequence point's kept frames and maps (its sequence.json), then
+// the mosaic and references of its report entry (`entry`, from the shard's suite_record.json), and
+// a sequence point's frames (its metrics hold seq_frames) from its frames.csv, found where the
+// runner wrote it (results_store.h frames_csv_path: <dir>/sequences/... for a sweep,
+// <dir>/runs/<its run id>/... for a suite run). Paths are relative to the folder, so they hold in
+// the merged one, where copy_images() puts the files. A sequence point without its frames.csv is
+// an InputError naming the file (a shard whose folder lost it).
+PointRecord point_of(const std::string& dir, const ResultRow& row, const SuiteReportEntry* entry) {
+  std::vector<FrameRow> frames;
+  std::vector<KeptImage> sequence_images;
+  if (row.metrics.contains("seq_frames")) {
+    fs::path csv;
+    for (const fs::path& base : {fs::path(dir), fs::path(dir) / "runs" / row.run_id})
+      if (fs::exists(frames_csv_path(base.string(), row.run_name))) {
+        csv = frames_csv_path(base.string(), row.run_name);
+        break;
+      }
+    if (csv.empty())
+      throw InputError("merge: " + row.run_name + " is a sequence point but " +
+                       frames_csv_path(dir, row.run_name) + " is missing");
+    frames = frame_rows(read_frames_csv(csv.string()));
+    if (const fs::path manifest_path = csv.parent_path() / "sequence.json";
+        fs::exists(manifest_path)) {
+      const nlohmann::json manifest = parse_json_file(manifest_path.string());
+      for (const auto& kept : manifest.value("kept", nlohmann::json::array()))
+        for (const char* what : {"estimate", "reference"})
+          if (kept.contains(what))
+            sequence_images.push_back(
+                {frame_image_role(kept.value("frame", 0), what), kept[what].get<std::string>()});
+      if (manifest.contains("maps")) sequence_images.push_back({"maps", manifest["maps"]});
+    }
+  }
+  SuiteReportEntry with_row = entry ? *entry : SuiteReportEntry{};
+  with_row.row = row;
+  return point_record(with_row, std::move(frames), std::move(sequence_images));
 }
 
 std::optional<ShardTiming> read_timing(const std::string& dir) {
@@ -152,6 +190,16 @@ MergeResult merge_results(const MergeOptions& o) {
     result.measured_ratio = ratio(walls);
   }
 
+  // Each point whole: a sequence point's frames and kept images from its shard's folder.
+  std::vector<PointRecord> points;
+  for (const auto& n : order) {
+    const Found& found = by_name.at(n);
+    const SuiteReportEntry* entry = nullptr;
+    if (const auto& rec = records[found.dir]; rec)
+      if (const auto it = rec->entries.find(n); it != rec->entries.end()) entry = &it->second;
+    points.push_back(point_of(o.dirs[found.dir], found.row, entry));
+  }
+
   // Inputs all read and checked above; the store is opened last. The rows already carry their
   // identity (each keeps the machine, device and commit of the shard that measured it): they take
   // the merge's run id, one run in the history, and are imported as they are, not stamped.
@@ -160,15 +208,14 @@ MergeResult merge_results(const MergeOptions& o) {
   RunRecorder recorder(o.out, o.database, command, FolderAccess::exclusive);
   recorder.context().output_dir = fs::weakly_canonical(fs::absolute(o.out)).string();
   result.context = recorder.context();
-  for (const auto& n : order) {
-    ResultRow row = by_name.at(n).row;
-    row.run_id = result.context.run_id;
-    result.rows.push_back(row);
+  for (PointRecord& point : points) {
+    point.row.run_id = result.context.run_id;
+    result.rows.push_back(point.row);
   }
   for (const auto& d : o.dirs)
     if (fs::weakly_canonical(fs::absolute(d)) != fs::weakly_canonical(fs::absolute(o.out)))
       copy_images(d, o.out);
-  recorder.import_rows(result.rows);
+  recorder.import_records(points);
 
   if (!result.timings.empty() || result.planned_ratio > 0.0) {
     nlohmann::json shards = nlohmann::json::array();

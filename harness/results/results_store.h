@@ -61,6 +61,12 @@ std::string frames_csv(const std::vector<nlohmann::json>& frames);
 // the point's row is committed, so a committed row always has its complete frames.csv and a point
 // killed before its row is run again whole.
 std::string frames_csv_path(const std::string& out_dir, const std::string& run_name);
+// frames.csv read back (merge carries shards' frames into its store): one flat object per line,
+// keyed by the header; a blank cell is absent, "inf" in a metric column is null (+infinity), an
+// integer cell an integer, any other a double (frames_csv writes the shortest text that reads
+// back to the same double). InputError naming the file and line for a ragged line or a cell that
+// is not a number.
+std::vector<nlohmann::json> read_frames_csv(const std::string& path);
 
 // True for the metric and "true_" metric columns, where null means +infinity (psnr).
 bool is_metric_column(const std::string& column);

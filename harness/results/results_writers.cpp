@@ -4,9 +4,11 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <set>
 #include <sstream>
 
+#include "base/errors.h"
 #include "harness/results/results_store.h"
 
 namespace aoeval {
@@ -195,6 +197,63 @@ std::string frames_csv(const std::vector<nlohmann::json>& frames) {
 
 std::string frames_csv_path(const std::string& out_dir, const std::string& run_name) {
   return out_dir + "/sequences/" + file_stem_for(run_name) + "/frames.csv";
+}
+
+std::vector<nlohmann::json> read_frames_csv(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open file");
+  std::vector<std::string> header;
+  std::vector<nlohmann::json> frames;
+  std::string line;
+  const auto cells = [](const std::string& text) {
+    std::vector<std::string> out(1);
+    for (char c : text) {
+      if (c == ',')
+        out.emplace_back();
+      else
+        out.back().push_back(c);
+    }
+    return out;
+  };
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::string where = path + ":" + std::to_string(number);
+    if (number == 1) {
+      header = cells(line);
+      if (header.front() != "frame")
+        throw InputError(path + ": not a frames.csv (its header does not begin with frame)");
+      continue;
+    }
+    if (line.empty()) continue;
+    const std::vector<std::string> values = cells(line);
+    if (values.size() != header.size())
+      throw InputError(where + ": " + std::to_string(values.size()) + " cells under a header of " +
+                       std::to_string(header.size()));
+    nlohmann::json flat = nlohmann::json::object();
+    for (size_t i = 0; i < values.size(); ++i) {
+      const std::string& v = values[i];
+      if (v.empty()) continue;
+      if (v == "inf" && is_metric_column(header[i])) {
+        flat[header[i]] = nullptr;
+        continue;
+      }
+      const char* end = v.data() + v.size();
+      int64_t integer = 0;
+      if (auto [p, ec] = std::from_chars(v.data(), end, integer); ec == std::errc() && p == end) {
+        flat[header[i]] = integer;
+        continue;
+      }
+      double real = 0.0;
+      if (auto [p, ec] = std::from_chars(v.data(), end, real); ec == std::errc() && p == end) {
+        flat[header[i]] = real;
+        continue;
+      }
+      throw InputError(where + ": " + header[i] + " is not a number (" + v + ")");
+    }
+    frames.push_back(std::move(flat));
+  }
+  if (header.empty()) throw InputError(path + ": empty (a frames.csv has a header line)");
+  return frames;
 }
 
 std::string results_json(const std::vector<ResultRow>& rows, const RunContext& context) {

@@ -71,13 +71,23 @@ ResultRow RunRecorder::record(ResultRow row, StageTimes* stages) {
   return record(std::move(point), stages);
 }
 
-ResultRow RunRecorder::record(PointRecord record, StageTimes* stages) {
-  record.row = stamped(std::move(record.row));
-  const ResultRow& row = record.row;
-  if (!row.estimate_file.empty() &&
+namespace {
+
+// The row's estimate_file among the images as role "estimate" when the record does not name it.
+PointRecord with_estimate_image(PointRecord record) {
+  if (!record.row.estimate_file.empty() &&
       std::none_of(record.images.begin(), record.images.end(),
                    [](const KeptImage& i) { return i.role == "estimate"; }))
-    record.images.insert(record.images.begin(), KeptImage{"estimate", row.estimate_file});
+    record.images.insert(record.images.begin(), KeptImage{"estimate", record.row.estimate_file});
+  return record;
+}
+
+}  // namespace
+
+ResultRow RunRecorder::record(PointRecord record, StageTimes* stages) {
+  record.row = stamped(std::move(record.row));
+  record = with_estimate_image(std::move(record));
+  const ResultRow& row = record.row;
   {
     std::optional<StageTimes::Scope> timer;
     if (stages) timer.emplace(*stages, "results SQLite");
@@ -93,10 +103,16 @@ ResultRow RunRecorder::record(PointRecord record, StageTimes* stages) {
 }
 
 void RunRecorder::import_rows(const std::vector<ResultRow>& rows) {
-  for (const ResultRow& r : rows) folder_.merge(r);
+  std::vector<PointRecord> records;
+  for (const ResultRow& r : rows) records.push_back({.row = r, .frames = {}, .images = {}});
+  import_records(records);
+}
+
+void RunRecorder::import_records(const std::vector<PointRecord>& records) {
+  for (const PointRecord& r : records) folder_.merge(r.row);
   write_files();
   register_run();
-  for (const ResultRow& r : rows) store_.add(r);
+  for (const PointRecord& r : records) store_.add(with_estimate_image(r));
 }
 
 // ---------------------------------------------------------------- SIGINT

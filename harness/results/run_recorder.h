@@ -90,6 +90,9 @@ class RunRecorder {
   // a row whose run_name is already held skipped, the files written once, then the run and every
   // row added to SQLite.
   void import_rows(const std::vector<ResultRow>& rows);
+  // The same for whole points (merge: a sequence point's frames and kept images with its row),
+  // each committed to SQLite as record() commits one.
+  void import_records(const std::vector<PointRecord>& records);
 
  private:
   std::string out_dir_;

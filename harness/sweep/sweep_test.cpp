@@ -41,14 +41,26 @@ TEST(Sweep, AllViewsMultiplies) {
 }
 
 TEST(Sweep, RangesLinearLogAndIntegerDedup) {
-  const ParamSpec real = real_param("R", 0.5, 0.0, 10.0, Spacing::linear, "", "r");
+  const ParamSpec real = real_param({.name = "R",
+                                     .def = 0.5,
+                                     .min = 0.0,
+                                     .max = 10.0,
+                                     .spacing = Spacing::linear,
+                                     .unit = "",
+                                     .meaning = "r"});
   auto v = expand_grid_values(real, {{"range", {0.0, 1.0, 5}}}, "f.json", "w");
   ASSERT_EQ(v.size(), 5u);
   EXPECT_DOUBLE_EQ(v[2].get<double>(), 0.5);
   v = expand_grid_values(real, {{"range", {0.1, 10.0, 3}}, {"scale", "log"}}, "f.json", "w");
   ASSERT_EQ(v.size(), 3u);
   EXPECT_NEAR(v[1].get<double>(), 1.0, 1e-12);
-  const ParamSpec integer = int_param("N", 4, 1, 100, Spacing::log, "", "n");
+  const ParamSpec integer = int_param({.name = "N",
+                                       .def = 4,
+                                       .min = 1,
+                                       .max = 100,
+                                       .spacing = Spacing::log,
+                                       .unit = "",
+                                       .meaning = "n"});
   v = expand_grid_values(integer, {{"range", {1, 4, 10}}, {"scale", "lin"}}, "f.json", "w");
   EXPECT_EQ(v.size(), 4u);  // 1, 1.33, 1.67, 2, ... rounded and deduplicated
   EXPECT_THROW(
@@ -61,12 +73,24 @@ TEST(Sweep, RangesLinearLogAndIntegerDedup) {
 // A range without "scale" follows the parameter's declared spacing: geometric for a log_scale
 // parameter (1, 10, 100, 1000), arithmetic otherwise (1, 334, 667, 1000).
 TEST(Sweep, RangeWithoutScaleFollowsTheDeclaredScale) {
-  const ParamSpec logp = int_param("rays", 16, 1, 65536, Spacing::log, "rays", "n");
+  const ParamSpec logp = int_param({.name = "rays",
+                                    .def = 16,
+                                    .min = 1,
+                                    .max = 65536,
+                                    .spacing = Spacing::log,
+                                    .unit = "rays",
+                                    .meaning = "n"});
   auto v = expand_grid_values(logp, {{"range", {1, 1000, 4}}}, "f.json", "w");
   ASSERT_EQ(v.size(), 4u);
   EXPECT_EQ(v[1].get<int64_t>(), 10);
   EXPECT_EQ(v[2].get<int64_t>(), 100);
-  const ParamSpec linp = int_param("rays", 16, 1, 65536, Spacing::linear, "rays", "n");
+  const ParamSpec linp = int_param({.name = "rays",
+                                    .def = 16,
+                                    .min = 1,
+                                    .max = 65536,
+                                    .spacing = Spacing::linear,
+                                    .unit = "rays",
+                                    .meaning = "n"});
   v = expand_grid_values(linp, {{"range", {1, 1000, 4}}}, "f.json", "w");
   ASSERT_EQ(v.size(), 4u);
   EXPECT_EQ(v[1].get<int64_t>(), 334);
