@@ -179,6 +179,53 @@ out.close()
   EXPECT_EQ(fail.out.find("REGRESSED"), std::string::npos) << fail.out;
 }
 
+// A GLSL plug-in run twice with equal parameters: the same shader -> no code named; its shader
+// edited to darken by 0.8 -> the verdict line names the estimator's code version, both hashes.
+TEST_F(DashboardCli, AnEditedShaderIsNamedOnTheVerdictLine) {
+  const fs::path plugin = dir / "glsl" / "dim";
+  fs::create_directories(plugin);
+  std::ofstream(plugin / "estimator.json") << R"J({"name": "dim", "summary": "s", "kind": "glsl",
+    "shaders": ["dim.comp"], "definition": {"weighting": "cosine"},
+    "params": [{"name": "level", "type": "real", "default": 0.9, "min": 0, "max": 1, "unit": "",
+                "meaning": "the AO"}]})J";
+  const auto shader = [&](const char* level) {
+    std::ofstream(plugin / "dim.comp")
+        << "#version 450\nlayout(local_size_x = 8, local_size_y = 8) in;\nvoid main() {\n"
+           "  const ivec2 p = ivec2(gl_GlobalInvocationID.xy);\n  if (!aoeval_inside(p)) return;\n"
+           "  imageStore(aoeval_out, p, vec4(aoeval_covered(p) ? "
+        << level << " : 0.0));\n}\n";
+  };
+  shader("aoeval.params.level");
+  std::ofstream(dir / "dim.json") << R"J({"name": "dim", "scenes": ["cornell-box"],
+    "res": [32, 24], "reference": {"spp": 16, "sampler": "sobol"},
+    "timing": {"warmup": 0, "repetitions": 3}, "runs": [{"estimator": "dim"}]})J";
+  const std::string sweep = " --db g.sqlite --plugins glsl";
+  const std::string dash =
+      "dashboard --db g.sqlite --out dg --no-charts --plugins glsl --config accuracy_only.json";
+  ASSERT_EQ(run("sweep dim.json --out g1" + sweep).code, 0);
+  if (slurp(dir / "g1" / "results.json").find("\"skipped") != std::string::npos)
+    GTEST_SKIP() << "no Vulkan device here: the GLSL rows were skipped";
+  ASSERT_EQ(run("sweep dim.json --out g2" + sweep).code, 0);
+  Result same = run(dash);
+  EXPECT_EQ(same.code, 0) << same.out << same.err;
+  EXPECT_EQ(same.out.find("code changed"), std::string::npos) << same.out;
+
+  shader("0.8 * aoeval.params.level");
+  ASSERT_EQ(run("sweep dim.json --out g3" + sweep).code, 0);
+  Result edited = run(dash);
+  const auto at = edited.out.find("CHANGED dim level=0.9 scene cornell-box view ");
+  ASSERT_NE(at, std::string::npos) << edited.out << edited.err;
+  const std::string line = edited.out.substr(at, edited.out.find('\n', at) - at);
+  EXPECT_NE(line.find(": darker by 0.180 mean AO"), std::string::npos) << line;
+  EXPECT_EQ(line.find("parameters changed"), std::string::npos) << line;
+  const auto code = line.find("; code changed: glsl-plugin:dim ");
+  ASSERT_NE(code, std::string::npos) << line;
+  const std::string versions = line.substr(code + 32);  // "3f2a91c -> 8b0d4e2"
+  ASSERT_GE(versions.size(), 18u) << line;
+  EXPECT_EQ(versions.substr(7, 4), " -> ") << line;
+  EXPECT_NE(versions.substr(0, 7), versions.substr(11, 7)) << line;
+}
+
 TEST_F(DashboardCli, BadInputExitsTwoWithOneLine) {
   for (const std::string& args :
        {std::string("dashboard --db absent.sqlite --out d"),

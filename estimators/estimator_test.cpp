@@ -131,5 +131,23 @@ TEST(Params, FormattingIsShortAndStable) {
   EXPECT_EQ(format_param_value("cosine"), "cosine");
 }
 
+// A built-in's code version is computed at build time from its folder (code_versions.h): every
+// built-in has one, and estimators of one folder share it.
+TEST(Registry, EveryBuiltInHasACodeVersion) {
+  std::string hbao, hbao_cpu;
+  for (const EstimatorInfo& e : estimator_registry()) {
+    if (e.kind != "built-in") continue;
+    EXPECT_EQ(estimator_code_version(e).rfind("built-in:", 0), 0u)
+        << e.name << ": " << estimator_code_version(e);
+    EXPECT_EQ(estimator_code_version(e).size(), 9u + 12u)
+        << e.name << ": " << estimator_code_version(e);
+    if (e.name == "hbao-split") hbao = estimator_code_version(e);
+    if (e.name == "hbao-split-cpu") hbao_cpu = estimator_code_version(e);
+  }
+  EXPECT_EQ(hbao, hbao_cpu);
+  EXPECT_NE(estimator_code_version(find_estimator("gtao")),
+            estimator_code_version(find_estimator("rtao")));
+}
+
 }  // namespace
 }  // namespace aoeval

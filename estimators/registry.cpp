@@ -2,8 +2,10 @@
 
 #include <filesystem>
 #include <iostream>
+#include <map>
 
 #include "base/errors.h"
+#include "estimators/code_versions.h"  // generated: code_version::<folder>
 #include "estimators/constant/constant.h"
 #include "estimators/gtao/gtao.h"
 #include "estimators/hbao_split/hbao_split.h"
@@ -38,25 +40,40 @@ struct Registry {
   bool default_plugins_read = false;
 };
 
+// Every estimator's code version by name (estimator_code_version).
+std::map<std::string, std::string>& code_versions() {
+  static std::map<std::string, std::string> versions;
+  return versions;
+}
+
+// A built-in, its folder's code version (code_versions.h) recorded.
+EstimatorInfo with_code(const char* version, EstimatorInfo info) {
+  code_versions()[info.name] = std::string("built-in:") + version;
+  return info;
+}
+
 Registry& registry_storage() {
   // One line per estimator. The calls reference each folder's symbols directly, so the linker
-  // keeps them all.
+  // keeps them all; v::<folder> is the hash of that folder's code.
+  namespace v = code_version;
   // clang-format off
   static Registry registry{{
-      constant_estimator(),
-      raytraced_estimator(),
-      rtao_estimator(),
-      obscurances_estimator(),
-      vertex_baked_estimator(),
-      tree_sphere_estimator(), tree_ellipsoid_estimator(), tree_shells_estimator(),
-      tree_volume_estimator(),
-      reeves_blau_estimator(),
-      hbao_split_estimator(),
-      hbao_split_cpu_estimator(),
-      raymarch_ssao_estimator(),
-      gtao_estimator(),
-      gtao_cpu_estimator(),
-      shadowmap_ao_estimator(),
+      with_code(v::constant, constant_estimator()),
+      with_code(v::raytraced, raytraced_estimator()),
+      with_code(v::rtao, rtao_estimator()),
+      with_code(v::obscurances, obscurances_estimator()),
+      with_code(v::vertex_baked, vertex_baked_estimator()),
+      with_code(v::tree_hegeman, tree_sphere_estimator()),
+      with_code(v::tree_hegeman, tree_ellipsoid_estimator()),
+      with_code(v::tree_hegeman, tree_shells_estimator()),
+      with_code(v::tree_volume, tree_volume_estimator()),
+      with_code(v::reeves_blau, reeves_blau_estimator()),
+      with_code(v::hbao_split, hbao_split_estimator()),
+      with_code(v::hbao_split, hbao_split_cpu_estimator()),
+      with_code(v::raymarch_ssao, raymarch_ssao_estimator()),
+      with_code(v::gtao, gtao_estimator()),
+      with_code(v::gtao, gtao_cpu_estimator()),
+      with_code(v::shadowmap_ao, shadowmap_ao_estimator()),
   }};
   // clang-format on
   if (registry.builtins == 0) registry.builtins = registry.entries.size();
@@ -73,6 +90,7 @@ void add_plugin_folder(Registry& r, const std::string& folder) {
                      (i < r.builtins ? "a built-in estimator" : "the plug-in of " + e.folder));
   }
   r.entries.push_back(plugin_estimator(m));
+  code_versions()[m.name] = plugin_code_version(m);
 }
 
 // One broken plug-in must not take the others, or the built-ins, down (issue 28): its error is
@@ -144,6 +162,11 @@ const EstimatorInfo& find_estimator(const std::string& name) {
     known += (known.empty() ? "" : ", ") + e.name;
   }
   throw InputError("--estimator: unknown estimator '" + name + "' (estimators: " + known + ")");
+}
+
+std::string estimator_code_version(const EstimatorInfo& e) {
+  const auto it = code_versions().find(e.name);
+  return it == code_versions().end() ? "" : it->second;
 }
 
 std::string backend_device(Backend b) {

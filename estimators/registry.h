@@ -25,6 +25,11 @@ void add_plugin_dir(const std::string& dir);
 // InputError listing the known estimators when `name` is unknown, or quoting the error of the
 // broken plug-in that declares `name`.
 const EstimatorInfo& find_estimator(const std::string& name);
+// The code that makes an estimator's output, as the results' estimator_version column records it:
+// "<kind>:<12 hex digits>". A built-in's hashes its folder and our libraries it links (computed
+// at build time, estimators/CMakeLists.txt); a plug-in's its manifest and the shader or program
+// files it names, when it was read (plugin_code_version). "" for an estimator not registered.
+std::string estimator_code_version(const EstimatorInfo& e);
 // The device an estimator of backend `b` runs on, for the results' `device` column: the Vulkan
 // device's description for vulkan (e.g. "llvmpipe (LLVM 15.0.6, 256 bits) [cpu, Mesa 22.3.6]"),
 // "" for the CPU backends (the caller uses the machine's CPU) and when there is no Vulkan device.

@@ -46,11 +46,30 @@ std::string loose_key(const ResultRow& r) {
          std::to_string(r.height);
 }
 
-// What changed in the code between the two rows: aoeval's version and the git commit.
+// "glsl-plugin:my-ao 3f2a91c -> 8b0d4e2" when the rows' estimator_version differ (both known):
+// the estimator's own code changed (a plug-in's shader or script, a built-in's folder).
+std::string estimator_code_change(const ResultRow& before, const ResultRow& after) {
+  const std::string& b = before.estimator_version;
+  const std::string& a = after.estimator_version;
+  if (b.empty() || a.empty() || b == a) return "";
+  const auto split = [](const std::string& v) {
+    const size_t colon = v.find(':');
+    const std::string kind = colon == std::string::npos ? "" : v.substr(0, colon);
+    return std::pair{kind == "built-in" || kind.empty() ? kind : kind + "-plugin",
+                     v.substr(colon == std::string::npos ? 0 : colon + 1, 7)};
+  };
+  const auto [kind, from] = split(b);
+  const std::string to = split(a).second;
+  return (kind.empty() ? "" : kind + ":") + after.estimator + " " + from + " -> " + to;
+}
+
+// What changed in the code between the two rows: the estimator's own code, aoeval's version and
+// the git commit.
 std::string code_change(const ResultRow& before, const ResultRow& after) {
-  std::string out;
+  std::string out = estimator_code_change(before, after);
   if (before.aoeval_version != after.aoeval_version)
-    out = "aoeval " + before.aoeval_version + " -> " + after.aoeval_version;
+    out += (out.empty() ? "" : ", ") + std::string("aoeval ") + before.aoeval_version + " -> " +
+           after.aoeval_version;
   if (before.git_commit != after.git_commit)
     out += (out.empty() ? "" : ", ") + std::string("commit ") + before.git_commit.substr(0, 12) +
            " -> " + after.git_commit.substr(0, 12);
@@ -414,7 +433,11 @@ std::vector<std::string> console_lines(const Dashboard& d) {
     out.push_back(line);
   }
   for (const auto& rep : d.rows)
-    if (rep.changed) out.push_back("CHANGED " + row_name(rep) + " " + change_phrase(*rep.change));
+    if (rep.changed)
+      out.push_back(
+          "CHANGED " + row_name(rep) + " " + change_phrase(*rep.change) +
+          (rep.params_change.empty() ? "" : "; parameters changed: " + rep.params_change) +
+          (rep.code_change.empty() ? "" : "; code changed: " + rep.code_change));
   for (const auto& rep : d.rows)
     if (rep.frames && rep.frames->changed > 0)
       out.push_back("FRAMES " + row_name(rep) + " " + frames_phrase(*rep.frames));

@@ -62,7 +62,9 @@ struct RowReport {
   std::string estimator, scene, view, resolution;
   std::string run_name;       // the new row's (the baseline's when missing)
   std::string params_change;  // "Ns 16 -> 8, alpha 0.1 -> 0.41": effective values that differ
-  std::string code_change;    // "aoeval 0.1.0 -> 0.2.0, commit 0123abcd4567 -> 89ab..."; "" same
+  // "glsl-plugin:my-ao 3f2a91c -> 8b0d4e2, aoeval 0.1.0 -> 0.2.0, commit 0123abcd4567 -> 89ab...":
+  // the estimator's code version (estimator_version), aoeval's version, the commit; "" same
+  std::string code_change;
   std::optional<ResultRow> before, after;  // either may be absent, not both
   std::vector<Check> checks;
   Verdict verdict = Verdict::not_compared;

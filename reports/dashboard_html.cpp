@@ -233,6 +233,8 @@ std::string dashboard_html(const Dashboard& d) {
           (c.verdict == Verdict::improved && rep.verdict == Verdict::regressed))
         what += (what.empty() ? "" : "; ") + c.figure + " " + to_string(c.verdict);
     if (!rep.params_change.empty()) what += (what.empty() ? "" : "; ") + rep.params_change;
+    if (!rep.code_change.empty())
+      what += (what.empty() ? "" : "; ") + std::string("code ") + rep.code_change;
     if (rep.changed) what += (what.empty() ? "" : "; ") + change_phrase(*rep.change);
     if (rep.frames && rep.frames->changed > 0)
       what += (what.empty() ? "" : "; ") + frames_phrase(*rep.frames);

@@ -219,6 +219,44 @@ TEST(Dashboard, ARowThatRegressedAndImprovedCountsAsBoth) {
             std::string::npos);
 }
 
+// The estimator's own code changed between the runs (a GLSL plug-in's shader; parameters equal):
+// the verdict line and the page name it with both versions. Equal code: no mention.
+TEST(Dashboard, AChangedEstimatorCodeIsNamedOnTheVerdictLine) {
+  History h("code");
+  testutil::FakeRow older = sequence_row(0.1, 0.0129, 0.025);
+  older.estimator_version = "glsl:3f2a91c0b1d2";
+  testutil::FakeRow same = sequence_row(0.1, 0.0411, 0.025);
+  same.estimator_version = older.estimator_version;
+  testutil::FakeRow changed = same;
+  changed.estimator_version = "glsl:8b0d4e2a7c11";
+  h.add_rows("r1", "2024-01-01T00:00:00Z", {older});
+  h.add_rows("r2", "2024-01-02T00:00:00Z", {same});
+  Dashboard d = build_dashboard(h.options());
+  ASSERT_EQ(d.regressed, 1);
+  EXPECT_EQ(d.rows.front().code_change, "");
+  EXPECT_EQ(console_lines(d)[0].find("code"), std::string::npos) << console_lines(d)[0];
+
+  h.add_rows("r3", "2024-01-03T00:00:00Z", {changed});
+  DashboardOptions o = h.options();
+  o.baseline_run = "r1";
+  d = build_dashboard(o);
+  ASSERT_EQ(d.regressed, 1);
+  EXPECT_EQ(d.rows.front().params_change, "");
+  const std::string line = console_lines(d)[0];
+  EXPECT_NE(line.find("; code changed: glsl-plugin:my-temporal 3f2a91c -> 8b0d4e2"),
+            std::string::npos)
+      << line;
+  EXPECT_NE(slurp(d.page).find("code glsl-plugin:my-temporal 3f2a91c -&gt; 8b0d4e2"),
+            std::string::npos);
+
+  // A baseline from before the column (no version): unknown, so nothing is claimed.
+  testutil::FakeRow unknown = older;
+  unknown.estimator_version = "";
+  h.add_rows("r4", "2024-01-04T00:00:00Z", {unknown});
+  h.add_rows("r5", "2024-01-05T00:00:00Z", {changed});
+  EXPECT_EQ(build_dashboard(h.options()).rows.front().code_change, "");
+}
+
 TEST(Dashboard, FirstRunHasNoBaselineAndBadInputIsAnInputError) {
   History h("first");
   h.add_run("r1", "2024-01-01T00:00:00Z", {{"alpha", 0.05, 0.0, 0.5}});

@@ -51,7 +51,8 @@ struct FakeRow {
   nlohmann::json defaults = nlohmann::json::object();
   nlohmann::json more_metrics = nlohmann::json::object();  // e.g. the sequence keys
   std::string aoeval_version = "0.1.0";
-  std::vector<FrameRow> frames;  // a sequence point's, stored with its row (point_record.h)
+  std::string estimator_version;  // "" = unknown (a file from before the column)
+  std::vector<FrameRow> frames;   // a sequence point's, stored with its row (point_record.h)
 };
 
 struct History {
@@ -88,6 +89,7 @@ struct History {
       for (const auto& [k, v] : f.defaults.items()) r.params[k] = v;
       r.git_commit = commit;
       r.aoeval_version = f.aoeval_version;
+      r.estimator_version = f.estimator_version;
       r.device = "cpu";
       r.reference = {{"spp", 64}, {"sampler", "sobol"}, {"seed", 1}};
       r.metrics = {{"rmse_excess", f.rmse_excess},

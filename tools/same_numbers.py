@@ -10,7 +10,7 @@ equal-time figures) differs with the machine's load: its rows are printed, to be
 usage: tools/same_numbers.py BEFORE_DIR AFTER_DIR   (exit 0 when the same, 1 when not)"""
 import csv, glob, json, os, sys, math, re, subprocess
 before, after = sys.argv[1], sys.argv[2]
-SKIP = re.compile(r'(^time_|_ms$|_ms_|^ms_|^run_id$|^git_commit$|^timestamp$|^aoeval_version$|^machine$|'
+SKIP = re.compile(r'(^time_|_ms$|_ms_|^ms_|^run_id$|^git_commit$|^timestamp$|^aoeval_version$|^estimator_version$|^machine$|'
                   r'^device$|^estimate_file$|^reference$|^repetitions$|^timing_source$|^started$|^output_dir$|'
                   r'_fps$|^speedup|^budget_ms$|^wall|'
                   # ratios of times and throughputs (dimitrov-table1, hegeman-throughput, mendez-fig7)

@@ -326,5 +326,34 @@ TEST(PluginManifest, AFolderOfPluginsOrNoneAtAll) {
   EXPECT_THROW(plugin_folders_in((root / "missing").string()), InputError);
 }
 
+// The code version names content: a changed shader or script changes it, a file rewritten with
+// the same bytes (a new date) or a file the manifest does not name does not; so does the manifest.
+TEST(PluginManifest, CodeVersionFollowsTheContentOfTheFilesItNames) {
+  const fs::path dir = test_temp_dir("code_version");
+  const std::string glsl =
+      make_plugin(dir / "g",
+                  R"({"name": "g", "summary": "s", "kind": "glsl", "shaders": ["ao.comp"],
+          "definition": {"weighting": "cosine"}})",
+                  {{"ao.comp", "void main() {}\n"}, {"notes.txt", "a"}});
+  const std::string v1 = plugin_code_version(read_plugin_manifest(glsl));
+  EXPECT_EQ(v1.rfind("glsl:", 0), 0u) << v1;
+  EXPECT_EQ(v1.size(), 5u + 12u) << v1;
+  plugin_test::write_file(fs::path(glsl) / "ao.comp", "void main() {}\n");  // same bytes
+  plugin_test::write_file(fs::path(glsl) / "notes.txt", "b");               // not named
+  EXPECT_EQ(plugin_code_version(read_plugin_manifest(glsl)), v1);
+  plugin_test::write_file(fs::path(glsl) / "ao.comp", "void main() { }\n");
+  const std::string v2 = plugin_code_version(read_plugin_manifest(glsl));
+  EXPECT_NE(v2, v1);
+
+  const std::string process = make_plugin(dir / "p", kValid, {{"run.sh", "exit 0"}});
+  const std::string p1 = plugin_code_version(read_plugin_manifest(process));
+  EXPECT_EQ(p1.rfind("process:", 0), 0u) << p1;
+  plugin_test::write_file(fs::path(process) / "run.sh", "exit 1");
+  const std::string p2 = plugin_code_version(read_plugin_manifest(process));
+  EXPECT_NE(p2, p1);
+  plugin_test::write_file(fs::path(process) / "estimator.json", edited("\"taps\"", "\"tap\""));
+  EXPECT_NE(plugin_code_version(read_plugin_manifest(process)), p2);
+}
+
 }  // namespace
 }  // namespace aoeval

@@ -1,10 +1,14 @@
 #include "estimators/plugins/plugin_registry.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "base/errors.h"
+#include "base/hash.h"
 #include "estimators/plugins/plugin_frames.h"
 #include "estimators/plugins/plugin_glsl.h"
 #include "estimators/plugins/plugin_process.h"
@@ -81,6 +85,30 @@ std::string plugin_abi_text() {
 void prepare_plugin_for_run(const EstimatorInfo& e) {
   if (e.kind != plugin_kind_name(PluginKind::glsl)) return;
   compile_glsl_plugin(read_plugin_manifest(e.folder));
+}
+
+std::string plugin_code_version(const PluginManifest& m) {
+  std::vector<std::string> files = {"estimator.json"};
+  for (const auto& s : m.shaders) files.push_back(s);
+  std::error_code ec;
+  for (const auto& word : m.command) {
+    const fs::path p = fs::path(word).is_absolute() ? fs::path(word) : fs::path(m.folder) / word;
+    const std::string rel = p.lexically_normal().lexically_relative(m.folder).string();
+    if (!rel.empty() && rel.rfind("..", 0) != 0 && fs::is_regular_file(p, ec)) files.push_back(rel);
+  }
+  Fnv1a h;
+  for (const auto& f : files) {
+    std::ifstream in(fs::path(m.folder) / f, std::ios::binary);
+    std::ostringstream content;
+    if (in.is_open()) content << in.rdbuf();
+    h.text(f);
+    h.text(std::string(1, '\0'));
+    h.text(in.is_open() ? content.str() : std::string("(unreadable)"));
+    h.text(std::string(1, '\0'));
+  }
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h.h));
+  return std::string(plugin_kind_name(m.kind)) + ":" + std::string(hex, 12);
 }
 
 EstimatorInfo plugin_estimator(const PluginManifest& m) {

@@ -26,6 +26,12 @@ std::vector<std::string> plugin_folders_in(const std::string& dir);
 // (plugin_frames.h).
 std::string plugin_abi_text();
 
+// The plug-in's code version, as estimator_code_version (registry.h) gives it: "<kind>:" and 12 hex
+// digits of the FNV-1a of the content (not the dates) of estimator.json and of the files it names:
+// a GLSL plug-in's shaders, a process plug-in's command words that are files in its folder (its
+// script, say, not /usr/bin/python3). A file it reads on its own is not seen.
+std::string plugin_code_version(const PluginManifest& m);
+
 // The registry entry of a validated manifest: backend process or vulkan, kind "process"/"glsl".
 EstimatorInfo plugin_estimator(const PluginManifest& m);
 

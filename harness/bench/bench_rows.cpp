@@ -5,6 +5,7 @@
 
 #include "base/summary.h"
 #include "base/version.h"
+#include "estimators/registry.h"
 #include "harness/evaluation/evaluation.h"
 
 namespace aoeval {
@@ -49,6 +50,7 @@ ResultRow timing_row(const RunContext& context, const EstimatorInfo& estimator,
     if (pass != "total_ms") row.pass_ms[pass] = ms;
   row.device = device;
   row.aoeval_version = kAoevalVersion;
+  row.estimator_version = estimator_code_version(estimator);
   row.timestamp = context.started;
   row.status = "timing only";
   return row;

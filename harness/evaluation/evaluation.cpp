@@ -436,6 +436,7 @@ void EvaluationSession::fill_identity(Measurement& m, const EvaluationRequest& r
   row.backend = backend_name(e.backend);
   row.device = backend_device(e.backend);  // "" = the CPU; runners fill in the machine's
   row.aoeval_version = kAoevalVersion;
+  row.estimator_version = estimator_code_version(e);
 }
 
 Measurement EvaluationSession::measure(const EvaluationRequest& req) {

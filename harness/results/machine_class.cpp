@@ -10,7 +10,12 @@ std::string machine_class(const ResultRow& row) {
   const size_t open = kind.find(" (");
   if (open != std::string::npos && !kind.empty() && kind.back() == ')')
     kind = kind.substr(open + 2, kind.size() - open - 3);
-  return kind + " | " + row.device;
+  // A CPU row's device is the machine's CPU (the kind starts with it), and so is a software Vulkan
+  // device's (lavapipe, whose driver is llvmpipe): one device, "CPU", that the leaderboard compares
+  // on one machine. Any other device (a real GPU) makes a class of its own.
+  const bool on_the_cpu = row.device.find("llvmpipe") != std::string::npos ||
+                          (!row.device.empty() && kind.rfind(row.device, 0) == 0);
+  return kind + " | " + (on_the_cpu ? std::string("CPU") : row.device);
 }
 
 std::vector<std::string> machine_classes(const std::vector<ResultRow>& rows) {

@@ -11,7 +11,9 @@
 
 namespace aoeval {
 
-// "CPU model, N cores | device": the machine string without its host name, and the device.
+// "CPU model, N cores | device": the machine string without its host name, and the device, "CPU"
+// for the machine's CPU and for lavapipe (software Vulkan on that CPU): a CPU row and a lavapipe
+// row of one machine are one class, their times compare, as the leaderboard puts them together.
 std::string machine_class(const ResultRow& row);
 // The distinct classes of `rows`, in order of first appearance.
 std::vector<std::string> machine_classes(const std::vector<ResultRow>& rows);

@@ -7,8 +7,8 @@
 //   measured_columns():    the metric keys, the same keys prefixed "true_", time_ms_median,
 //                          time_ms_min, time_ms_max, repetitions, time_ms_samples (JSON
 //                          array string), precompute_ms, reference (JSON
-//                          string), machine, device, git_commit, aoeval_version, timestamp,
-//                          estimate_file, timing_source
+//                          string), machine, device, git_commit, aoeval_version,
+//                          estimator_version, timestamp, estimate_file, timing_source
 //   one column per pass, named by its pass_ms key as given (e.g. "horizon_ms")
 // A metric absent from row.metrics is absent from the flat object (blank/NULL in the files); a
 // metric present as null (psnr of identical images = +infinity) stays null. unflatten() takes the
@@ -136,7 +136,7 @@ std::vector<std::string> measured_columns() {
   for (const char* c :
        {"time_ms_median", "time_ms_min", "time_ms_max", "repetitions", "time_ms_samples",
         "precompute_ms", "reference", "machine", "device", "git_commit", "aoeval_version",
-        "timestamp", "estimate_file", "timing_source"}) {
+        "estimator_version", "timestamp", "estimate_file", "timing_source"}) {
     columns.emplace_back(c);
   }
   return columns;
@@ -202,6 +202,7 @@ nlohmann::json flatten(const ResultRow& row) {
   flat["device"] = row.device;
   flat["git_commit"] = row.git_commit;
   flat["aoeval_version"] = row.aoeval_version;
+  flat["estimator_version"] = row.estimator_version;
   flat["timestamp"] = row.timestamp;
   flat["estimate_file"] = row.estimate_file;
   flat["timing_source"] = row.timing_source;
@@ -262,6 +263,7 @@ ResultRow unflatten(const nlohmann::json& flat, const std::string& where) {
   row.device = f.text("device");
   row.git_commit = f.text("git_commit");
   row.aoeval_version = f.text("aoeval_version");
+  row.estimator_version = f.text("estimator_version");  // absent in older files: ""
   row.timestamp = f.text("timestamp");
   row.estimate_file = f.text("estimate_file");
   row.timing_source = f.text("timing_source");

@@ -36,6 +36,9 @@ struct ResultRow {
   double precompute_ms = 0.0;
   std::string backend;  // cpu, embree, vulkan
   std::string machine, device, git_commit, aoeval_version;
+  // The estimator's code (estimator_code_version, registry.h): "built-in:<12 hex>", "glsl:<12 hex>"
+  // or "process:<12 hex>"; "" in files written before the column existed.
+  std::string estimator_version;
   std::string timestamp;      // ISO 8601 UTC, when the row was measured
   std::string estimate_file;  // relative path of the estimate EXR, "" if not kept
   std::string status = "ok";  // "ok", or "skipped: <reason>" (e.g. no Vulkan device)

@@ -3,6 +3,7 @@
 #include "harness/results/results_store.h"
 #include "base/errors.h"
 #include "base/testing/test_temp_dir.h"
+#include "harness/results/machine_class.h"
 #include "harness/results/metric_table.h"
 #include "harness/results/result_row.h"
 #include "harness/results/stage_times.h"
@@ -77,6 +78,7 @@ ResultRow make_row(const std::string& estimator, nlohmann::json params, const st
   r.device = "CPU";
   r.git_commit = "0123456789abcdef0123456789abcdef01234567";
   r.aoeval_version = "0.1.0";
+  r.estimator_version = "built-in:3f2a91c0b1d2";
   r.timestamp = "2024-05-01T12:00:00Z";
   r.estimate_file = "estimates/" + scene + ".exr";
   return r;
@@ -108,6 +110,7 @@ void expect_same(const ResultRow& a, const ResultRow& b) {
   EXPECT_EQ(a.device, b.device);
   EXPECT_EQ(a.git_commit, b.git_commit);
   EXPECT_EQ(a.aoeval_version, b.aoeval_version);
+  EXPECT_EQ(a.estimator_version, b.estimator_version);
   EXPECT_EQ(a.timestamp, b.timestamp);
   EXPECT_EQ(a.estimate_file, b.estimate_file);
   EXPECT_EQ(a.status, b.status);
@@ -468,6 +471,52 @@ TEST(SqliteStoreTest, NewParameterAddsColumn) {
   EXPECT_NE(std::find(columns.begin(), columns.end(), "param_scene"), columns.end());
   EXPECT_EQ(store.all_rows().size(), 2u);
   EXPECT_EQ(store.all_rows()[0].params, (nlohmann::json{{"R", 0.2}}));
+}
+
+// Files written before the estimator_version column (results.json, results.sqlite) still load,
+// the version "" (unknown); a new row in the old database adds the column.
+TEST(SqliteStoreTest, FilesWithoutTheEstimatorVersionColumnStillLoad) {
+  nlohmann::json flat = flatten(make_row("hbao", {{"R", 0.2}}, "bunny", 0.01));
+  ASSERT_TRUE(flat.contains("estimator_version"));
+  flat.erase("estimator_version");
+  EXPECT_EQ(unflatten(flat).estimator_version, "");
+
+  const std::string path = (fresh_dir("db_old") / "results.sqlite").string();
+  { SqliteStore(path).add(make_row("hbao", {{"R", 0.2}}, "bunny", 0.01)); }
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  EXPECT_EQ(sqlite3_exec(db, "ALTER TABLE results DROP COLUMN estimator_version", nullptr, nullptr,
+                         nullptr),
+            SQLITE_OK)
+      << sqlite3_errmsg(db);
+  sqlite3_close(db);
+  SqliteStore store(path);
+  auto columns = store.columns();
+  EXPECT_EQ(std::find(columns.begin(), columns.end(), "estimator_version"), columns.end());
+  ASSERT_EQ(store.all_rows().size(), 1u);
+  EXPECT_EQ(store.all_rows()[0].estimator_version, "");
+  store.add(make_row("hbao", {{"R", 0.5}}, "bunny", 0.01));
+  ASSERT_EQ(store.all_rows().size(), 2u);
+  EXPECT_EQ(store.all_rows()[1].estimator_version, "built-in:3f2a91c0b1d2");
+}
+
+// One machine's CPU rows and lavapipe rows are one class (their times compare, as the leaderboard
+// shows them together); another node of the same kind too; a real GPU is a class of its own.
+TEST(MachineClass, TheCpuAndLavapipeOfOneMachineAreOneClass) {
+  ResultRow cpu = make_row("gtao-cpu", {}, "bunny", 0.01);
+  cpu.machine = "node1 (AMD EPYC 7B13, 2 cores)";
+  cpu.device = "AMD EPYC 7B13";
+  ResultRow lavapipe = cpu;
+  lavapipe.backend = "vulkan";
+  lavapipe.device = "llvmpipe (LLVM 15.0.6, 256 bits) [cpu, Mesa 22.3.6]";
+  ResultRow other_node = cpu;
+  other_node.machine = "node2 (AMD EPYC 7B13, 2 cores)";
+  ResultRow gpu = lavapipe;
+  gpu.device = "NVIDIA H100 80GB HBM3";
+  EXPECT_EQ(machine_classes({cpu, lavapipe, other_node}).size(), 1u);
+  EXPECT_EQ(machine_class(cpu), "AMD EPYC 7B13, 2 cores | CPU");
+  EXPECT_EQ(machine_class(gpu), "AMD EPYC 7B13, 2 cores | NVIDIA H100 80GB HBM3");
+  EXPECT_EQ(machine_classes({cpu, gpu}).size(), 2u);
 }
 
 TEST(SqliteStoreTest, NewerSchemaThrows) {
