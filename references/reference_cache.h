@@ -16,8 +16,10 @@ namespace aoeval {
 
 // Bump when the reference's output for the same inputs changes (reference-2: the bent_stderr
 // channel, the bent normal's own noise; reference-3: G-buffer hit points from world-space
-// barycentrics, as instances need, and bounded definitions read from one closest-hit trace).
-inline constexpr const char* kReferenceGeneratorVersion = "reference-3";
+// barycentrics, as instances need, and bounded definitions read from one closest-hit trace;
+// reference-4: ray origins 2^-18 instead of 2^-14 of the position off the surface,
+// sampling/ray_offset.cpp).
+inline constexpr const char* kReferenceGeneratorVersion = "reference-4";
 
 std::string reference_cache_key(const Scene& scene, const Camera& camera,
                                 const ReferenceSettings& settings);
