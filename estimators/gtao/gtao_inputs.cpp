@@ -8,6 +8,7 @@
 #include "base/errors.h"
 #include "estimators/gtao/gtao.h"
 #include "estimators/screen_space/half_res.h"
+#include "estimators/seed_param.h"
 #include "estimators/temporal/temporal_estimator.h"
 #include "scenes/random.h"
 
@@ -142,13 +143,7 @@ std::vector<ParamSpec> gtao_param_specs() {
                  .spacing = Spacing::linear,
                  .unit = "pixels",
                  .meaning = "side of the tiled noise texture and of the denoise window (§5.2: 4)"}),
-      int_param({.name = "seed",
-                 .def = 7,
-                 .min = 0,
-                 .max = 1e15,
-                 .spacing = Spacing::linear,
-                 .unit = "",
-                 .meaning = "seed of the noise texture"}),
+      seed_param("seed of the noise texture"),
       resolution_param(),
       int_param(
           {.name = "rotations",

@@ -8,6 +8,7 @@
 #include "base/errors.h"
 #include "estimators/hbao_split/hbao_split.h"
 #include "estimators/screen_space/half_res.h"
+#include "estimators/seed_param.h"
 #include "estimators/temporal/temporal_estimator.h"
 #include "scenes/random.h"
 
@@ -99,14 +100,8 @@ std::vector<ParamSpec> hbao_param_specs() {
            .def = true,
            .meaning =
                "5x5 Gaussian weighted by the inverse depth deviation from the centre (§4.1.3)"}),
-      int_param({.name = "seed",
-                 .def = 7,
-                 .min = 0,
-                 .max = 1e15,
-                 .spacing = Spacing::linear,
-                 .unit = "",
-                 .meaning = "seed of the random texture (§4.1.2); frame k of a sequence draws it "
-                            "from seed + k"}),
+      seed_param("seed of the random texture (§4.1.2); frame k of a sequence draws it "
+                 "from seed + k"),
       resolution_param(),
       bool_param(
           {.name = "temporal",

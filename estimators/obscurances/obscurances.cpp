@@ -11,6 +11,7 @@
 
 #include "base/errors.h"
 #include "estimators/power_falloff_param.h"
+#include "estimators/seed_param.h"
 #include "sampling/ray_offset.h"
 #include "scenes/instances.h"
 
@@ -230,13 +231,7 @@ EstimatorInfo obscurances_estimator() {
            .def = "systematic",
            .choices = {"random", "systematic"},
            .meaning = "random, or systematic: an n1 x n2 grid with one random offset (§4.2)"}),
-      int_param({.name = "seed",
-                 .def = 7,
-                 .min = 0,
-                 .max = 1e15,
-                 .spacing = Spacing::linear,
-                 .unit = "",
-                 .meaning = "random seed (the references use 1, so the two never share samples)"}),
+      seed_param("random seed (the references use 1, so the two never share samples)"),
   };
   info.definition_doc =
       "cosine weighting, dmax = dmax, falloff = rho (sqrt -> sqrt, exp -> exp, constant -> none, "

@@ -24,6 +24,7 @@ inline float hbao_depth(const HbaoImages& img, int i, int j) {
 }  // namespace aoeval::hbao_glsl
 
 #include "estimators/hbao_split/hbao_cpu_kernel_end.h"
+#include "estimators/seed_param.h"
 
 namespace aoeval {
 
@@ -166,13 +167,7 @@ EstimatorInfo raymarch_ssao_estimator() {
            .def = true,
            .meaning =
                "start rays at P' = P + z/(f res) n against banding at grazing angles (eq. 13)"}),
-      int_param({.name = "seed",
-                 .def = 7,
-                 .min = 0,
-                 .max = 1e15,
-                 .spacing = Spacing::linear,
-                 .unit = "",
-                 .meaning = "seed of the ray directions and step jitters"}),
+      seed_param("seed of the ray directions and step jitters"),
   };
   info.definition_doc =
       "cosine weighting (eq. 1), dmax = R, falloff linear when attenuation is on (an occluder at "

@@ -1,6 +1,7 @@
 #include "estimators/raytraced/raytraced.h"
 
 #include "estimators/power_falloff_param.h"
+#include "estimators/seed_param.h"
 #include "sampling/ao_tracer.h"
 
 namespace aoeval {
@@ -73,13 +74,7 @@ EstimatorInfo raytraced_estimator() {
            .choices = {"random", "stratified", "sobol"},
            .meaning =
                "random, stratified (Mendez et al. §4.2 systematic) or sobol (Owen-scrambled)"}),
-      int_param({.name = "seed",
-                 .def = 7,
-                 .min = 0,
-                 .max = 1e15,
-                 .spacing = Spacing::linear,
-                 .unit = "",
-                 .meaning = "random seed (the references use 1, so the two never share samples)"}),
+      seed_param("random seed (the references use 1, so the two never share samples)"),
   };
   // falloff and falloff_k after dmax: the declaration rtao shares (power_falloff_param.h).
   const std::vector<ParamSpec> falloff = falloff_params("dmax");

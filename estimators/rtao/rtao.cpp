@@ -6,6 +6,7 @@
 #include "estimators/pixel_loops.h"
 #include "estimators/power_falloff_param.h"
 #include "estimators/rtao/svgf.h"
+#include "estimators/seed_param.h"
 #include "estimators/temporal/temporal_stage.h"
 #include "sampling/ao_tracer.h"
 
@@ -150,15 +151,8 @@ std::vector<ParamSpec> rtao_params() {
   // accepts every falloff raytraced does, power:K included (CONTRACT §3).
   for (ParamSpec& p : falloff_params("t_max")) params.push_back(std::move(p));
   const std::vector<ParamSpec> rest = {
-      int_param({.name = "seed",
-                 .def = 7,
-                 .min = 0,
-                 .max = 1e15,
-                 .spacing = Spacing::linear,
-                 .unit = "",
-                 .meaning =
-                     "random seed of the per-pixel Owen scrambles; frame k takes the sequence's "
-                     "points from k rays on (the seed rule)"}),
+      seed_param("random seed of the per-pixel Owen scrambles; frame k takes the sequence's "
+                 "points from k rays on (the seed rule)"),
       bool_param({.name = "temporal",
                   .def = true,
                   .meaning =

@@ -15,6 +15,7 @@
 #include <stdexcept>
 
 #include "base/errors.h"
+#include "estimators/seed_param.h"
 #include "estimators/vertex_baked/vertex_bake.h"
 #include "estimators/vulkan/raster_gbuffer.h"
 #include "estimators/vulkan/vk_commands.h"
@@ -543,13 +544,7 @@ EstimatorInfo shadowmap_ao_estimator() {
                "pixel: every camera G-buffer pixel is a receiver; vertex: triangle centres baked, "
                "area-averaged to vertices and interpolated per pixel (§17.2, §17.4), as "
                "vertex-baked"}),
-      int_param({.name = "seed",
-                 .def = 7,
-                 .min = 0,
-                 .max = 1e15,
-                 .spacing = Spacing::linear,
-                 .unit = "",
-                 .meaning = "random seed of the lights' rotation"}),
+      seed_param("random seed of the lights' rotation"),
   };
   info.definition_doc = "the weighting parameter's (uniform or cosine), unbounded, no falloff";
   info.definition = [](const ParamSet& p) {

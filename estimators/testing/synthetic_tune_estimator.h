@@ -20,6 +20,7 @@
 
 #include "estimators/estimator.h"
 #include "estimators/registry.h"
+#include "estimators/seed_param.h"
 
 namespace aoeval::testing_support {
 
@@ -89,13 +90,7 @@ inline const EstimatorInfo& synthetic_tune_estimator() {
                       .choices = {"a", "b"},
                       .meaning = "b: 0.05 less error, twice the time"}),
         bool_param({.name = "flag", .def = false, .meaning = "true: 0.01 more error"}),
-        int_param({.name = "seed",
-                   .def = 7,
-                   .min = 0,
-                   .max = 1e15,
-                   .spacing = Spacing::linear,
-                   .unit = "",
-                   .meaning = "changes nothing"}),
+        seed_param("changes nothing"),
     };
     e.definition_doc = "cosine-weighted, unbounded";
     e.definition = [](const ParamSet&) { return AoDefinition{}; };

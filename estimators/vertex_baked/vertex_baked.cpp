@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "base/errors.h"
+#include "estimators/seed_param.h"
 #include "estimators/vertex_baked/vertex_bake.h"
 
 namespace aoeval {
@@ -128,13 +129,7 @@ EstimatorInfo vertex_baked_estimator() {
                     .meaning = "hemisphere points: random (Listing 17-2's distribution), "
                                "stratified or sobol (§17.2 "
                                "\"more complex Monte Carlo sampling\")"}),
-      int_param({.name = "seed",
-                 .def = 7,
-                 .min = 0,
-                 .max = 1e15,
-                 .spacing = Spacing::linear,
-                 .unit = "",
-                 .meaning = "random seed of the bake"}),
+      seed_param("random seed of the bake"),
   };
   info.definition_doc = "uniform weighting, unbounded (GPU Gems ch. 17 accessibility), always";
   info.definition = [](const ParamSet&) {
