@@ -5,8 +5,7 @@
 
 #include "cmd/commands.h"
 #include "harness/cluster/merge.h"
-#include "reports/gbuffer_gallery.h"
-#include "reports/suite_report.h"
+#include "reports/run_pages.h"
 
 namespace aoeval {
 
@@ -21,16 +20,10 @@ void add_merge_command(CLI::App& app) {
   cmd->add_option("--plan", o.plan,
                   "a --slurm submission's shard plan: every planned point must be present");
   cmd->callback([] {
-    MergeResult m = merge_results(o);
-    std::string page = (std::filesystem::path(m.out) / "results.csv").string();
-    if (m.report) {
-      if (!m.gallery.empty()) {
-        write_gbuffer_gallery((std::filesystem::path(m.out) / "gbuffers").string(), m.report->suite,
-                              m.gallery);
-        m.report->gbuffer_gallery = "gbuffers/index.html";
-      }
-      page = write_suite_report(m.out, *m.report);
-    }
+    o.pages = write_run_pages;
+    const MergeResult m = merge_results(o);
+    const std::string page =
+        m.page.empty() ? (std::filesystem::path(m.out) / "results.csv").string() : m.page;
     std::fprintf(stderr, "merge: %zu rows from %zu folders (%zu duplicates kept once) -> %s\n",
                  m.rows.size(), o.dirs.size(), m.duplicates, m.out.c_str());
     for (const ShardTiming& t : m.timings)

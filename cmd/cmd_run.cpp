@@ -2,7 +2,6 @@
 //  [--set ESTIMATOR:KEY=VALUE]...`: the main job (CONTRACT §2). References and every estimator over
 // the suite's scenes, metrics, error maps, timing tables and the HTML report, whose path is the
 // last line on stdout.
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 
@@ -11,46 +10,31 @@
 #include "cmd/commands.h"
 #include "cmd/plugin_options.h"
 #include "drawing/plot_workers.h"
-#include "harness/results/suite_record_io.h"
 #include "harness/sweep/suite.h"
 #include "harness/sweep/suite_runner.h"
-#include "reports/gbuffer_gallery.h"
-#include "reports/suite_report.h"
+#include "reports/run_pages.h"
 #include "reports/viewer.h"
 
 namespace aoeval {
 
 RunOutcome run_suite_with_report(const SuiteRunOptions& o) {
-  // The runner runs and stores; the pages are written here, so the runner never links reports/.
-  const auto t0 = std::chrono::steady_clock::now();
-  SuiteRunOptions with_workers = o;
-  with_workers.prestart_plot_workers = true;
-  SuiteRun run = run_suite(with_workers);
-  if (!run.gallery.empty()) {
-    const auto timer = run.stages.time("G-buffer gallery page");
-    write_gbuffer_gallery((std::filesystem::path(run.out_dir) / "gbuffers").string(),
-                          run.report.suite, run.gallery);
-    run.report.gbuffer_gallery = "gbuffers/index.html";
-  }
-  run.report.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  RunOutcome outcome;
-  {
-    const auto timer = run.stages.time("report (page, plots)");
-    // Kept so that `aoeval merge` writes this same page for a suite run in shards.
-    write_suite_record(run.out_dir, run.report, run.gallery);
-    outcome.page = write_suite_report(run.out_dir, run.report);
+  // The runner runs, stores and, still holding its folder, writes the pages from the store with
+  // the page writer handed to it here, so that the runner never links reports/.
+  SuiteRunOptions with_pages = o;
+  with_pages.prestart_plot_workers = true;
+  with_pages.pages = [](const std::string& dir, const std::string& database) {
+    const std::string page = write_run_pages(dir, database);
     PlotWorkers::instance().stop();
-  }
-  outcome.wall_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  // Where the time went, in the run's context (issue 16).
-  nlohmann::json stages_ms = run.stages.to_json();
-  stages_ms["wall"] = outcome.wall_ms;
-  record_run_context(run, stages_ms);
-  outcome.rows = run.report.entries.size();
+    return page;
+  };
+  SuiteRun run = run_suite(with_pages);
+  RunOutcome outcome;
+  outcome.page = run.page;
+  outcome.wall_ms = run.wall_ms;
+  outcome.rows = run.rows;
   outcome.references = run.references;
   outcome.skipped = run.skipped;
-  outcome.suite = run.report.suite;
+  outcome.suite = run.suite;
   outcome.stages = std::move(run.stages);
   return outcome;
 }

@@ -1,6 +1,5 @@
 // `aoeval sweep SPEC.json [--out DIR] [--resume] [--shard I/N] [--db FILE]` (CONTRACT §5): the
 // rows, then (unsharded) the page a suite gets, whose path is the last line on stdout.
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 
@@ -8,9 +7,8 @@
 #include "cmd/cluster_options.h"
 #include "cmd/commands.h"
 #include "cmd/plugin_options.h"
-#include "harness/results/suite_record_io.h"
 #include "harness/sweep/sweep_runner.h"
-#include "reports/suite_report.h"
+#include "reports/run_pages.h"
 
 namespace aoeval {
 
@@ -53,22 +51,13 @@ void add_sweep_command(CLI::App& app) {
       s.cluster = c;
       return submit_to_slurm(s);
     }
-    std::string out;
-    const auto started = std::chrono::steady_clock::now();
-    const int status = run_sweep(o, &out);
-    if (status != 0) throw ExitStatus{status};
+    std::string out, page;
     // The sweep's page, as a suite's (its Pareto fronts featured); a shard's page is the merge's.
-    if (o.shard.empty()) {
-      SuiteReport report = read_suite_report(out);
-      // This invocation's time (a resumed sweep's page says the last part's); the folder keeps
-      // none.
-      if (report.wall_s <= 0.0)
-        report.wall_s =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-      std::printf("%s\n", write_suite_report(out, report).c_str());
-    } else {
-      std::printf("%s\n", (std::filesystem::path(out) / "results.csv").string().c_str());
-    }
+    if (o.shard.empty()) o.pages = write_run_pages;
+    const int status = run_sweep(o, &out, &page);
+    if (status != 0) throw ExitStatus{status};
+    std::printf("%s\n", page.empty() ? (std::filesystem::path(out) / "results.csv").string().c_str()
+                                     : page.c_str());
   });
 }
 

@@ -29,17 +29,6 @@ namespace aoeval {
 
 namespace fs = std::filesystem;
 
-std::string sequence_folder(const ResultRow& row) {
-  // estimate_file is <base>/estimates/<stem>.exr; its frames are in <base>/sequences/<stem>/.
-  const fs::path base = row.estimate_file.empty()
-                            ? fs::path(".")
-                            : fs::path(row.estimate_file).parent_path().parent_path();
-  return fs::path(frames_csv_path(base.empty() ? "." : base.string(), row.run_name))
-      .parent_path()
-      .lexically_normal()
-      .string();
-}
-
 namespace {
 
 const float kCanvas[3] = {0.12f, 0.12f, 0.12f};  // the error maps' dark canvas
@@ -238,9 +227,12 @@ Html sequence_sections(const std::string& out_dir, const SuiteReport& report) {
   for (const auto& e : report.entries) {
     const ResultRow& r = e.row;
     if (r.status != "ok" || !r.metrics.contains("seq_frames")) continue;
-    const fs::path dir = sequence_folder(r), manifest_path = out / dir / "sequence.json";
+    // The point's manifest, by its role in the store; its folder holds the page's drawings too.
+    const std::string manifest_rel = e.image("sequence");
     std::error_code ec;
-    if (!fs::exists(manifest_path, ec)) continue;  // rows of an older aoeval: no kept frames
+    if (manifest_rel.empty() || !fs::exists(out / manifest_rel, ec))
+      continue;  // rows of an older aoeval: no manifest in the store
+    const fs::path dir = fs::path(manifest_rel).parent_path(), manifest_path = out / manifest_rel;
     nlohmann::json m;
     try {
       std::ifstream in(manifest_path);
@@ -312,8 +304,9 @@ Html sequence_sections(const std::string& out_dir, const SuiteReport& report) {
          "averages (the last half). Right: rmse_excess over pixels grouped by the frames since "
          "they were last disoccluded (settle_frames is the first age within 1.1 &times; "
          "steady).</figcaption></figure>\n<p>"
-      << link((dir / "frames.csv").string(), "frames.csv") << " &middot; "
-      << link((dir / "sequence.json").string(), "sequence.json") << "</p></section></details>\n";
+      << (e.image("frames").empty() ? Html()
+                                    : link(e.image("frames"), "frames.csv") << " &middot; ")
+      << link(manifest_rel, "sequence.json") << "</p></section></details>\n";
   }
   if (points.empty()) return {};
   const std::string plots_rel = "runs/" + report.context.run_id + "/plots";

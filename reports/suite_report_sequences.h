@@ -18,14 +18,10 @@
 
 namespace aoeval {
 
-// The point's folder (relative to the output folder) where its runner kept sequence.json: beside
-// the estimates folder of `row.estimate_file` (a suite run's runs/<id>/, a sweep's top).
-std::string sequence_folder(const ResultRow& row);
-
 // Draws every sequence point's strip, video and chart into its folder (kept when newer than
 // their sources) and returns the HTML of the report's "Sequences" part: "" when no ok row of
-// `report` is a sequence point with a manifest. InputError naming the file when a manifest or
-// an EXR it names cannot be read.
+// `report` is a sequence point whose entry names its manifest (role "sequence", from the store).
+// InputError naming the file when a manifest or an EXR it names cannot be read.
 Html sequence_sections(const std::string& out_dir, const SuiteReport& report);
 
 }  // namespace aoeval

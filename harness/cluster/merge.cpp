@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "base/errors.h"
@@ -72,10 +73,12 @@ PointRecord point_of(const std::string& dir, const ResultRow& row, const SuiteRe
   std::vector<FrameRow> frames;
   std::vector<KeptImage> sequence_images;
   if (row.metrics.contains("seq_frames")) {
-    fs::path csv;
-    for (const fs::path& base : {fs::path(dir), fs::path(dir) / "runs" / row.run_id})
-      if (fs::exists(frames_csv_path(base.string(), row.run_name))) {
-        csv = frames_csv_path(base.string(), row.run_name);
+    fs::path csv, csv_rel;  // csv_rel: relative to `dir`, as kept_sequence.cpp names it
+    for (const std::string& base : {std::string("."), "runs/" + row.run_id})
+      if (const fs::path rel = fs::path(frames_csv_path(base, row.run_name)).lexically_normal();
+          fs::exists(fs::path(dir) / rel)) {
+        csv = fs::path(dir) / rel;
+        csv_rel = rel;
         break;
       }
     if (csv.empty())
@@ -91,7 +94,9 @@ PointRecord point_of(const std::string& dir, const ResultRow& row, const SuiteRe
             sequence_images.push_back(
                 {frame_image_role(kept.value("frame", 0), what), kept[what].get<std::string>()});
       if (manifest.contains("maps")) sequence_images.push_back({"maps", manifest["maps"]});
+      sequence_images.push_back({"sequence", (csv_rel.parent_path() / "sequence.json").string()});
     }
+    sequence_images.push_back({"frames", csv_rel.string()});
   }
   SuiteReportEntry with_row = entry ? *entry : SuiteReportEntry{};
   with_row.row = row;
@@ -244,6 +249,7 @@ MergeResult merge_results(const MergeOptions& o) {
     for (const auto& r : records) report.wall_s = std::max(report.wall_s, r->wall_s);
     std::set<std::string> views;
     std::map<std::string, GalleryEntry> gallery_by_file;
+    std::vector<GalleryEntry> gallery;
     for (const auto& r : records)
       for (const auto& g : r->gallery) gallery_by_file.emplace(g.gbuffer_exr, g);
     for (const ResultRow& row : result.rows) {
@@ -257,9 +263,12 @@ MergeResult merge_results(const MergeOptions& o) {
                                std::to_string(row.width) + "x" + std::to_string(row.height) +
                                "_gbuffer.exr";
       if (row.status == "ok" && gallery_by_file.count(file) && views.insert(file).second)
-        result.gallery.push_back(gallery_by_file.at(file));
+        gallery.push_back(gallery_by_file.at(file));
     }
-    result.report = report;
+    // The merged folder's record (it can be merged again), then its pages from the store, the
+    // folder still locked.
+    write_suite_record(o.out, report, gallery);
+    if (o.pages) result.page = o.pages(o.out, o.database);
   }
   return result;
 }

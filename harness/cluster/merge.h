@@ -1,17 +1,16 @@
 // `aoeval merge DIR... --out DIR [--db FILE]` (CONTRACT §9): the output folders of shards (of one
 // `--slurm` submission, of `--shard I/N` runs under GNU parallel, or of separate machines) become
 // one result set: every row exactly once, one results.csv/results.json, the rows appended to the
-// SQLite history as one run, and, for suite runs, the report a single-machine run writes
-// (cmd/cmd_merge.cpp writes the pages; this room never links reports/).
+// SQLite history as one run, and, for suite runs, the report a single-machine run writes (through
+// the PageWriter cmd/cmd_merge.cpp hands in; this room never links reports/).
 #pragma once
 
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "base/default_paths.h"
 #include "harness/results/results_store.h"
-#include "harness/results/suite_record.h"
+#include "harness/results/suite_record_io.h"
 
 namespace aoeval {
 
@@ -23,6 +22,9 @@ struct MergeOptions {
   // point must be present (a failed shard is named, and nothing is merged), and rows follow the
   // plan's order, which is the single-machine order.
   std::string plan;
+  // For suite runs (every folder holds suite_record.json): writes the merged folder's pages from
+  // the store while the merge still holds the folder (cmd/ hands in reports/run_pages.h).
+  PageWriter pages;
 };
 
 // Per-shard wall times that the shards' job scripts wrote (<dir>/shard.json), against the plan.
@@ -39,9 +41,7 @@ struct MergeResult {
   RunContext context;
   std::vector<ResultRow> rows;
   size_t duplicates = 0;  // rows found in two folders with the same values, kept once
-  // For suite runs (every folder holds suite_record.json): the report and gallery to write.
-  std::optional<SuiteReport> report;
-  std::vector<GalleryEntry> gallery;
+  std::string page;       // the report's path; "" when the folders are not all suite runs or sweeps
   std::vector<ShardTiming> timings;
   double measured_ratio = 0.0;  // slowest / mean measured shard wall time (0: no shard.json)
   double planned_ratio = 0.0;   // slowest / mean planned shard cost (0: no plan)

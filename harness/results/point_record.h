@@ -36,8 +36,10 @@ FrameRow frame_row(const nlohmann::json& flat, const std::string& where = "frame
 std::vector<FrameRow> frame_rows(const std::vector<nlohmann::json>& flat);
 std::vector<nlohmann::json> flatten(const std::vector<FrameRow>& frames);
 
-// An image a point kept: `role` says what it is ("estimate", "frame 0007 estimate", "frame 0007
-// reference"), `path` where it is, relative to the run's output folder.
+// A file a point kept: `role` says what it is ("estimate", "mosaic", "reference", "true
+// reference", "frame 0007 estimate", "frame 0007 reference", "maps"; a sequence point's manifest
+// "sequence" and its "frames" CSV), `path` where it is, relative to the run's output folder. The
+// pages find a point's files by role, never by rebuilding a path.
 struct KeptImage {
   std::string role;
   std::string path;

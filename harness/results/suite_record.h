@@ -18,6 +18,15 @@ struct SuiteReportEntry {
   std::string mosaic_png;
   std::string reference_exr;       // the matched reference
   std::string true_reference_exr;  // the unbounded cosine reference ("true AO")
+  // Every file the point kept, by role (point_record.h), as the store holds them: filled by the
+  // run reader (suite_record_io.h read_stored_run) for the pages; a runner leaves it empty.
+  std::vector<KeptImage> images;
+  // The path of the kept file of `role` ("sequence", "frames", "maps", ...); "" when none.
+  std::string image(const std::string& role) const {
+    for (const KeptImage& k : images)
+      if (k.role == role) return k.path;
+    return "";
+  }
 };
 
 // The entry's point record (point_record.h): its row, `frames`, and its images: the estimate

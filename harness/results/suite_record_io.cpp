@@ -84,11 +84,13 @@ SuiteRecordFile read_suite_record(const std::string& dir) {
   return r;
 }
 
-SuiteReport read_suite_report(const std::string& dir) {
+StoredRun read_stored_run(const std::string& dir, const std::string& database) {
   const SuiteRecordFile record = read_suite_record(dir);
   ResultsFolder folder(dir, RunContext{});
   folder.load_existing();
-  SuiteReport report;
+  SqliteStore store(database, SqliteStore::Mode::read_only);
+  StoredRun run;
+  SuiteReport& report = run.report;
   report.suite = record.suite;
   report.suite_file = record.suite_file;
   report.overrides = record.overrides;
@@ -97,11 +99,17 @@ SuiteReport read_suite_report(const std::string& dir) {
   for (const ResultRow& row : folder.rows()) {
     SuiteReportEntry entry;
     if (const auto it = record.entries.find(row.run_name); it != record.entries.end())
-      entry = it->second;
+      entry.featured = it->second.featured;
     entry.row = row;
-    report.entries.push_back(entry);
+    entry.images =
+        store.images_of(row.run_id.empty() ? report.context.run_id : row.run_id, row.run_name);
+    entry.mosaic_png = entry.image("mosaic");
+    entry.reference_exr = entry.image("reference");
+    entry.true_reference_exr = entry.image("true reference");
+    report.entries.push_back(std::move(entry));
   }
-  return report;
+  run.gallery = record.gallery;
+  return run;
 }
 
 }  // namespace aoeval

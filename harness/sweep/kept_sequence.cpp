@@ -98,8 +98,12 @@ std::vector<KeptImage> keep_sequence(const std::string& out, const std::string& 
         {{"age", age},
          {"rmse_excess", std::isfinite(excess) ? nlohmann::json(excess) : nlohmann::json()}});
   manifest["settle_excess_by_age"] = settle;
-  write_text((fs::path(out) / dir_rel / "sequence.json").string(), manifest.dump(1) + "\n");
-  write_text((fs::path(out) / dir_rel / "frames.csv").string(), frames_csv(m.frames));
+  const std::string manifest_rel = (dir_rel / "sequence.json").string(),
+                    frames_rel = (dir_rel / "frames.csv").string();
+  write_text((fs::path(out) / manifest_rel).string(), manifest.dump(1) + "\n");
+  write_text((fs::path(out) / frames_rel).string(), frames_csv(m.frames));
+  images.push_back({"sequence", manifest_rel});
+  images.push_back({"frames", frames_rel});
   return images;
 }
 

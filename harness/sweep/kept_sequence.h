@@ -33,8 +33,8 @@
 namespace aoeval {
 
 // `keep_frames` false (a sweep's --no-estimates): sequence.json and frames.csv only, no EXRs.
-// Returns the images kept, paths relative to <out> (roles "frame KKKK estimate" and "frame KKKK
-// reference", point_record.h), for the point's record.
+// Returns the files kept, paths relative to <out> (roles "frame KKKK estimate", "frame KKKK
+// reference", "maps", then "sequence" and "frames": point_record.h), for the point's record.
 std::vector<KeptImage> keep_sequence(const std::string& out, const std::string& base,
                                      const SweepPoint& p, const Measurement& m,
                                      EvaluationSession& session, KeptReferences& references,

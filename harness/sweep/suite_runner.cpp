@@ -20,6 +20,7 @@
 #include "harness/results/results_store.h"
 #include "harness/results/run_recorder.h"
 #include "harness/results/suite_record.h"
+#include "harness/results/suite_record_io.h"
 #include "harness/sweep/kept_references.h"
 #include "harness/sweep/kept_sequence.h"
 #include "harness/sweep/shard_plan.h"
@@ -237,7 +238,8 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
   std::string command = "run " + suite.name;
   for (const auto& s : o.sets) command += " --set " + s;
   if (!o.shard.empty()) command += " --shard " + o.shard;
-  auto recorder = std::make_unique<RunRecorder>(out, o.database, command, FolderAccess::exclusive);
+  const auto recorder =
+      std::make_unique<RunRecorder>(out, o.database, command, FolderAccess::exclusive);
   recorder->context().output_dir = fs::weakly_canonical(fs::absolute(out)).string();
   const RunContext& context = recorder->context();
   const std::string run_dir = "runs/" + context.run_id;
@@ -264,8 +266,9 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
   SuiteRun result;
   result.stages.add("run set-up (suite, store, machine and git probe)",
                     seconds_since(t_start) * 1000.0);
+  result.suite = suite.name;
   result.out_dir = out;
-  SuiteReport& report = result.report;
+  SuiteReport report;  // what suite_record.json keeps of it; the pages read the store
   report.suite = suite.name;
   report.suite_file = suite.path;
   report.overrides = o.sets;
@@ -337,9 +340,8 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
   }
 
   // The G-buffer gallery needs a session holding the scenes: every suite point used one.
-  if (!sessions.empty()) {
-    result.gallery = images.gallery(*sessions.begin()->second, load_ms);
-  }
+  std::vector<GalleryEntry> gallery;
+  if (!sessions.empty()) gallery = images.gallery(*sessions.begin()->second, load_ms);
   StageTimes stages;
   for (const auto& [key, session] : sessions) {
     stages.add_all(session->stages());
@@ -350,21 +352,26 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
   }
   stages.add_all(result.stages);
   result.stages = stages;
-  result.database = o.database;
   report.context = context;
   report.wall_s = seconds_since(t_start);
   result.skipped = skipped;
-  result.recorder = std::move(recorder);
-  return result;
-}
-
-void record_run_context(SuiteRun& run, const nlohmann::json& stages_ms) {
-  RunRecorder& recorder = *run.recorder;
-  recorder.context().stages_ms = stages_ms;
-  recorder.write_files();
-  write_run_results(run.out_dir, recorder);
-  recorder.register_run();
-  run.recorder.reset();  // the lock goes with it
+  result.rows = recorder->rows().size();
+  // The folder's record and results.json, then its pages from what the store holds (the folder's
+  // lock held throughout), then the run's context with where the time went (issue 16).
+  write_suite_record(out, report, gallery);
+  if (o.pages) {
+    recorder->write_files();
+    const auto timer = result.stages.time("report (page, plots)");
+    result.page = o.pages(out, o.database);
+  }
+  result.wall_ms = seconds_since(t_start) * 1000.0;
+  nlohmann::json stages_ms = result.stages.to_json();
+  stages_ms["wall"] = result.wall_ms;
+  recorder->context().stages_ms = stages_ms;
+  recorder->write_files();
+  write_run_results(out, *recorder);
+  recorder->register_run();
+  return result;  // the recorder, and with it the lock, goes
 }
 
 }  // namespace aoeval

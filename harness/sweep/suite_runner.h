@@ -1,5 +1,5 @@
-// Runs a suite (harness/sweep/suite.h); cmd/cmd_run.cpp then writes its report (reports/). Output
-// folder:
+// Runs a suite (harness/sweep/suite.h) and, through the PageWriter cmd/cmd_run.cpp hands it, writes
+// its pages from the store. Output folder:
 //   index.html                  the report of this (the newest) run
 //   results.csv, results.json   this run's rows (also appended to the SQLite history)
 //   runs/<run_id>/estimates/    every row's estimate EXR (row.estimate_file, relative to the
@@ -10,16 +10,13 @@
 // Earlier runs' folders under runs/ are kept, so a dashboard can compare against a baseline.
 #pragma once
 
-#include <memory>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "base/default_paths.h"
 #include "harness/evaluation/evaluation.h"
-#include "harness/results/run_recorder.h"
 #include "harness/results/stage_times.h"
-#include "harness/results/suite_record.h"
+#include "harness/results/suite_record_io.h"
 
 namespace aoeval {
 
@@ -36,30 +33,27 @@ struct SuiteRunOptions {
   // The kept references and sequence frames as the cache's float32s, bit for bit (`aoeval run
   // --viewer-exact`); false: at float16 precision, about 1.6x smaller (kept_references.h).
   bool exact_kept_files = false;
+  // Writes the folder's pages (cmd/ hands in reports/run_pages.h); none when empty.
+  PageWriter pages;
 };
 
-// What a run leaves for its report (cmd/cmd_run.cpp writes the page with reports/).
+// What a run did (the folder and the store hold what it measured).
 struct SuiteRun {
-  std::string out_dir;
-  SuiteReport report;                 // rows and the images kept beside them
-  std::vector<GalleryEntry> gallery;  // the G-buffer EXRs written under <out>/gbuffers/
-  size_t skipped = 0;                 // rows whose status is not "ok"
-  StageTimes stages;                  // where the runner's time went (the page's is added later)
+  std::string suite, out_dir;
+  std::string page;    // the report's path ("" without SuiteRunOptions::pages)
+  size_t rows = 0;     // rows recorded
+  size_t skipped = 0;  // rows whose status is not "ok"
+  StageTimes stages;   // where the run's time went, the pages' included
+  double wall_ms = 0.0;
   // The references its sessions traced: passes over shared rays, images and rays (issue 42).
   EvaluationSession::ReferenceCounts references;
-  std::string database;  // the SQLite store the rows went to
-  // The run's bookkeeping, still holding the folder's lock while the caller writes the pages;
-  // record_run_context() finishes it and lets the folder go.
-  std::unique_ptr<RunRecorder> recorder;
 };
 
-// Runs every point, stores the rows (results.csv/json, SQLite) and keeps the images; writes no
-// page.
+// Runs every point, stores the rows (results.csv/json, SQLite) and keeps the images and the
+// folder's record (suite_record.json); then, still holding the folder's lock, writes the pages
+// with `options.pages` (from the store, not from memory) and stores the run's finished context,
+// with its "stages_ms" breakdown, in <out>/results.json, <out>/runs/<run_id>/results.json and the
+// SQLite store.
 SuiteRun run_suite(const SuiteRunOptions& options);
-
-// Stores the run's finished context, with the "stages_ms" breakdown the caller measured once the
-// page was written, in <out>/results.json, <out>/runs/<run_id>/results.json and the SQLite store,
-// through the run's recorder, then releases the folder's lock.
-void record_run_context(SuiteRun& run, const nlohmann::json& stages_ms);
 
 }  // namespace aoeval

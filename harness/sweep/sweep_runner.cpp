@@ -30,12 +30,13 @@ namespace {
 // The sweep's suite_record.json: every row's kept references, none featured (its report features
 // the Pareto fronts), so that `aoeval merge` of its shards writes its page too.
 void write_record(const std::string& out, const std::string& name, const std::string& spec_path,
-                  const RunContext& context, const std::vector<ResultRow>& rows,
+                  const RunContext& context, double wall_s, const std::vector<ResultRow>& rows,
                   const std::map<std::string, SuiteReportEntry>& kept) {
   SuiteReport report;
   report.suite = name;
   report.suite_file = spec_path;
   report.context = context;
+  report.wall_s = wall_s;  // this invocation's (a resumed sweep's page says the last part's)
   report.sweep = true;
   for (const ResultRow& r : rows) {
     SuiteReportEntry e;
@@ -49,7 +50,7 @@ void write_record(const std::string& out, const std::string& name, const std::st
 
 }  // namespace
 
-int run_sweep(const SweepOptions& o, std::string* out_dir) {
+int run_sweep(const SweepOptions& o, std::string* out_dir, std::string* page) {
   const auto t_start = std::chrono::steady_clock::now();
   StageTimes runner_stages;
   const SweepSpec spec = load_sweep_spec(o.spec_path);
@@ -207,15 +208,22 @@ int run_sweep(const SweepOptions& o, std::string* out_dir) {
   recorder.context().stages_ms["wall"] = wall_ms;
   recorder.write_files();
   recorder.register_run();
-  write_record(out, spec.name, o.spec_path, recorder.context(), recorder.rows(), kept);
+  write_record(out, spec.name, o.spec_path, recorder.context(), wall_ms / 1000.0, recorder.rows(),
+               kept);
   if (out_dir) *out_dir = out;
+  const bool stopped = interrupt_requested() && finished < pending.size();
+  // The pages from what the store now holds, the folder still locked.
+  if (o.pages && !stopped) {
+    const std::string written = o.pages(out, o.database);
+    if (page) *page = written;
+  }
   std::fprintf(stderr, "sweep %s: time by stage\n%s", spec.name.c_str(),
                stages.table(wall_ms).c_str());
   const EvaluationSession::ReferenceCounts refs = session.reference_counts();
   std::fprintf(stderr, "sweep %s: %llu references traced in %llu passes, %.3f Grays\n",
                spec.name.c_str(), static_cast<unsigned long long>(refs.references),
                static_cast<unsigned long long>(refs.traces), static_cast<double>(refs.rays) / 1e9);
-  if (interrupt_requested() && finished < pending.size()) {
+  if (stopped) {
     std::fprintf(stderr, "sweep %s: interrupted after %zu of %zu points; rerun with --resume\n",
                  spec.name.c_str(), finished, pending.size());
     return 130;
