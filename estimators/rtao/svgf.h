@@ -50,6 +50,8 @@ struct SvgfGuide {
   std::vector<float> nx, ny, nz, depth, grad_x, grad_y, covered;
 };
 SvgfGuide svgf_guide(const GBuffer& g);
+// The same into `out`, reusing its arrays (no allocation when the size is unchanged).
+void svgf_guide(const GBuffer& g, SvgfGuide& out);
 
 // §4.2: the variance of each covered pixel from its moments and history length.
 std::vector<float> svgf_variance(const SvgfGuide& g, const std::vector<float>& moment1,
