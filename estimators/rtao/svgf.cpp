@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <utility>
 
 #include "estimators/pixel_loops.h"
 #include "estimators/rtao/svgf_taps.h"
@@ -179,29 +180,44 @@ void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
       }
       for (int i = span.lo; i < span.hi; ++i)  // only the span's pixels are read below
         lum[i] = gr.cov[row + i] > 0.5f ? sigma_l * std::sqrt(sv[i] / sw[i]) + 1e-10f : 1.0f;
-      // Eqs. 1-2 over the 5x5 taps in the kernel's order; the centre's weight is exp(0) = 1.
+      // Eqs. 1-2 over the 5x5 taps in the kernel's order; the centre's weight is exp(0) = 1. The
+      // pixels whose taps all lie inside the row, [in_lo, in_hi), take a kernel row in one loop;
+      // the others tap by tap (the same order of sums).
       std::fill(sw.begin(), sw.end(), 0.0f);
       std::fill(sc.begin(), sc.end(), 0.0f);
       std::fill(sv.begin(), sv.end(), 0.0f);
+      const int in_lo = std::max(span.lo, 2 * step);
+      const int in_hi = std::max(in_lo, std::min(span.hi, w - 2 * step));
+      const Sums sums{sw.data(), sc.data(), sv.data()};
       for (int ky = -2; ky <= 2; ++ky) {
         const int dy = ky * step;
         if (j + dy < 0 || j + dy >= h) continue;
+        AtrousRow kernel_row{
+            {}, step, static_cast<float>(dy), static_cast<ptrdiff_t>(dy) * w, sigma_z, sigma_n};
+        for (int kx = -2; kx <= 2; ++kx) kernel_row.hk[kx + 2] = kB3[kx + 2] * kB3[ky + 2];
+        if (in_lo < in_hi)
+          taps.atrous_row(gr, row, kernel_row, c, var, lum.data(), sums, in_lo, in_hi);
         for (int kx = -2; kx <= 2; ++kx) {
           const int dx = kx * step;
           const ptrdiff_t shift = static_cast<ptrdiff_t>(dy) * w + dx;
-          const float hk = kB3[kx + 2] * kB3[ky + 2];
-          if (shift == 0) {
-            for (int i = span.lo; i < span.hi; ++i) {
-              sw[i] += hk;
-              sc[i] += hk * c[row + i];
-              sv[i] += hk * hk * var[row + i];
+          const float hk = kernel_row.hk[kx + 2];
+          const TapGeometry geometry{static_cast<float>(dx), static_cast<float>(dy), sigma_z,
+                                     sigma_n};
+          // This tap's pixels outside [in_lo, in_hi).
+          const int b = span.begin(first_inside(dx)), e = span.end(end_inside(w, dx));
+          for (const auto& [i0, i1] :
+               {std::pair{b, std::min(e, in_lo)}, std::pair{std::max(b, in_hi), e}}) {
+            if (i0 >= i1) continue;
+            if (shift == 0) {
+              for (int i = i0; i < i1; ++i) {
+                sw[i] += hk;
+                sc[i] += hk * c[row + i];
+                sv[i] += hk * hk * var[row + i];
+              }
+              continue;
             }
-            continue;
+            taps.atrous(gr, row, shift, geometry, c, var, lum.data(), hk, sums, i0, i1);
           }
-          const float fdx = static_cast<float>(dx), fdy = static_cast<float>(dy);
-          taps.atrous(gr, row, shift, {fdx, fdy, sigma_z, sigma_n}, c, var, lum.data(), hk,
-                      {sw.data(), sc.data(), sv.data()}, span.begin(first_inside(dx)),
-                      span.end(end_inside(w, dx)));
         }
       }
       for (int i = span.lo; i < span.hi; ++i) {

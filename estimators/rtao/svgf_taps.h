@@ -38,6 +38,16 @@ struct MomentSums {
   double* __restrict sw, * __restrict s1, * __restrict s2;
 };
 
+// One row of the a-trous kernel: its taps' weights h (kx = -2..2), their spacing, its dy and the
+// offset of its row from p's (dy x width), and the depth and normal settings.
+struct AtrousRow {
+  float hk[5];
+  int step;
+  float dy;
+  ptrdiff_t row_shift;
+  float sigma_z, sigma_n;
+};
+
 struct SvgfTaps {
   // The 3x3 blur's tap at q = p + shift for pixels [i0, i1) of a row: weight kw where q is
   // covered (cov_q, var_q: the row shifted to q).
@@ -49,6 +59,10 @@ struct SvgfTaps {
   void (*atrous)(const GuideRows& gr, ptrdiff_t row, ptrdiff_t shift, const TapGeometry& t,
                  const float* c, const float* var, const float* lum, float hk, Sums out, int i0,
                  int i1);
+  // The five taps of kernel row k as five atrous calls would add them, for pixels [i0, i1) whose
+  // taps all lie inside the row (the centre tap where k.dy = 0).
+  void (*atrous_row)(const GuideRows& gr, ptrdiff_t row, const AtrousRow& k, const float* c,
+                     const float* var, const float* lum, Sums out, int i0, int i1);
   // One tap of the spatial variance estimate (§4.2): accumulates w, w m1(q) and w m2(q).
   void (*variance)(const GuideRows& gr, ptrdiff_t row, ptrdiff_t shift, const TapGeometry& t,
                    const float* m1, const float* m2, MomentSums out, int i0, int i1);
