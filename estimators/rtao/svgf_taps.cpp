@@ -12,7 +12,7 @@ namespace svgf_baseline {
 #include "estimators/rtao/svgf_taps.inc"
 }  // namespace svgf_baseline
 
-#if defined(__x86_64__) && defined(__GNUC__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)  // GCC's #pragma target
 #pragma GCC push_options
 #pragma GCC target("avx2")
 namespace svgf_avx2 {
@@ -29,7 +29,7 @@ namespace svgf_avx512 {
 #endif
 
 const SvgfTaps& svgf_taps(SimdIsa isa) {
-#if defined(__x86_64__) && defined(__GNUC__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)  // GCC's #pragma target
   if (isa == SimdIsa::avx512) return svgf_avx512::kTaps;
   if (isa == SimdIsa::avx2) return svgf_avx2::kTaps;
 #endif
