@@ -96,15 +96,15 @@ class RtaoEstimator : public Estimator {
     r.pass_ms["temporal_ms"] = ms_since(t1);
 
     const auto t2 = std::chrono::steady_clock::now();
-    const SvgfGuide guide = svgf_guide(g);  // the weights' G-buffer channels, for every pass
-    std::vector<float> variance = svgf_variance(guide, moment1, moment2, length, svgf_);
+    svgf_guide(g, guide_);  // the weights' G-buffer channels, for every pass
+    std::vector<float> variance = svgf_variance(guide_, moment1, moment2, length, svgf_);
     r.pass_ms["variance_ms"] = ms_since(t2);
 
     double atrous_total = 0.0;
     if (atrous_iterations_ > 0) {
       for (int i = 0; i < atrous_iterations_; ++i) {
         const auto ti = std::chrono::steady_clock::now();
-        atrous_iteration(guide, 1 << i, svgf_, value, variance);
+        atrous_iteration(guide_, 1 << i, svgf_, value, variance);
         // SVGF §4.1: the first wavelet iteration's output is the colour history.
         if (i == 0 && temporal_) stage_.replace_history(value);
         const double ms = ms_since(ti);
@@ -127,6 +127,7 @@ class RtaoEstimator : public Estimator {
   AoTraceSettings trace_;
   SvgfSettings svgf_;
   TemporalAccumulator stage_;
+  SvgfGuide guide_;  // this frame's, its arrays reused from frame to frame
   bool still_ = true;
 };
 

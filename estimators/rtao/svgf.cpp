@@ -6,9 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <utility>
 
 #include "estimators/pixel_loops.h"
-#include "estimators/rtao/svgf_math.h"
+#include "estimators/rtao/svgf_taps.h"
 
 namespace aoeval {
 
@@ -20,100 +21,6 @@ constexpr float kB3[5] = {1.0f / 16, 1.0f / 4, 3.0f / 8, 1.0f / 4, 1.0f / 16};
 // Rows per task: a tile of 4 rows x the image's width (640 pixels: 25 taps of 7 channels stay in
 // cache), enough tasks to balance 16 cores on 480 rows.
 constexpr int kTileRows = 4;
-
-// The guide's arrays as raw pointers, so that the row loops below vectorise.
-struct GuideRows {
-  const float *nx, *ny, *nz, *z, *gx, *gy, *cov;
-  explicit GuideRows(const SvgfGuide& g)
-      : nx(g.nx.data()),
-        ny(g.ny.data()),
-        nz(g.nz.data()),
-        z(g.depth.data()),
-        gx(g.grad_x.data()),
-        gy(g.grad_y.data()),
-        cov(g.covered.data()) {}
-};
-
-// The per-tap constants of depth_normal.
-struct TapGeometry {
-  float dx, dy, sigma_z, sigma_n;
-};
-
-// The depth and normal terms of w_z w_n (eqs. 3, 4) between pixel i of rows p and q (q = p +
-// (dx, dy)) as one exponent, so that one exp serves the whole weight: w_n = exp(sigma_n log(n_p .
-// n_q)). `ok` is false where the tap does not count: p or q uncovered, or n_p . n_q <= 0 (w = 0).
-struct Exponent {
-  float e;
-  bool ok;
-};
-inline Exponent depth_normal(float pnx, float pny, float pnz, float zp, float pgx, float pgy,
-                             float pcov, float qnx, float qny, float qnz, float zq, float qcov,
-                             const TapGeometry& t) {
-  const float cos_n = pnx * qnx + pny * qny + pnz * qnz;
-  const float along = std::abs(pgx * t.dx + pgy * t.dy);
-  const float eps = 1e-6f * zp;  // a numerical guard: flat, camera-facing surfaces have along = 0
-  const float wz = std::abs(zp - zq) / (t.sigma_z * along + eps);
-  const bool ok = (pcov > 0.5f) & (qcov > 0.5f) & (cos_n > 0.0f);
-  const bool above = 1.0f < cos_n;  // std::min(cos_n, 1) as a branch-free select
-  const float capped = keep(above, 1.0f) + keep(!above, cos_n);
-  return {t.sigma_n * svgf_log(capped) - wz, ok};
-}
-
-// The 3x3 blur's tap at q = p + shift for pixels [i0, i1) of a row: weight kw where q is covered.
-void blur_taps(const float* __restrict cov_q, const float* __restrict var_q, float kw,
-               float* __restrict sw, float* __restrict sv, int i0, int i1) {
-  for (int i = i0; i < i1; ++i) {
-    const bool ok = cov_q[i] > 0.5f;
-    const float vq = var_q[i];  // loaded on every lane, then selected
-    sw[i] += keep(ok, kw);
-    sv[i] += keep(ok, kw) * keep(ok, vq);
-  }
-}
-
-// One a-trous tap (eqs. 1-5) at q = p + shift for pixels [i0, i1) of row `row`: accumulates
-// h w_i c and h^2 w_i^2 Var (eq. 2's numerator) and h w_i.
-struct Sums {
-  float* __restrict sw, * __restrict sc, * __restrict sv;
-};
-void atrous_taps(const GuideRows& gr, ptrdiff_t row, ptrdiff_t shift, const TapGeometry& t,
-                 const float* c, const float* var, const float* __restrict lum, float hk, Sums out,
-                 int i0, int i1) {
-  float* __restrict sw = out.sw, * __restrict sc = out.sc, * __restrict sv = out.sv;
-  // Plain restrict pointers into rows p and q, so that the loop vectorises.
-  const float* __restrict pnx = gr.nx + row, * __restrict pny = gr.ny + row, * __restrict pnz = gr.nz + row, * __restrict pz = gr.z + row, * __restrict pgx = gr.gx + row, * __restrict pgy = gr.gy + row, * __restrict pcov = gr.cov + row, * __restrict cp = c + row;
-  const ptrdiff_t o = row + shift;
-  const float* __restrict qnx = gr.nx + o, * __restrict qny = gr.ny + o, * __restrict qnz = gr.nz + o, * __restrict qz = gr.z + o, * __restrict qcov = gr.cov + o, * __restrict cq = c + o, * __restrict vq = var + o;
-  for (int i = i0; i < i1; ++i) {
-    const Exponent x = depth_normal(pnx[i], pny[i], pnz[i], pz[i], pgx[i], pgy[i], pcov[i], qnx[i],
-                                    qny[i], qnz[i], qz[i], qcov[i], t);
-    const float e = x.e - std::abs(cp[i] - cq[i]) / lum[i];
-    const float hw = keep(x.ok, hk * svgf_exp(e));
-    sw[i] += hw;
-    sc[i] += hw * keep(x.ok, cq[i]);
-    sv[i] += hw * hw * keep(x.ok, vq[i]);
-  }
-}
-
-// One tap of the spatial variance estimate (§4.2) at q = p + shift for pixels [i0, i1) of row
-// `row`: accumulates w, w m1(q) and w m2(q) in double.
-struct MomentSums {
-  double* __restrict sw, * __restrict s1, * __restrict s2;
-};
-void variance_taps(const GuideRows& gr, ptrdiff_t row, ptrdiff_t shift, const TapGeometry& t,
-                   const float* m1, const float* m2, MomentSums out, int i0, int i1) {
-  double* __restrict sw = out.sw, * __restrict s1 = out.s1, * __restrict s2 = out.s2;
-  const float* __restrict pnx = gr.nx + row, * __restrict pny = gr.ny + row, * __restrict pnz = gr.nz + row, * __restrict pz = gr.z + row, * __restrict pgx = gr.gx + row, * __restrict pgy = gr.gy + row, * __restrict pcov = gr.cov + row;
-  const ptrdiff_t o = row + shift;
-  const float* __restrict qnx = gr.nx + o, * __restrict qny = gr.ny + o, * __restrict qnz = gr.nz + o, * __restrict qz = gr.z + o, * __restrict qcov = gr.cov + o, * __restrict a = m1 + o, * __restrict b = m2 + o;
-  for (int i = i0; i < i1; ++i) {
-    const Exponent x = depth_normal(pnx[i], pny[i], pnz[i], pz[i], pgx[i], pgy[i], pcov[i], qnx[i],
-                                    qny[i], qnz[i], qz[i], qcov[i], t);
-    const double wt = keep(x.ok, svgf_exp(x.e));
-    sw[i] += wt;
-    s1[i] += wt * keep(x.ok, a[i]);
-    s2[i] += wt * keep(x.ok, b[i]);
-  }
-}
 
 // Runs body(j0, j1) over tiles of rows in parallel.
 template <class Body>
@@ -148,11 +55,17 @@ Span covered_span(const float* cov, int w) {
 
 SvgfGuide svgf_guide(const GBuffer& g) {
   SvgfGuide s;
+  svgf_guide(g, s);
+  return s;
+}
+
+void svgf_guide(const GBuffer& g, SvgfGuide& s) {
   s.width = g.width;
   s.height = g.height;
   const size_t n = g.pixel_count();
+  // Every element is written below: a guide of the same size is reused without clearing.
   for (std::vector<float>* v : {&s.nx, &s.ny, &s.nz, &s.depth, &s.grad_x, &s.grad_y, &s.covered})
-    v->assign(n, 0.0f);
+    v->resize(n);
   auto in = [&](int a, int b) {
     return a >= 0 && b >= 0 && a < g.width && b < g.height && g.covered(g.index(a, b));
   };
@@ -162,6 +75,8 @@ SvgfGuide svgf_guide(const GBuffer& g) {
     s.ny[p] = g.normal[p].y;
     s.nz[p] = g.normal[p].z;
     s.depth[p] = g.depth[p];
+    s.covered[p] = 0.0f;
+    s.grad_x[p] = s.grad_y[p] = 0.0f;
     if (!g.covered(p)) return;
     s.covered[p] = 1.0f;
     auto slope = [&](int a0, int b0, int a1, int b1) {
@@ -175,7 +90,6 @@ SvgfGuide svgf_guide(const GBuffer& g) {
     s.grad_x[p] = slope(i - 1, j, i + 1, j);
     s.grad_y[p] = slope(i, j - 1, i, j + 1);
   });
-  return s;
 }
 
 std::vector<float> svgf_variance(const SvgfGuide& g, const std::vector<float>& moment1,
@@ -186,6 +100,7 @@ std::vector<float> svgf_variance(const SvgfGuide& g, const std::vector<float>& m
   const float sigma_z = static_cast<float>(s.sigma_z), sigma_n = static_cast<float>(s.sigma_n);
   const GuideRows gr(g);
   const float *m1 = moment1.data(), *m2 = moment2.data(), *len = history_length.data();
+  const SvgfTaps& taps = svgf_taps(simd_isa());
   std::vector<float> variance(static_cast<size_t>(w) * g.height, 0.0f);
   for_each_row_tile(g.height, [&](int j0, int j1) {
     std::vector<double> sw(w), s1(w), s2(w);
@@ -213,7 +128,7 @@ std::vector<float> svgf_variance(const SvgfGuide& g, const std::vector<float>& m
             }
             const TapGeometry geometry{static_cast<float>(dx), static_cast<float>(dy), sigma_z,
                                        sigma_n};
-            variance_taps(gr, row, shift, geometry, m1, m2, {sw.data(), s1.data(), s2.data()},
+            taps.variance(gr, row, shift, geometry, m1, m2, {sw.data(), s1.data(), s2.data()},
                           first_inside(dx), end_inside(w, dx));
           }
         }
@@ -242,6 +157,7 @@ void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
   const GuideRows gr(g);
   const float *c = in_value.data(), *var = in_variance.data();
   float *out_c = value.data(), *out_var = variance.data();
+  const SvgfTaps& taps = svgf_taps(simd_isa());
   for_each_row_tile(h, [&](int j0, int j1) {
     std::vector<float> sw(w), sc(w), sv(w), lum(w);
     for (int j = j0; j < j1; ++j) {
@@ -258,38 +174,53 @@ void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
         for (int dx = -1; dx <= 1; ++dx) {
           const ptrdiff_t shift = static_cast<ptrdiff_t>(dy) * w + dx;
           const float kw = k[dx + 1] * k[dy + 1];
-          blur_taps(gr.cov + row + shift, var + row + shift, kw, sw.data(), sv.data(),
+          taps.blur(gr.cov + row + shift, var + row + shift, kw, sw.data(), sv.data(),
                     span.begin(first_inside(dx)), span.end(end_inside(w, dx)));
         }
       }
-      for (int i = 0; i < w; ++i)
+      for (int i = span.lo; i < span.hi; ++i)  // only the span's pixels are read below
         lum[i] = gr.cov[row + i] > 0.5f ? sigma_l * std::sqrt(sv[i] / sw[i]) + 1e-10f : 1.0f;
-      // Eqs. 1-2 over the 5x5 taps in the kernel's order; the centre's weight is exp(0) = 1.
+      // Eqs. 1-2 over the 5x5 taps in the kernel's order; the centre's weight is exp(0) = 1. The
+      // pixels whose taps all lie inside the row, [in_lo, in_hi), take a kernel row in one loop;
+      // the others tap by tap (the same order of sums).
       std::fill(sw.begin(), sw.end(), 0.0f);
       std::fill(sc.begin(), sc.end(), 0.0f);
       std::fill(sv.begin(), sv.end(), 0.0f);
+      const int in_lo = std::max(span.lo, 2 * step);
+      const int in_hi = std::max(in_lo, std::min(span.hi, w - 2 * step));
+      const Sums sums{sw.data(), sc.data(), sv.data()};
       for (int ky = -2; ky <= 2; ++ky) {
         const int dy = ky * step;
         if (j + dy < 0 || j + dy >= h) continue;
+        AtrousRow kernel_row{
+            {}, step, static_cast<float>(dy), static_cast<ptrdiff_t>(dy) * w, sigma_z, sigma_n};
+        for (int kx = -2; kx <= 2; ++kx) kernel_row.hk[kx + 2] = kB3[kx + 2] * kB3[ky + 2];
+        if (in_lo < in_hi)
+          taps.atrous_row(gr, row, kernel_row, c, var, lum.data(), sums, in_lo, in_hi);
         for (int kx = -2; kx <= 2; ++kx) {
           const int dx = kx * step;
           const ptrdiff_t shift = static_cast<ptrdiff_t>(dy) * w + dx;
-          const float hk = kB3[kx + 2] * kB3[ky + 2];
-          if (shift == 0) {
-            for (int i = 0; i < w; ++i) {
-              sw[i] += hk;
-              sc[i] += hk * c[row + i];
-              sv[i] += hk * hk * var[row + i];
+          const float hk = kernel_row.hk[kx + 2];
+          const TapGeometry geometry{static_cast<float>(dx), static_cast<float>(dy), sigma_z,
+                                     sigma_n};
+          // This tap's pixels outside [in_lo, in_hi).
+          const int b = span.begin(first_inside(dx)), e = span.end(end_inside(w, dx));
+          for (const auto& [i0, i1] :
+               {std::pair{b, std::min(e, in_lo)}, std::pair{std::max(b, in_hi), e}}) {
+            if (i0 >= i1) continue;
+            if (shift == 0) {
+              for (int i = i0; i < i1; ++i) {
+                sw[i] += hk;
+                sc[i] += hk * c[row + i];
+                sv[i] += hk * hk * var[row + i];
+              }
+              continue;
             }
-            continue;
+            taps.atrous(gr, row, shift, geometry, c, var, lum.data(), hk, sums, i0, i1);
           }
-          const float fdx = static_cast<float>(dx), fdy = static_cast<float>(dy);
-          atrous_taps(gr, row, shift, {fdx, fdy, sigma_z, sigma_n}, c, var, lum.data(), hk,
-                      {sw.data(), sc.data(), sv.data()}, span.begin(first_inside(dx)),
-                      span.end(end_inside(w, dx)));
         }
       }
-      for (int i = 0; i < w; ++i) {
+      for (int i = span.lo; i < span.hi; ++i) {
         const ptrdiff_t p = row + i;
         if (!(gr.cov[p] > 0.5f)) continue;
         out_c[p] = std::clamp(sc[i] / sw[i], 0.0f, 1.0f);  // sw >= 9/64: the centre tap

@@ -24,10 +24,11 @@
 //    over covered pixels), n the shading normal and g_3x3 a 3x3 Gaussian of the variance. eps is a
 //    numerical guard only (1e-6 of the pixel's depth in eq. 3, 1e-10 in eq. 5), not a setting.
 // Only covered pixels filter and are filtered. CPU: the G-buffer's channels read once per frame
-// into one array each (SvgfGuide), then row tiles in parallel with TBB, each tap of the kernel a
-// vectorised loop along the row (svgf_math.h's exp and log, within 2 ulp of libm). Every pixel
-// sums its taps in the kernel's order whatever the tiling: the same bits for any thread count
-// (svgf_test).
+// into one array each (SvgfGuide), then row tiles in parallel with TBB, each tap of the kernel (or
+// a kernel row's five) a vectorised loop along the row (svgf_math.h's exp and log, within 2 ulp of
+// libm), compiled for SSE2, AVX2 and AVX-512 and run in the widest the CPU has (svgf_taps.h).
+// Every pixel sums its taps in the kernel's order whatever the tiling and instruction set: the
+// same bits for any thread count and CPU (svgf_test).
 #pragma once
 
 #include <vector>
@@ -50,6 +51,8 @@ struct SvgfGuide {
   std::vector<float> nx, ny, nz, depth, grad_x, grad_y, covered;
 };
 SvgfGuide svgf_guide(const GBuffer& g);
+// The same into `out`, reusing its arrays (no allocation when the size is unchanged).
+void svgf_guide(const GBuffer& g, SvgfGuide& out);
 
 // §4.2: the variance of each covered pixel from its moments and history length.
 std::vector<float> svgf_variance(const SvgfGuide& g, const std::vector<float>& moment1,

@@ -16,6 +16,7 @@
 #include <random>
 
 #include "estimators/rtao/svgf_math.h"
+#include "estimators/simd_isa.h"
 
 namespace aoeval {
 namespace {
@@ -218,6 +219,30 @@ TEST(Svgf, OneThreadGivesTheBitsOfMany) {
   tbb::task_arena(1).execute([&] { one = fast(svgf_guide(g), x); });
   tbb::task_arena(8).execute([&] { many = fast(svgf_guide(g), x); });
   EXPECT_EQ(one, many);
+}
+
+// The tap loops compiled for AVX2 and AVX-512 (svgf_taps.cpp, run where the CPU has them) give
+// the bits of the baseline's (SSE2), so the result does not depend on the CPU: no fused
+// multiply-add, the same operations in the same order in every lane. Shown failing with the
+// AVX-512 version compiled with FMA and -ffp-contract=fast.
+TEST(Svgf, EveryInstructionSetGivesTheBaselineBits) {
+  const GBuffer g = scene();
+  const SvgfGuide guide = svgf_guide(g);
+  const Signal x = signal(g);
+  const SimdIsa best = simd_best_isa();
+  set_simd_isa(SimdIsa::baseline);
+  const std::vector<float> baseline = fast(guide, x);
+  for (SimdIsa isa : {SimdIsa::avx2, SimdIsa::avx512}) {
+    if (isa > best) {
+      std::printf("%s: not on this CPU\n", simd_isa_name(isa));
+      continue;
+    }
+    set_simd_isa(isa);
+    const bool same = fast(guide, x) == baseline;
+    EXPECT_TRUE(same) << simd_isa_name(isa);
+    std::printf("%s: %s\n", simd_isa_name(isa), same ? "the baseline's bits" : "other bits");
+  }
+  set_simd_isa(best);
 }
 
 // Against libm's exp and log (the filter before svgf_math.h): each weight moves by at most a few

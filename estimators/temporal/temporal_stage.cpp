@@ -1,5 +1,8 @@
 #include "estimators/temporal/temporal_stage.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -155,27 +158,55 @@ void TemporalAccumulator::replace_history(const std::vector<float>& history) {
 
 namespace {
 
-// The clamp range of pixel (i, j): mean +- max(gamma sigma, sigma_min) of the current frame's raw
-// values over the covered pixels of the window (population statistics, in double).
-struct Range {
-  double lo, hi;
+// The clamp range of every covered pixel: mean +- max(gamma sigma, sigma_min) of the current
+// frame's raw values over the covered pixels of its (2 r + 1)^2 window (population statistics, in
+// double). Separable: per row, the sums of each column over the window's rows, then of those over
+// the window's columns (2 (2 r + 1) additions a pixel, not (2 r + 1)^2), in a fixed order whatever
+// the threads.
+struct Ranges {
+  std::vector<double> lo, hi;
 };
-Range clamp_range(const GBuffer& g, const std::vector<float>& x, int i, int j,
-                  const TemporalSettings& s) {
-  double n = 0.0, sum = 0.0, sum2 = 0.0;
+Ranges clamp_ranges(const std::vector<float>& x, const std::vector<uint8_t>& covered, int w, int h,
+                    const TemporalSettings& s) {
   const int r = s.clamp_radius;
-  for (int b = std::max(0, j - r); b <= std::min(g.height - 1, j + r); ++b)
-    for (int a = std::max(0, i - r); a <= std::min(g.width - 1, i + r); ++a) {
-      const size_t q = g.index(a, b);
-      if (!g.covered(q)) continue;
-      n += 1.0;
-      sum += x[q];
-      sum2 += static_cast<double>(x[q]) * x[q];
+  Ranges out;
+  out.lo.assign(x.size(), 0.0);
+  out.hi.assign(x.size(), 0.0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+    std::vector<double> cn(w), c1(w), c2(w);
+    for (int j = rows.begin(); j < rows.end(); ++j) {
+      std::fill(cn.begin(), cn.end(), 0.0);
+      std::fill(c1.begin(), c1.end(), 0.0);
+      std::fill(c2.begin(), c2.end(), 0.0);
+      double* __restrict sn = cn.data(), * __restrict s1 = c1.data(), * __restrict s2 = c2.data();
+      for (int b = std::max(0, j - r); b <= std::min(h - 1, j + r); ++b) {
+        const uint8_t* __restrict cov = covered.data() + static_cast<size_t>(b) * w;
+        const float* __restrict xb = x.data() + static_cast<size_t>(b) * w;
+        for (int a = 0; a < w; ++a) {  // a vectorised loop over the row
+          const double v = cov[a] ? xb[a] : 0.0;
+          sn[a] += cov[a] ? 1.0 : 0.0;
+          s1[a] += v;
+          s2[a] += v * v;
+        }
+      }
+      for (int i = 0; i < w; ++i) {
+        const size_t p = static_cast<size_t>(j) * w + i;
+        if (!covered[p]) continue;
+        double n = 0.0, sum = 0.0, sum2 = 0.0;
+        for (int a = std::max(0, i - r); a <= std::min(w - 1, i + r); ++a) {
+          n += cn[a];
+          sum += c1[a];
+          sum2 += c2[a];
+        }
+        const double mean = sum / n;  // n >= 1: the pixel itself is covered
+        const double sigma = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
+        const double half = std::max(s.gamma * sigma, s.clamp_sigma_min);
+        out.lo[p] = mean - half;
+        out.hi[p] = mean + half;
+      }
     }
-  const double mean = sum / n;  // n >= 1: the pixel itself is covered
-  const double sigma = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
-  const double half = std::max(s.gamma * sigma, s.clamp_sigma_min);
-  return {mean - half, mean + half};
+  });
+  return out;
 }
 
 // Window means and variances over the covered pixels of every (2 r + 1)^2 window, by summed-area
@@ -279,6 +310,8 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
   const TemporalSettings& s = settings_;
   std::vector<uint8_t> covered(n, 0);
   for (size_t p = 0; p < n; ++p) covered[p] = g.covered(p);
+  Ranges ranges;
+  if (s.clamp && history) ranges = clamp_ranges(current, covered, g.width, g.height, s);
   BoxStats box;
   if (s.antilag > 0.0) box = box_stats(current, covered, g.width, g.height, s.antilag_radius);
   const bool antilag = s.antilag > 0.0 && prev_box_.size() == n;
@@ -342,10 +375,7 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
       }
     }
     // Neighbourhood clamp of the history (step 5).
-    if (s.clamp) {
-      const Range range = clamp_range(g, current, i, j, s);
-      h = std::clamp(h, range.lo, range.hi);
-    }
+    if (s.clamp) h = std::clamp(h, ranges.lo[p], ranges.hi[p]);
     // The exponential history with its minimum blend factor (step 4).
     const double alpha = std::max(s.alpha_min, 1.0 / (len + 1.0));
     value_[p] = static_cast<float>(alpha * x + (1.0 - alpha) * h);

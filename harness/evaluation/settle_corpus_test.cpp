@@ -7,10 +7,7 @@
 //    estimate without history has the same error at every age;
 //  - lag_rmse_excess is blank on a static camera over a static scene (the still views: no
 //    reference changes along a trajectory by more than 0.05 + 3 sigma).
-// raytraced at 1 and 4 rays is not checked here: at this size and reference count it reads 1 on
-// grass-field/fly and 4 on dragon/walk at 1 ray: a trajectory "holds still" within 0.02 + 3 sigma
-// of 64-ray references, about 0.2, which admits points whose truth rises as the dragon walks away,
-// and a fresh-ray estimate's noise a(1 - a) falls with it (issue 43 leaves this open).
+// raytraced at 1 and 4 rays (fresh rays, no history) is FreshRaysSettleAtOnce below.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -37,14 +34,15 @@ std::vector<SequenceView> corpus_sequence_views(EvaluationSession& session) {
 }
 
 nlohmann::json scores(EvaluationSession& session, const SequenceView& sv,
-                      const std::string& estimator, nlohmann::json overrides) {
+                      const std::string& estimator, nlohmann::json overrides, int width = 64,
+                      int height = 48) {
   EvaluationRequest req;
   req.estimator = &find_estimator(estimator);
   req.overrides = std::move(overrides);
   req.scene = sv.scene;
   req.view = sv.view;
-  req.width = 64;
-  req.height = 48;
+  req.width = width;
+  req.height = height;
   Measurement m = session.measure(req);
   EXPECT_TRUE(m.scored) << m.row.status;
   return session.score(m).metrics;
@@ -77,6 +75,40 @@ TEST(SettleOnTheCorpus, NoHistorySettlesAtOnceAndAStillViewHasNoLag) {
   }
   // The moving views do disocclude: they had trajectories to check.
   EXPECT_GE(qualified, 4);
+}
+
+// raytraced keeps no history either, but its estimate is noise: settle_frames compares the rms
+// error of N trajectories at age g with 1.1 x the same trajectories' at ages 9..12, so it reads 0
+// only where N is large enough for that ratio's noise to stay well under 10 %. Measured with 4
+// seeds x {1, 4} rays (64-ray references; r0 = age 0's ratio, sd = its spread over ages 0..12):
+//  - dragon/walk: r0 1.16 at 64x48 (sd 0.10; settle 0 to 7), 1.08 at 128x96 (sd 0.05; 0 to 4),
+//    1.04 at 160x120 (sd 0.02; 0 in 8 of 8), 1.04 at 320x240 (sd 0.02). An excess of about 4 %
+//    at age 0 is systematic (r0 > 1 in all 16 runs at 128x96 and 160x120; at 64x48 a mean of
+//    1.14-1.15 with 256- and 1024-ray references too, whose "holds still" tolerance is 2-4 x
+//    narrower): the floor the dragon uncovers brightens within that tolerance, and a 1-ray
+//    estimate's variance a (1 - a) falls as a nears 1. At 64x48 the fringe next to the dragon is
+//    (likely) a larger share of the trajectories, hence 1.16.
+//  - rolling-ball/roll: r0 0.92-1.04 at 64x48 (sd 0.02-0.06), 0.98-1.02 at 160x120 (sd 0.01-0.02).
+//  - bunny/orbit (24 frames): sd 0.03-0.07 at 160x120, one run of 8 reads 1 (r0 1.101).
+//  - grass-field/fly: sd 0.14-0.29 at 160x120 (2 of 8 read 1); q3-20kdm2/walk: sd 0.06-0.17 at
+//    160x120 (1 of 8 reads 1); forest-10k/fly: sd 0.3-0.5 at 64x48; forest-1k/fly: no trajectory
+//    at 64x48; oa-dm4/walk reads 0 in 8 of 8 at 160x120, but with an rmse_excess of 0 at every
+//    age (its few trajectories' error is within the references' noise), a 0 that shows nothing. A
+//    flying or walking camera keeps few points in view 13 frames with their truth still.
+// So this asserts settle_frames = 0 where 160x120 gives trajectories enough (dragon/walk and
+// rolling-ball/roll, the corpus's moving objects), at that size.
+TEST(SettleOnTheCorpus, FreshRaysSettleAtOnce) {
+  ReferenceSpec reference;
+  reference.spp = 64;
+  EvaluationSession session(reference, TimingSpec{0, 1}, /*disk_cache=*/false);
+  for (const SequenceView& sv :
+       {SequenceView{"dragon", "walk", false}, SequenceView{"rolling-ball", "roll", false}})
+    for (int rays : {1, 4}) {
+      const nlohmann::json k = scores(session, sv, "raytraced", {{"rays", rays}}, 160, 120);
+      std::printf("%s/%s raytraced %d rays, 160x120: settle_frames %s\n", sv.scene.c_str(),
+                  sv.view.c_str(), rays, k["settle_frames"].dump().c_str());
+      EXPECT_EQ(k["settle_frames"], 0) << sv.scene << "/" << sv.view << " rays " << rays;
+    }
 }
 
 }  // namespace
