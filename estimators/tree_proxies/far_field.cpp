@@ -93,15 +93,17 @@ uint32_t FarField::build_node(uint32_t begin, uint32_t end) {
   node.center = glm::vec3(center);
   node.silhouette = glm::mat3(silhouette);
   node.normal_map = glm::mat3(normal_map / weight);
-  double radius = 0.0, reach = 0.0;
+  double radius = 0.0, reach = 0.0, spread = 0.0;
   for (uint32_t k = begin; k < end; ++k) {
     const uint32_t t = order_[k];
     const double s = glm::length(glm::dvec3(occluders_[t].center) - center);
+    spread = std::max(spread, s);
     radius = std::max(radius, s + occluders_[t].max_radius);
     reach = std::max(reach, s + std::sqrt(static_cast<double>(influence2_[t])));
   }
   const double open = angle_ > 0.0 ? radius / angle_ : std::numeric_limits<double>::infinity();
   node.open2 = static_cast<float>(std::min<double>(open * open, std::numeric_limits<float>::max()));
+  node.spread = static_cast<float>(spread) * (1.0f + 1e-6f);
   node.reach2 =
       static_cast<float>(std::min<double>(reach * reach, std::numeric_limits<float>::max()));
   if (end - begin > kLeafTrees) {
