@@ -106,7 +106,9 @@ void FarGrid::build(const std::vector<hegeman::UnitMap>& occluders, const FarFie
     widest = std::max(widest, inner_[t] + 0.5f * near_);
   }
   cell_ = static_cast<float>(cell);
-  const glm::vec3 widen(widest);
+  // The trees' box widened by their outer radius, and by at least 8 cells (where the far part
+  // still changes), within the scene's bounds; pixels beyond use FarField::visibility.
+  const glm::vec3 widen(std::max(widest, 8.0f * cell_));
   // The scene's bounds a cell wider: G-buffer positions on its faces are rounded either way.
   origin_ = glm::max(lo - widen, region.lower - cell_);
   const glm::vec3 top = glm::min(hi + widen, region.upper + cell_);

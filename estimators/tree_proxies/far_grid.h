@@ -34,8 +34,8 @@
 //
 // Own tree. The grid holds every tree's far part, the pixel's own included: R_in >= r_max,t makes
 // s = 1 on its own leaves (within r_max,t of its centre), where its far part is then 0.
-// Pixels outside the grid's box (the trees' footprint widened by R, within the scene's bounds)
-// use FarField::visibility.
+// Pixels outside the grid's box (the trees' box widened by the largest outer radius and by at
+// least 8 cells, within the scene's bounds) use FarField::visibility.
 #pragma once
 
 #include <array>
