@@ -91,7 +91,7 @@ void FarGrid::build(const std::vector<hegeman::UnitMap>& occluders, const FarFie
   start_.clear();
   items_.clear();
   nx_ = ny_ = nz_ = 0;
-  if (!(cell > 0.0) || occluders.empty()) return;
+  if (!(cell > 0.0) || occluders.size() < kMinTrees) return;
   glm::vec3 lo(std::numeric_limits<float>::max()), hi(-lo);
   for (const hegeman::UnitMap& m : occluders) {
     lo = glm::min(lo, m.center);

@@ -52,7 +52,8 @@ namespace aoeval {
 
 class FarGrid {
  public:
-  // `far` is built over the same `occluders`. cell <= 0 or no trees: covers nothing. Throws
+  // `far` is built over the same `occluders`. cell <= 0 or fewer than kMinTrees: covers nothing.
+  // Throws
   // InputError when the grid would exceed kMaxNodes.
   void build(const std::vector<hegeman::UnitMap>& occluders, const FarField& far,
              const Bounds& region, double cell, double near, bool horizon);
@@ -69,6 +70,10 @@ class FarGrid {
   static float near_weight(float d, float inner, float outer);
 
   static constexpr size_t kMaxNodes = size_t{1} << 23;
+  // Fewer trees than this build no grid: FarField's per-pixel walk over a few dozen trees costs
+  // about what the grid's 8-node interpolation does (tree-ground: 0.76 ms without, 1.5 ms with),
+  // and stays exact (small scenes keep their bits).
+  static constexpr size_t kMinTrees = 100;
   static constexpr int kDirections = 27;  // (i+1) * 9 + (j+1) * 3 + (k+1); 13 unused
 
  private:

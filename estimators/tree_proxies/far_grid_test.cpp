@@ -95,7 +95,7 @@ TEST(FarGrid, NearRadiusHoldingEveryTreeKeepsTheExactBits) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> u(-10.0f, 10.0f), y(3.0f, 6.0f), r(0.8f, 2.5f);
   std::vector<hm::UnitMap> maps;
-  for (int t = 0; t < 60; ++t) maps.push_back(sphere(glm::vec3(u(rng), y(rng), u(rng)), r(rng)));
+  for (int t = 0; t < 120; ++t) maps.push_back(sphere(glm::vec3(u(rng), y(rng), u(rng)), r(rng)));
   FarField far;
   far.build(maps, 0.0, 0.7);
   FarGrid grid;
@@ -103,7 +103,7 @@ TEST(FarGrid, NearRadiusHoldingEveryTreeKeepsTheExactBits) {
   grid.build(maps, far, box(glm::vec3(-12.0f, 0.0f, -12.0f), glm::vec3(12.0f, 8.0f, 12.0f)), 2.0,
              80.0, true);
   std::uniform_real_distribution<float> tilt(-1.0f, 1.0f), h(0.0f, 8.0f);
-  std::uniform_int_distribution<int> own(-1, 59);
+  std::uniform_int_distribution<int> own(-1, 119);
   for (int p = 0; p < 2000; ++p) {
     const glm::vec3 x(u(rng), h(rng), u(rng));
     const glm::vec3 n = glm::normalize(glm::vec3(tilt(rng), tilt(rng) + 1.5f, tilt(rng)));

@@ -75,10 +75,10 @@ std::vector<ParamSpec> tree_scene_params() {
                "with far_field_angle > 0: the side of the cells of a grid over the trees at "
                "whose nodes the far trees' occlusion (beyond far_near_radius, far_grid.h) is "
                "summed once per scene for 26 normal directions and interpolated per pixel; 0 = "
-               "no grid (the far field per pixel)"}),
+               "no grid (the far field per pixel, as in scenes of fewer than 100 trees)"}),
       real_param(
           {.name = "far_near_radius",
-           .def = 4.0,
+           .def = 2.0,
            .min = 0.0,
            .max = 1e6,
            .spacing = Spacing::linear,
