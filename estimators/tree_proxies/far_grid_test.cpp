@@ -10,6 +10,7 @@
 #include <random>
 
 #include "estimators/tree_proxies/far_field.h"
+#include "estimators/tree_proxies/testing_pixels.h"
 
 namespace aoeval {
 namespace {
@@ -17,10 +18,7 @@ namespace {
 namespace hm = hegeman;
 
 hm::UnitMap sphere(const glm::vec3& c, float r) {
-  Ellipsoid e;
-  e.center = c;
-  e.radii = glm::vec3(r);
-  return hm::make_unit_map(e);
+  return testutil::sphere_map(c, r);
 }
 
 Bounds box(const glm::vec3& lo, const glm::vec3& hi) {
