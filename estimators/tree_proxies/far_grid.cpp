@@ -186,6 +186,11 @@ void FarGrid::build(const std::vector<hegeman::UnitMap>& occluders, const FarFie
   for (size_t t = 0; t < occluders.size(); ++t)
     each_column(occluders[t].center, inner_[t] + 0.5f * near_, [&](size_t c) { ++start_[c + 1]; });
   for (size_t c = 0; c < columns; ++c) start_[c + 1] += start_[c];
+  if (start_.back() > kMaxNearEntries)
+    throw InputError(
+        "far_near_radius " + std::to_string(near) + " puts " + std::to_string(start_.back()) +
+        " trees into the grid's near lists (more than " + std::to_string(kMaxNearEntries) +
+        "); use a smaller radius, or far_grid_cell=0 for no grid");
   items_.resize(start_.back());
   near_trees_.resize(start_.back());
   std::vector<uint32_t> fill(start_.begin(), start_.end() - 1);

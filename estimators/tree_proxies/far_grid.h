@@ -53,8 +53,7 @@ namespace aoeval {
 class FarGrid {
  public:
   // `far` is built over the same `occluders`. cell <= 0 or fewer than kMinTrees: covers nothing.
-  // Throws
-  // InputError when the grid would exceed kMaxNodes.
+  // Throws InputError when the grid would exceed kMaxNodes or its near lists kMaxNearEntries.
   void build(const std::vector<hegeman::UnitMap>& occluders, const FarField& far,
              const Bounds& region, double cell, double near, bool horizon);
 
@@ -70,6 +69,7 @@ class FarGrid {
   static float near_weight(float d, float inner, float outer);
 
   static constexpr size_t kMaxNodes = size_t{1} << 23;
+  static constexpr size_t kMaxNearEntries = size_t{1} << 25;  // 20 bytes each: 640 MiB
   // Fewer trees than this build no grid: FarField's per-pixel walk over a few dozen trees costs
   // about what the grid's 8-node interpolation does (tree-ground: 0.76 ms without, 1.5 ms with),
   // and stays exact (small scenes keep their bits).

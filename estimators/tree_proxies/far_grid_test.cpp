@@ -8,7 +8,9 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <string>
 
+#include "base/errors.h"
 #include "estimators/tree_proxies/far_field.h"
 #include "estimators/tree_proxies/testing_pixels.h"
 
@@ -114,6 +116,24 @@ TEST(FarGrid, NearRadiusHoldingEveryTreeKeepsTheExactBits) {
     EXPECT_EQ(grid.far_occlusion(x, n), 0.0f);
     EXPECT_EQ(grid.visibility(x, n, skip), product);
   }
+}
+
+TEST(FarGrid, TooFineACellIsRefusedWithOneLine) {
+  const auto maps = lattice(1.0f);
+  FarField far;
+  far.build(maps, 0.0, 0.7);
+  FarGrid grid;
+  try {
+    grid.build(maps, far, box(glm::vec3(-40.0f), glm::vec3(40.0f)), 0.01, 2.0, true);
+    FAIL() << "a grid of 10^11 nodes was built";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("use a larger cell"), std::string::npos) << e.what();
+  }
+  // Fewer than kMinTrees trees: no grid at any cell.
+  const std::vector<hm::UnitMap> few(maps.begin(), maps.begin() + 99);
+  far.build(few, 0.0, 0.7);
+  grid.build(few, far, box(glm::vec3(-40.0f), glm::vec3(40.0f)), 0.01, 2.0, true);
+  EXPECT_FALSE(grid.covers(glm::vec3(0.0f)));
 }
 
 }  // namespace
