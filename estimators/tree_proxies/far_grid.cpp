@@ -220,15 +220,17 @@ float FarGrid::far_occlusion(const glm::vec3& x, const glm::vec3& n) const {
   const int k = std::min(nz_ - 2, static_cast<int>(f.z));
   const glm::vec3 w = f - glm::vec3(i, j, k);
   const DirectionTaps taps = direction_taps(n);
+  const size_t sx = kDirections, sy = sx * static_cast<size_t>(nx_),
+               sz = sy * static_cast<size_t>(ny_);
+  const float* base = &values_[node_index(i, j, k) * kDirections];
+  const size_t offset[8] = {0, sx, sy, sx + sy, sz, sx + sz, sy + sz, sx + sy + sz};
+  const float wx[2] = {1.0f - w.x, w.x}, wy[2] = {1.0f - w.y, w.y}, wz[2] = {1.0f - w.z, w.z};
   float sum = 0.0f;
-  for (int c = 0; c < 8; ++c) {
-    const float* v =
-        &values_[node_index(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2)) * kDirections];
-    const float wc = ((c & 1) ? w.x : 1.0f - w.x) * (((c >> 1) & 1) ? w.y : 1.0f - w.y) *
-                     ((c >> 2) ? w.z : 1.0f - w.z);
-    float at = taps.weight[0] * v[taps.index[0]];
-    for (int d = 1; d < taps.count; ++d) at += taps.weight[d] * v[taps.index[d]];
-    sum += wc * at;
+  for (int d = 0; d < taps.count; ++d) {
+    const float* v = base + taps.index[d];
+    float at = 0.0f;
+    for (int c = 0; c < 8; ++c) at += wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2] * v[offset[c]];
+    sum += taps.weight[d] * at;
   }
   return sum;
 }
