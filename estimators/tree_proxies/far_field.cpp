@@ -93,15 +93,17 @@ uint32_t FarField::build_node(uint32_t begin, uint32_t end) {
   node.center = glm::vec3(center);
   node.silhouette = glm::mat3(silhouette);
   node.normal_map = glm::mat3(normal_map / weight);
-  double radius = 0.0, reach = 0.0;
+  double radius = 0.0, reach = 0.0, spread = 0.0;
   for (uint32_t k = begin; k < end; ++k) {
     const uint32_t t = order_[k];
     const double s = glm::length(glm::dvec3(occluders_[t].center) - center);
+    spread = std::max(spread, s);
     radius = std::max(radius, s + occluders_[t].max_radius);
     reach = std::max(reach, s + std::sqrt(static_cast<double>(influence2_[t])));
   }
   const double open = angle_ > 0.0 ? radius / angle_ : std::numeric_limits<double>::infinity();
   node.open2 = static_cast<float>(std::min<double>(open * open, std::numeric_limits<float>::max()));
+  node.spread = static_cast<float>(spread) * (1.0f + 1e-6f);
   node.reach2 =
       static_cast<float>(std::min<double>(reach * reach, std::numeric_limits<float>::max()));
   if (end - begin > kLeafTrees) {
@@ -123,38 +125,19 @@ uint32_t FarField::build_node(uint32_t begin, uint32_t end) {
 }
 
 float FarField::visibility(const glm::vec3& x, const glm::vec3& n, int skip, bool horizon) const {
-  if (nodes_.empty()) return 1.0f;
   const uint32_t skip_at =
       skip >= 0 ? position_[static_cast<size_t>(skip)] : std::numeric_limits<uint32_t>::max();
   float v = 1.0f, a = 0.0f;
-  uint32_t stack[64];
-  int top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const uint32_t index = stack[--top];
-    const Node& node = nodes_[index];
-    const glm::vec3 q = node.center - x;
-    const float d2 = glm::dot(q, q);
-    if (cull_ && d2 > node.reach2) continue;
-    // A node of one tree is that tree (eq. 8 itself); the pixel's own tree is never aggregated.
-    const bool holds_skip = skip_at >= node.begin && skip_at < node.end;
-    if (d2 >= node.open2 && !holds_skip && node.end - node.begin > 1) {
-      a += aggregate_occlusion(node.silhouette, node.normal_map, q, d2, n, horizon);
-      continue;
-    }
-    if (node.right == 0) {
-      for (uint32_t k = node.begin; k < node.end; ++k) {
-        const uint32_t t = order_[k];
-        if (k == skip_at) continue;
-        const glm::vec3 qt = occluders_[t].center - x;
-        if (glm::dot(qt, qt) <= influence2_[t])
-          v *= hegeman::large_occluder_visibility(x, n, occluders_[t], horizon);
-      }
-      continue;
-    }
-    stack[top++] = node.right;
-    stack[top++] = index + 1;
-  }
+  walk(
+      x,
+      // The pixel's own tree is never aggregated (a node of one tree is that tree: eq. 8 itself).
+      [&](const Node& node, float) { return !(skip_at >= node.begin && skip_at < node.end); },
+      [&](const Node& node, const glm::vec3& q, float d2, uint32_t) {
+        a += aggregate_occlusion(node.silhouette, node.normal_map, q, d2, n, horizon);
+      },
+      [&](uint32_t t, uint32_t k, const glm::vec3&, float) {
+        if (k != skip_at) v *= hegeman::large_occluder_visibility(x, n, occluders_[t], horizon);
+      });
   return v * std::exp(-a);
 }
 

@@ -29,7 +29,9 @@
 // then keeps the occluder grid (bit-equal to today's answers).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+#include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 #include <vector>
@@ -49,17 +51,71 @@ class FarField {
 
   size_t nodes() const { return nodes_.size(); }
 
+  // What the precomputed far field (far_grid.h) sums from x: every tree within its radius of
+  // influence as f(q, d2, a, false, t), except that a node of more than one tree whose trees all
+  // lie farther than `near` from x and which the opening rule aggregates is f(q, d2, a_N, true,
+  // node). q = centre - x, a = |B q| / (2 d^3): eq. 7-8's occlusion before the horizon fraction.
+  template <class F>
+  void gather(const glm::vec3& x, float near, F&& f) const {
+    walk(
+        x, [&](const Node& node, float d2) { return std::sqrt(d2) - node.spread >= near; },
+        [&](const Node& node, const glm::vec3& q, float d2, uint32_t index) {
+          f(q, d2, glm::length(node.silhouette * q) / (2.0f * d2 * std::sqrt(d2)), true, index);
+        },
+        [&](uint32_t t, uint32_t, const glm::vec3& q, float d2) {
+          f(q, d2, glm::length(silhouette_[t] * q) / (2.0f * d2 * std::sqrt(d2)), false, t);
+        });
+  }
+  // G of a tree (gather's `false`) or of a node (`true`): |G n| is the silhouette's radius along n.
+  const glm::mat3& normal_map(bool node, uint32_t id) const {
+    return node ? nodes_[id].normal_map : normal_map_[id];
+  }
+
  private:
   struct Node {
     glm::vec3 center{0.0f};       // c_N
     float open2 = 0.0f;           // (R_N / angle)^2: aggregated where d^2 >= open2
     float reach2 = 0.0f;          // (max_t |c_t - c_N| + radius of influence_t)^2; skipped beyond
+    float spread = 0.0f;          // max_t |c_t - c_N|
     glm::mat3 silhouette{0.0f};   // B_N
     glm::mat3 normal_map{0.0f};   // G_N
     uint32_t begin = 0, end = 0;  // its trees: order_[begin .. end)
     uint32_t right = 0;           // inner: the right child (the left is the next node); 0: a leaf
   };
   uint32_t build_node(uint32_t begin, uint32_t end);
+
+  // The hierarchy's walk from x: a node of more than one tree within reach whose opening rule
+  // holds and that aggregate(node, d2) accepts is on_node(node, q, d2, index); every other tree
+  // within its radius of influence is on_tree(t, k, q, d2) (k its position in order_).
+  template <class A, class N, class T>
+  void walk(const glm::vec3& x, A&& aggregate, N&& on_node, T&& on_tree) const {
+    if (nodes_.empty()) return;
+    uint32_t stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const uint32_t index = stack[--top];
+      const Node& node = nodes_[index];
+      const glm::vec3 q = node.center - x;
+      const float d2 = glm::dot(q, q);
+      if (cull_ && d2 > node.reach2) continue;
+      if (d2 >= node.open2 && node.end - node.begin > 1 && aggregate(node, d2)) {
+        on_node(node, q, d2, index);
+        continue;
+      }
+      if (node.right == 0) {
+        for (uint32_t k = node.begin; k < node.end; ++k) {
+          const uint32_t t = order_[k];
+          const glm::vec3 qt = occluders_[t].center - x;
+          const float dt2 = glm::dot(qt, qt);
+          if (dt2 <= influence2_[t]) on_tree(t, k, qt, dt2);
+        }
+        continue;
+      }
+      stack[top++] = node.right;
+      stack[top++] = index + 1;
+    }
+  }
 
   std::vector<hegeman::UnitMap> occluders_;
   std::vector<glm::mat3> silhouette_, normal_map_;  // per tree: B_t, (A_t A_t^T)^(1/2)

@@ -20,10 +20,7 @@ namespace {
 namespace hm = hegeman;
 
 hm::UnitMap sphere(const glm::vec3& c, float r) {
-  Ellipsoid e;
-  e.center = c;
-  e.radii = glm::vec3(r);
-  return hm::make_unit_map(e);
+  return testutil::sphere_map(c, r);
 }
 
 // 64 identical spheres of radius r in a ball of radius rho around `centre` (centred, so their

@@ -64,6 +64,29 @@ std::vector<ParamSpec> tree_scene_params() {
                "this is one aggregate occluder (the trees' summed silhouettes at their centroid, "
                "exp(-occlusion) in place of the product of their factors); 0 = every tree on its "
                "own (the grid; bit-equal to the loop over every tree at the default cull)"}),
+      real_param(
+          {.name = "far_grid_cell",
+           .def = 4.0,
+           .min = 0.0,
+           .max = 1e6,
+           .spacing = Spacing::linear,
+           .unit = "scene units",
+           .meaning =
+               "with far_field_angle > 0: the side of the cells of a grid over the trees at "
+               "whose nodes the far trees' occlusion (beyond far_near_radius, far_grid.h) is "
+               "summed once per scene for 26 normal directions and interpolated per pixel; 0 = "
+               "no grid (the far field per pixel, as in scenes of fewer than 100 trees)"}),
+      real_param(
+          {.name = "far_near_radius",
+           .def = 2.0,
+           .min = 0.0,
+           .max = 1e6,
+           .spacing = Spacing::linear,
+           .unit = "scene units",
+           .meaning =
+               "with the far-field grid: R, the near radius; a tree is evaluated exactly per "
+               "pixel within max(R/2, its largest semi-axis) of its centre, blended by a "
+               "smoothstep over the next R/2, and comes from the grid beyond (far_grid.h)"}),
   };
 }
 
@@ -76,6 +99,8 @@ TreeSceneOptions tree_scene_options(const ParamSet& p, const ProxyOptions& proxy
   o.blade_height = p.real("blade_height");
   o.cull = p.real("cull_occlusion");
   o.far_angle = p.real("far_field_angle");
+  o.far_cell = p.real("far_grid_cell");
+  o.far_near = p.real("far_near_radius");
   return o;
 }
 
@@ -108,10 +133,12 @@ const std::vector<TreeEnvelope>& TreeScene::prepare(const Scene& scene,
     }
     rules_[e.placement] = {Rule::tree, static_cast<int>(outer_.size() - 1)};
   }
-  if (options.far_angle > 0.0)
+  if (options.far_angle > 0.0) {
     far_.build(outer_, options.cull, options.far_angle);
-  else
+    grid_.build(outer_, far_, scene.bounds(), options.far_cell, options.far_near, options.horizon);
+  } else {
     index_.build(outer_, options.cull);
+  }
   for (size_t i = 0; i < scene.objects.size(); ++i) {
     const SceneObject& o = scene.objects[i];
     const size_t placements = std::max<size_t>(1, o.instances.size());

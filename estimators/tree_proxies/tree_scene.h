@@ -18,6 +18,7 @@
 
 #include "estimators/estimator.h"
 #include "estimators/tree_proxies/far_field.h"
+#include "estimators/tree_proxies/far_grid.h"
 #include "estimators/tree_proxies/hegeman_model.h"
 #include "estimators/tree_proxies/occluder_index.h"
 #include "estimators/tree_proxies/tree_proxy.h"
@@ -33,12 +34,14 @@ struct TreeSceneOptions {
   double cull = kExactCull;  // cull_occlusion: see occluder_index.h
   double far_angle = 0.0;    // far_field_angle (far_field.h): 0 = the grid, tree by tree; the
                              // parameter's default is tree_scene_params()'s
+  double far_cell = 0.0;     // far_grid_cell (far_grid.h): 0 = no grid
+  double far_near = 0.0;     // far_near_radius
 };
 
-// proxy_source, ground_horizon, grass_ground, blade_height, cull_occlusion, far_field_angle:
-// declared once for every tree estimator.
+// proxy_source, ground_horizon, grass_ground, blade_height, cull_occlusion, far_field_angle,
+// far_grid_cell, far_near_radius: declared once for every tree estimator.
 std::vector<ParamSpec> tree_scene_params();
-// Reads those six; `proxy` says which envelope the estimator wants.
+// Reads those eight; `proxy` says which envelope the estimator wants.
 TreeSceneOptions tree_scene_options(const ParamSet& p, const ProxyOptions& proxy);
 
 class TreeScene {
@@ -79,9 +82,12 @@ class TreeScene {
 
   // Eq. 7-8 for every tree but `skip` within its radius of influence (options.cull, found
   // through index_), as independent occluders, multiplied in tree order; with far_field_angle > 0
-  // distant groups of trees as one aggregate each (far_field.h).
+  // distant groups of trees as one aggregate each (far_field.h), precomputed on a grid and
+  // interpolated where far_grid_cell > 0 (far_grid.h).
   float others(const glm::vec3& x, const glm::vec3& n, int skip) const {
-    if (options_.far_angle > 0.0) return far_.visibility(x, n, skip, options_.horizon);
+    if (options_.far_angle > 0.0)
+      return grid_.covers(x) ? grid_.visibility(x, n, skip)
+                             : far_.visibility(x, n, skip, options_.horizon);
     float v = 1.0f;
     index_.visit(x, [&](uint32_t t) {
       if (static_cast<int>(t) != skip)
@@ -112,6 +118,7 @@ class TreeScene {
   std::vector<hegeman::UnitMap> outer_;  // per tree: the large occluder of eq. 7-8
   OccluderIndex index_;                  // over outer_ (far_field_angle = 0)
   FarField far_;                         // over outer_ (far_field_angle > 0)
+  FarGrid grid_;                         // its far part precomputed (far_grid_cell > 0)
   std::vector<GrassField> fields_;
 };
 

@@ -90,10 +90,15 @@ std::vector<EstimatorRow> estimator_rows(double cull, const std::vector<double>&
   // The cull rows (a radius only, far_field_angle 0: tree by tree) and the far-field rows.
   for (const char* e : trees)
     rows.push_back({e, e, {{"cull_occlusion", cull}, {"far_field_angle", 0.0}}});
+  // The far field per pixel (far_field.h) and precomputed on the grid (far_grid.h, the default).
   for (const double a : far) {
     char label[64];
     for (const char* e : trees) {
       std::snprintf(label, sizeof label, "%s far %g", e, a);
+      rows.push_back({label, e, {{"far_field_angle", a}, {"far_grid_cell", 0.0}}});
+    }
+    for (const char* e : trees) {
+      std::snprintf(label, sizeof label, "%s far %g grid", e, a);
       rows.push_back({label, e, {{"far_field_angle", a}}});
     }
   }
@@ -279,9 +284,10 @@ void bench_scale(const ScaleBenchOptions& o) {
     md << buf;
   }
   md << "\n| estimator |";
-  for (double n : ns) md << " ms at " << n << " | rmse at " << n << " |";
+  for (double n : ns)
+    md << " ms at " << n << " | rmse at " << n << " | prepare ms at " << n << " |";
   md << " ms slope |\n|---|";
-  for (size_t k = 0; k < ns.size(); ++k) md << "---:|---:|";
+  for (size_t k = 0; k < ns.size(); ++k) md << "---:|---:|---:|";
   md << "---:|\n";
   PlotSpec times = log_log("estimator ms", "ms");
   for (const EstimatorRow& e : rows) {
@@ -289,8 +295,9 @@ void bench_scale(const ScaleBenchOptions& o) {
         [&](const nlohmann::json& r) { return r["estimators"][e.label]["ms"].get<double>(); });
     md << "| " << e.label << " |";
     for (const auto& r : out) {
-      std::snprintf(buf, sizeof buf, " %.2f | %.4f |", r["estimators"][e.label]["ms"].get<double>(),
-                    r["estimators"][e.label]["rmse"].get<double>());
+      const nlohmann::json& row = r["estimators"][e.label];
+      std::snprintf(buf, sizeof buf, " %.2f | %.4f | %.0f |", row["ms"].get<double>(),
+                    row["rmse"].get<double>(), row.value("prepare_ms", 0.0));
       md << buf;
     }
     std::snprintf(buf, sizeof buf, " %.2f |\n", log_slope(ns, ms));
