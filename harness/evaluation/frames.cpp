@@ -28,6 +28,10 @@ namespace aoeval {
 
 namespace {
 
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
 // The parameters of frame k under the seed rule.
 ParamSet frame_params(const EstimatorInfo& e, const ParamSet& params, uint64_t seed_offset) {
   const ParamSpec* seed = e.find_param("seed");
@@ -75,8 +79,7 @@ void EvaluationSession::run_timed(Estimator& estimator, const EstimateContext& c
   while (!enough(times)) {
     const auto t0 = std::chrono::steady_clock::now();
     result = estimator.run(context);
-    const double wall =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const double wall = ms_since(t0);
     const auto total = result.pass_ms.find("total_ms");
     times.push_back(total != result.pass_ms.end() ? total->second : wall);
     for (const auto& [pass, ms] : result.pass_ms) passes[pass].push_back(ms);
@@ -141,9 +144,7 @@ void EvaluationSession::run_frames(Measurement& m, bool seed_per_frame) {
     Estimator& estimator = e.keeps_state ? *(kept ? kept : (kept = std::move(fresh))) : *fresh;
     const auto t_pre = std::chrono::steady_clock::now();
     estimator.prepare(context);
-    prepare_times.push_back(
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_pre)
-            .count());
+    prepare_times.push_back(ms_since(t_pre));
     stages_.add(StageTimes::kEstimatorPrecompute, prepare_times.back());
     if (k == 0) {
       m.derived = estimator.derived();
