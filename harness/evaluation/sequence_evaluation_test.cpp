@@ -42,6 +42,14 @@ ResultRow run(EvaluationSession& session, const std::string& scene, const std::s
   EXPECT_EQ(m.frames.size(), 7u) << "frames 0..6 scored as they ran, the last one left to score()";
   ResultRow row = session.score(m);
   EXPECT_EQ(m.frames.size(), 8u);
+  // One scoring path: the row's plain keys are its last frame's, as score() scored it.
+  if (row.status == "ok" && m.frames.size() == 8u) {
+    EXPECT_EQ(m.frames.back().at("frame"), 7);
+    for (const char* key : {"rmse", "ssim", "flip_mean", "rmse_excess"}) {
+      EXPECT_EQ(row.metrics.at(key), m.frames.back().at(key)) << key;
+      EXPECT_EQ(row.true_metrics.at(key), m.frames.back().at(std::string("true_") + key)) << key;
+    }
+  }
   return row;
 }
 
