@@ -1,6 +1,6 @@
 // `aoeval compare --sequence REFDIR ESTDIR (--motion GBUFDIR | --static) [--json FILE]`: the
-// sequence keys of CONTRACT §10 over two frame folders, scored by harness/scoring/temporal.h as
-// the temporal runner scores a sequence point.
+// sequence keys of CONTRACT §10 over two frame folders, scored by harness/scoring/temporal.h with
+// each frame built by temporal_frame() as the session's frames are (harness/evaluation/frames.cpp).
 //
 // A frame folder holds frame_KKKK.exr for K = 0, 1, ..., N - 1 (four digits or more, no gaps;
 // other files are ignored): REFDIR the references (AO, A, optional AO_stderr: `aoeval reference
@@ -17,7 +17,7 @@
 
 #include "base/errors.h"
 #include "base/text_files.h"
-#include "harness/scoring/temporal.h"
+#include "harness/scoring/temporal_frame.h"
 #include "harness/sweep/kept_references.h"
 #include "scenes/ao_exr.h"
 #include "scenes/gbuffer.h"
@@ -121,18 +121,9 @@ nlohmann::json compare_sequence(const SequenceCompareInput& in) {
     }
     std::vector<uint8_t> mask(ref.ao.size());
     for (size_t p = 0; p < mask.size(); ++p) mask[p] = ref.covered(p) && est.covered(p);
-    TemporalFrame tf;
-    tf.width = w0;
-    tf.height = h0;
-    tf.est = est.ao.data();
-    tf.ref = ref.ao.data();
-    tf.ref_stderr = ref.stderr_ao.empty() ? nullptr : ref.stderr_ao.data();
-    tf.compared = mask.data();
-    tf.motion = g.motion.empty() ? nullptr : &g.motion[0].x;
-    tf.disoccluded = g.disoccluded.empty() ? nullptr : g.disoccluded.data();
-    tf.prev_jitter_x = k > 0 ? prev_g.camera.jitter.x : 0.0f;
-    tf.prev_jitter_y = k > 0 ? prev_g.camera.jitter.y : 0.0f;
-    const double excess = scorer.add_frame(tf);
+    const double excess =
+        scorer.add_frame(temporal_frame(w0, h0, est.ao.data(), ref.ao.data(), ref.stderr_ao, mask,
+                                        &g, k > 0 ? prev_g.camera.jitter : glm::vec2(0.0f)));
     by_frame.push_back(std::isfinite(excess) ? nlohmann::json(excess) : nlohmann::json());
     prev_g = std::move(g);
   }

@@ -1,6 +1,6 @@
 // Test support for estimators over time (CONTRACT §10): a registered estimator run over the frames
 // of a static camera (one G-buffer, no motion) the way the temporal runner runs an estimator that
-// keeps state (harness/evaluation/sequence_evaluation.cpp: one instance, prepare() and run() at
+// keeps state (harness/evaluation/frames.cpp: one instance, prepare() and run() at
 // every frame, frame k with seed offset k, or 0 when the run keeps one seed), and the still path
 // every still view takes (no FrameInfo; run() twice, as a warm-up does).
 #pragma once

@@ -1,4 +1,4 @@
-// The temporal runner (sequence_evaluation.cpp) against closed forms (CONTRACT §10, issue 29's
+// The temporal runner (frames.cpp) against closed forms (CONTRACT §10, issue 29's
 // "It must show" 1): on a static-camera sequence an estimator without temporal design flickers by
 // exactly its per-frame variance, and a deterministic one not at all.
 #include <gtest/gtest.h>
@@ -38,9 +38,19 @@ ResultRow run(EvaluationSession& session, const std::string& scene, const std::s
   req.view = "still";
   req.seed_per_frame = seed_per_frame;
   Measurement m = session.measure(req);
-  EXPECT_TRUE(m.scored);
+  EXPECT_EQ(m.row.status, "ok");
+  EXPECT_EQ(m.frames.size(), 7u) << "frames 0..6 scored as they ran, the last one left to score()";
+  ResultRow row = session.score(m);
   EXPECT_EQ(m.frames.size(), 8u);
-  return session.score(m);
+  // One scoring path: the row's plain keys are its last frame's, as score() scored it.
+  if (row.status == "ok" && m.frames.size() == 8u) {
+    EXPECT_EQ(m.frames.back().at("frame"), 7);
+    for (const char* key : {"rmse", "ssim", "flip_mean", "rmse_excess"}) {
+      EXPECT_EQ(row.metrics.at(key), m.frames.back().at(key)) << key;
+      EXPECT_EQ(row.true_metrics.at(key), m.frames.back().at(std::string("true_") + key)) << key;
+    }
+  }
+  return row;
 }
 
 // raytraced with 4 cosine rays and the random sampler: each frame's estimate is a mean of 4

@@ -124,8 +124,8 @@ SequenceRun run_sequence(FigureContext& ctx, const std::string& estimator,
   req.height = h;
   Measurement m = ctx.session->measure(req);
   SequenceRun s;
-  for (const auto& f : m.frames) s.by_frame.push_back(f.value("rmse_excess", std::nan("")));
   s.row = ctx.session->score(m);
+  for (const auto& f : m.frames) s.by_frame.push_back(f.value("rmse_excess", std::nan("")));
   return s;
 }
 

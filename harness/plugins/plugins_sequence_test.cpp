@@ -1,4 +1,4 @@
-// Plug-ins through the temporal runner (harness/evaluation/sequence_evaluation.cpp, CONTRACT §10):
+// Plug-ins through the temporal runner (harness/evaluation/frames.cpp, CONTRACT §10):
 // issue 29's must-show 4a (a GLSL plug-in that averages aoeval_history with its new frame flickers
 // less than the same shader without history, by the closed form of an exponential average), and a
 // "protocol": "frames" program started once per sequence point, its crash a skipped row.
@@ -76,9 +76,9 @@ TEST(PluginsOverTime, HistoryLowersFlickerByTheExponentialAverage) {
   EvaluationSession session(reference, TimingSpec{0, 1}, /*disk_cache=*/false);
   auto flicker = [&](double w) {
     Measurement m = measure(session, scene, "history-ssao", {{"history", w}});
-    EXPECT_TRUE(m.scored) << m.row.status;
-    EXPECT_EQ(m.frames.size(), 8u);
+    EXPECT_EQ(m.row.status, "ok");
     const ResultRow row = session.score(m);
+    EXPECT_EQ(m.frames.size(), 8u);
     return row.metrics["temporal_rmse_excess"].get<double>();
   };
   const double without = flicker(0.0), with = flicker(0.8);
@@ -129,9 +129,10 @@ for line in sys.stdin:
   add_plugin_dir(dir.string());
   for (const char* f : {"starts.txt", "seeds.txt"}) fs::remove(dir / f);
   Measurement m = measure(session, scene, "counting-frames", nlohmann::json::object());
-  EXPECT_TRUE(m.scored) << m.row.status;
-  EXPECT_EQ(m.frames.size(), 8u);
+  EXPECT_EQ(m.row.status, "ok");
   EXPECT_EQ(m.row.timing_source, "frame-wall");
+  session.score(m);
+  EXPECT_EQ(m.frames.size(), 8u);
   auto text = [&](const char* f) {
     std::ifstream in(dir / f);
     std::stringstream s;
@@ -141,7 +142,7 @@ for line in sys.stdin:
   EXPECT_EQ(text("starts.txt"), "start\n") << "one program for the sequence point";
   EXPECT_EQ(text("seeds.txt"), "10\n11\n12\n13\n14\n15\n16\n17\n") << "the seed rule";
   Measurement crashed = measure(session, scene, "counting-frames", {{"crash_at", 3}});
-  EXPECT_FALSE(crashed.scored);
+  EXPECT_TRUE(crashed.frames.empty());
   EXPECT_EQ(crashed.row.status,
             "skipped: plug-in counting-frames killed by signal 11 (SEGV) before answering frame "
             "3: crashing at 3");

@@ -26,7 +26,7 @@ std::string fresh_db(const std::string& name) {
   return (dir / "results.sqlite").string();
 }
 
-// Frames as evaluation writes them (sequence_evaluation.cpp): frame, time_ms,
+// Frames as evaluation writes them (frames.cpp): frame, time_ms,
 // disoccluded_pixels, then the image keys against the matched reference and true AO.
 std::vector<nlohmann::json> evaluation_frames(int n, double scale) {
   std::vector<nlohmann::json> frames;

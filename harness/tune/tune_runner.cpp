@@ -154,13 +154,14 @@ int run_tune(const TuneOptions& o) {
     return row;
   };
   // A point through the sweep's own steps (sweep_runner.cpp): a sequence point runs through the
-  // temporal runner (sequence_evaluation.cpp) and its frames.csv is written before its row.
+  // session's frames (frames.cpp) and its frames.csv is written before its row is stored.
   auto measure_and_score = [&](EvaluationSession& s, const SweepPoint& p) {
     Measurement measured = s.measure(evaluation_request(p));
+    ResultRow row = s.score(measured);
     if (!measured.frames.empty())
       write_text(frames_csv_path(out, p.name), frames_csv(measured.frames));
     last_frames = frame_rows(measured.frames);
-    return s.score(measured);
+    return row;
   };
   Progress progress("tune " + spec.name, static_cast<size_t>(spec.evaluations));
   const EvaluateFn evaluate = [&](const nlohmann::json& overrides) {

@@ -1,0 +1,301 @@
+// The frames of a point, a still's one and a sequence's many (CONTRACT §10), run and scored alike:
+// run_frames() gives each frame its scene and G-buffer (a sequence frame its own posed scene and
+// G-buffer, with motion and disocclusion from frame k - 1), its references, its timed runs
+// (run_timed(): repetitions for a still, one run for a sequence frame) and its scoring
+// (score_frame(): against its own references; in a sequence also by harness/scoring/temporal.h).
+//
+// State and seeds: an estimator that keeps state (EstimatorInfo::keeps_state) is one instance for
+// the whole sequence and reads the seed rule from EstimateContext::frame; any other is created
+// afresh for every frame with its `seed` parameter + k (when it has one and the run does not say
+// "seed_per_frame": false), so a built-in without a temporal design of its own flickers exactly
+// as much as its per-frame noise makes it. A still warms up the instance it times; a sequence a
+// throw-away instance on frame 0 (its kept instance's history starts at frame 0).
+#include "harness/evaluation/frames.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "base/errors.h"
+#include "base/summary.h"
+#include "estimators/registry.h"
+#include "harness/evaluation/background_lane.h"
+#include "harness/evaluation/repetition_policy.h"
+#include "harness/scoring/bent_metrics.h"
+#include "harness/scoring/metrics.h"
+#include "references/reference_cache.h"
+
+namespace aoeval {
+
+namespace {
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The parameters of frame k under the seed rule.
+ParamSet frame_params(const EstimatorInfo& e, const ParamSet& params, uint64_t seed_offset) {
+  const ParamSpec* seed = e.find_param("seed");
+  if (!seed || seed->type != ParamType::integer || seed_offset == 0) return params;
+  nlohmann::json values = params.json();
+  values["seed"] = values["seed"].get<int64_t>() + static_cast<int64_t>(seed_offset);
+  return resolve_params(e.name, e.params, values, "estimator " + e.name + " (frame seed)");
+}
+
+const std::vector<float>* channel(const EstimateResult& r, const std::string& name) {
+  const auto it = r.extra_channels.find(name);
+  return it == r.extra_channels.end() ? nullptr : &it->second;
+}
+
+}  // namespace
+
+std::vector<int> kept_sequence_frames(int frames) {
+  std::vector<int> kept;
+  if (frames <= 0) return kept;
+  const int n = std::min(frames, kMaxKeptFrames);
+  if (n == 1) return {frames - 1};
+  // k-th of n evenly spaced over 0..frames-1, rounded: distinct because frames - 1 >= n - 1.
+  for (int k = 0; k < n; ++k)
+    kept.push_back(
+        static_cast<int>((static_cast<int64_t>(k) * (frames - 1) + (n - 1) / 2) / (n - 1)));
+  return kept;
+}
+
+void EvaluationSession::run_timed(Estimator& estimator, const EstimateContext& context,
+                                  const std::function<bool(const std::vector<double>&)>& enough,
+                                  std::vector<double>& times,
+                                  std::map<std::string, std::vector<double>>& passes,
+                                  EstimateResult& result) {
+  if (before_timed_frames_) {
+    const auto timer = stages_.time(StageTimes::kWaitingForBackground);
+    before_timed_frames_();
+  }
+  struct AfterFrames {  // resumes the background work however the frames end
+    const std::function<void()>& after;
+    ~AfterFrames() {
+      if (after) after();
+    }
+  } after_frames{after_timed_frames_};
+  const auto timer = stages_.time(StageTimes::kEstimatorFrames);
+  while (!enough(times)) {
+    const auto t0 = std::chrono::steady_clock::now();
+    result = estimator.run(context);
+    const double wall = ms_since(t0);
+    const auto total = result.pass_ms.find("total_ms");
+    times.push_back(total != result.pass_ms.end() ? total->second : wall);
+    for (const auto& [pass, ms] : result.pass_ms) passes[pass].push_back(ms);
+  }
+}
+
+void EvaluationSession::run_frames(Measurement& m, bool seed_per_frame) {
+  const EstimatorInfo& e = *m.estimator;
+  const View& view = *m.view;
+  const bool sequence = view.sequence.has_value();
+  const int frames = view.frame_count(), w = m.width, h = m.height;
+  const SceneData& base = scenes_.scene(m.scene);
+  const AoDefinition definition = e.definition(m.params);
+  const bool true_is_matched = definition.to_json() == true_ao_definition().to_json();
+  ResultRow& row = m.row;
+  if (sequence) m.sequence = std::make_shared<SequenceScoring>();
+
+  std::vector<double> times, prepare_times;
+  std::map<std::string, std::vector<double>> passes;
+  std::unique_ptr<Estimator> kept;  // keeps_state: the one instance
+  GBuffer prev_g;
+  SequenceFrame prev_f;
+  const std::vector<int> keep = sequence ? kept_sequence_frames(frames) : std::vector<int>{};
+  ReferenceImage matched;                     // a sequence frame's references ...
+  std::optional<ReferenceImage> truth_owned;  // ... (truth: when it is not the matched one)
+  int prev_ref_frame = -1;                    // ... and the frame they were traced for
+  size_t next_kept = 0;
+  EstimateResult result;
+  for (int k = 0; k < frames; ++k) {
+    // The frame's scene and G-buffer: a still's are the caches'; a sequence's frames are posed one
+    // at a time, so that a long sequence holds two frames' geometry at most.
+    const SequenceFrame f = sequence ? sequence_frame(base.scene, view, k) : SequenceFrame{};
+    std::unique_ptr<SceneData> posed;
+    if (sequence && f.moves_objects) posed = scenes_.posed(base, f);
+    const SceneData& s = posed ? *posed : base;
+    const Camera camera =
+        sequence ? frame_camera(f, w, h) : scenes_.gbuffer(m.scene, view, w, h).camera;
+    GBuffer frame_g;
+    if (sequence) {
+      const auto timer = stages_.time("G-buffer");
+      frame_g = render_gbuffer(*s.embree, camera);
+      add_motion(frame_g, k > 0 ? &prev_g : nullptr, f.motion, k > 0 ? prev_f.motion : f.motion);
+    }
+    const GBuffer& g = sequence ? frame_g : scenes_.gbuffer(m.scene, view, w, h);
+    const FrameInfo info{.index = k,
+                         .count = frames,
+                         .fps = sequence ? view.sequence->fps : 0.0,
+                         .seed_offset = seed_per_frame ? static_cast<uint64_t>(k) : 0};
+    const EstimateContext context{s.scene, *s.embree, g, sequence ? &info : nullptr};
+    const ParamSet params = e.keeps_state ? m.params : frame_params(e, m.params, info.seed_offset);
+    if (sequence && k == 0 && timing_.warmup > 0) {
+      const auto timer = stages_.time(StageTimes::kEstimatorWarmup);
+      std::unique_ptr<Estimator> warm = e.create(params);
+      warm->prepare(context);
+      for (int i = 0; i < timing_.warmup; ++i) warm->run(context);
+    }
+    std::unique_ptr<Estimator> fresh;
+    if (!e.keeps_state || !kept) {
+      const auto timer = stages_.time("estimator set-up");
+      fresh = e.create(params);
+    }
+    Estimator& estimator = e.keeps_state ? *(kept ? kept : (kept = std::move(fresh))) : *fresh;
+    const auto t_pre = std::chrono::steady_clock::now();
+    estimator.prepare(context);
+    prepare_times.push_back(ms_since(t_pre));
+    stages_.add(StageTimes::kEstimatorPrecompute, prepare_times.back());
+    if (k == 0) {
+      m.derived = estimator.derived();
+      if (!m.derived.empty()) row.params["derived"] = m.derived;
+    }
+    if (!sequence) {
+      const auto timer = stages_.time(StageTimes::kEstimatorWarmup);
+      for (int i = 0; i < timing_.warmup; ++i) result = estimator.run(context);
+    }
+
+    // The frame's references, before its timed runs and on this thread, not on a background lane
+    // where a trace would run for seconds beside the estimators' frames (after the warm-up, so
+    // that an estimator without its backend traces none). A still's are kept by the store and
+    // read when it is scored. A sequence frame's are cached per frame (its geometry, camera and
+    // seed + j); one that poses what frame k - 1 did has frame k - 1's (j is the first frame of
+    // the unchanged run, reference_frame()): traced once, kept from the last frame.
+    const int ref_frame = scenes_.reference_frame(m.scene, view, k);
+    const bool repeats = sequence && k > 0 && ref_frame == prev_ref_frame;
+    if (!sequence) {
+      references_.compute_missing(m.scene, view, w, h, definition);
+      references_.compute_missing(m.scene, view, w, h, true_ao_definition());
+    } else if (!repeats) {
+      const std::vector<AoDefinition> companions =
+          references_.planned_definitions(m.scene, view, w, h);
+      matched = references_.reference_image(
+          s, view, camera, g, frame_settings(m.scene, view, k, definition), companions);
+      truth_owned.reset();
+      if (!true_is_matched)
+        truth_owned = references_.reference_image(
+            s, view, camera, g, frame_settings(m.scene, view, k, true_ao_definition()), companions);
+    }
+    prev_ref_frame = ref_frame;
+
+    const size_t runs = times.size() + 1;  // a sequence frame: one timed run
+    run_timed(
+        estimator, context,
+        [&](const std::vector<double>& t) {
+          return sequence ? t.size() >= runs : enough_repetitions(timing_, t);
+        },
+        times, passes, result);
+    if (result.ao.size() != g.pixel_count())
+      throw std::runtime_error("estimator " + e.name + " returned " +
+                               std::to_string(result.ao.size()) + " values for " +
+                               std::to_string(g.pixel_count()) + " pixels" +
+                               (sequence ? " (frame " + std::to_string(k) + ")" : ""));
+    if (k == 0)
+      row.timing_source = !result.timing_source.empty()           ? result.timing_source
+                          : result.pass_ms.count("total_ms") != 0 ? "gpu-timestamps"
+                                                                  : "wall";
+    if (!sequence) break;  // scored by score() against the store's references
+
+    if (next_kept < keep.size() && keep[next_kept] == k) {  // for the report (kept_sequence.h)
+      const auto timer = stages_.time("estimate EXR");
+      KeptFrame kf;
+      kf.frame = k;
+      kf.estimate = estimate_to_image(g, result);
+      kf.attributes =
+          estimate_attributes(s.scene, s.content_hash, view, camera, e, params, m.derived);
+      kf.attributes.emplace_back("aoeval:frame", std::to_string(k));
+      if (references_.disk_cache())
+        kf.reference_cache = reference_cache_path(reference_cache_key(
+            s.content_hash, camera, frame_settings(m.scene, view, k, definition)));
+      m.kept_frames.push_back(std::move(kf));
+      ++next_kept;
+    }
+    FrameToScore frame{.index = k,
+                       .gbuffer = &g,
+                       .estimate = &result,
+                       .matched = &matched,
+                       .truth = truth_owned ? &*truth_owned : &matched,
+                       .time_ms = times.back(),
+                       .ref_repeats_previous = repeats,
+                       .prev_jitter = k > 0 ? prev_g.camera.jitter : glm::vec2(0.0f),
+                       .last = k == frames - 1};
+    if (frame.last) {  // left to score(), with what it needs
+      SequenceScoring& state = *m.sequence;
+      state.gbuffer = std::move(frame_g);
+      state.matched = std::move(matched);
+      state.truth = std::move(truth_owned);
+      state.frame = frame;
+      break;
+    }
+    score_frame(m, frame);
+    prev_g = std::move(frame_g);
+    prev_f = f;
+  }
+  m.result = std::move(result);
+  row.set_times(times);
+  for (const auto& [pass, values] : passes)
+    if (pass != "total_ms") row.pass_ms[pass] = median(values);
+  row.precompute_ms = median(prepare_times);
+}
+
+void EvaluationSession::score_frame(Measurement& m, const FrameToScore& f) {
+  const GBuffer& g = *f.gbuffer;
+  const EstimateResult& result = *f.estimate;
+  const int w = g.width, h = g.height;
+  SequenceScoring* sequence = m.sequence.get();
+  // A still scores with FLIP's reference side the store keeps for its reference, and with bent
+  // vectors when the estimate has them; a sequence frame's references are not kept.
+  const auto bent = sequence
+                        ? std::nullopt
+                        : bent_of_channels(channel(result, "bent.X"), channel(result, "bent.Y"),
+                                           channel(result, "bent.Z"));
+  // Between the steps a background lane may hold this thread while an estimator's frames are
+  // timed (BackgroundLane::checkpoint; a no-op on the runner's own thread): each scoring in two
+  // steps (FLIP's reference side, then the metrics), so that a pause waits for one step, not a
+  // whole scoring (issue 16: the runner's waits for the lane).
+  auto against = [&](const ReferenceImage& ref, TemporalScorer* temporal) {
+    const flip::ReferenceSide* flip_side = nullptr;
+    if (!sequence) {
+      const auto timer = stages_.time("scoring");
+      flip_side = &references_.flip_reference(g, ref);
+    }
+    BackgroundLane::checkpoint();
+    const auto timer = stages_.time("scoring");
+    const std::vector<uint8_t> mask = compared_pixels(g, ref);
+    nlohmann::json out = to_json(compare_images({w, h, ref.ao.data()}, {w, h, result.ao.data()},
+                                                mask, ref.stderr_ao, flip_side),
+                                 "");
+    BackgroundLane::checkpoint();
+    if (bent)
+      if (const auto b = compare_bent(w, h, ref.bent, *bent, mask, ref.bent_stderr))
+        add_bent_json(*b, out);
+    if (temporal)
+      temporal->add_frame(temporal_frame(w, h, result.ao.data(), ref.ao.data(), ref.stderr_ao, mask,
+                                         &g, f.prev_jitter, f.ref_repeats_previous));
+    return out;
+  };
+  const nlohmann::json matched =
+      against(*f.matched, sequence ? &sequence->matched_scores : nullptr);
+  BackgroundLane::checkpoint();
+  // An estimator whose declared definition is true AO is scored against one reference twice: the
+  // same inputs give the same numbers, so a still's second scoring is the first's copy.
+  const nlohmann::json truth = f.truth == f.matched && !sequence
+                                   ? matched
+                                   : against(*f.truth, sequence ? &sequence->true_scores : nullptr);
+  BackgroundLane::checkpoint();
+  if (sequence) {
+    nlohmann::json frame_row = {{"frame", f.index}, {"time_ms", f.time_ms}};
+    size_t disoccluded = 0;
+    for (size_t p = 0; p < g.pixel_count(); ++p)
+      disoccluded += g.covered(p) && g.disoccluded[p] > 0.5f;
+    frame_row["disoccluded_pixels"] = disoccluded;
+    frame_row.update(matched);
+    for (const auto& [key, value] : truth.items()) frame_row["true_" + key] = value;
+    m.frames.push_back(frame_row);
+  }
+  if (!f.last) return;
+  m.row.metrics = matched;
+  m.row.true_metrics = truth;
+}
+
+}  // namespace aoeval

@@ -1,0 +1,34 @@
+// What crosses from measure() to score() for one frame (frames.cpp, evaluation.cpp): internal to
+// harness/evaluation/.
+#pragma once
+
+#include <optional>
+
+#include "harness/evaluation/evaluation.h"
+#include "harness/scoring/temporal_frame.h"
+
+namespace aoeval {
+
+struct EvaluationSession::FrameToScore {
+  int index = 0;  // the frame's number (0 for a still)
+  const GBuffer* gbuffer = nullptr;
+  const EstimateResult* estimate = nullptr;
+  const ReferenceImage* matched = nullptr;
+  const ReferenceImage* truth = nullptr;  // the matched one itself when its definition is true AO
+  double time_ms = 0.0;                   // a sequence frame's timed run
+  bool ref_repeats_previous = false;      // TemporalFrame's
+  glm::vec2 prev_jitter{0.0f};            // frame k - 1's camera jitter
+  bool last = true;  // the row's plain metrics are the last frame's (still_frame())
+};
+
+// A sequence's scoring state: its temporal scorers, and until score() its last frame's G-buffer,
+// references and timing.
+struct SequenceScoring {
+  TemporalScorer matched_scores, true_scores;
+  GBuffer gbuffer;
+  ReferenceImage matched;
+  std::optional<ReferenceImage> truth;    // when it is not the matched one
+  EvaluationSession::FrameToScore frame;  // its pointers set by score()
+};
+
+}  // namespace aoeval
