@@ -17,9 +17,11 @@ inline const char* simd_isa_name(SimdIsa isa) {
   return isa == SimdIsa::avx512 ? "avx512" : isa == SimdIsa::avx2 ? "avx2" : "baseline";
 }
 
-// The widest instruction set this CPU (and its OS) supports.
+// The widest instruction set this CPU (and its OS) supports and this build has versions for: the
+// AVX versions are built with GCC's #pragma target only (svgf_taps.cpp), so another compiler's
+// build runs the baseline.
 inline SimdIsa simd_best_isa() {
-#if defined(__x86_64__) && defined(__GNUC__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
   static const SimdIsa best = [] {
     __builtin_cpu_init();
     if (__builtin_cpu_supports("avx512f")) return SimdIsa::avx512;

@@ -158,20 +158,13 @@ void TemporalAccumulator::replace_history(const std::vector<float>& history) {
 
 namespace {
 
-// The clamp range of every covered pixel: mean +- max(gamma sigma, sigma_min) of the current
-// frame's raw values over the covered pixels of its (2 r + 1)^2 window (population statistics, in
-// double). Separable: per row, the sums of each column over the window's rows, then of those over
-// the window's columns (2 (2 r + 1) additions a pixel, not (2 r + 1)^2), in a fixed order whatever
-// the threads.
-struct Ranges {
-  std::vector<double> lo, hi;
-};
-Ranges clamp_ranges(const std::vector<float>& x, const std::vector<uint8_t>& covered, int w, int h,
-                    const TemporalSettings& s) {
-  const int r = s.clamp_radius;
-  Ranges out;
-  out.lo.assign(x.size(), 0.0);
-  out.hi.assign(x.size(), 0.0);
+// Window statistics over the covered pixels of every (2 r + 1)^2 window, population, in double:
+// per row, the sums of each column over the window's rows, then of those over the window's columns
+// (2 (2 r + 1) additions a pixel, not (2 r + 1)^2), in a fixed order whatever the threads.
+// `use(p, n, mean, var)` is called for every covered pixel p (n >= 1: p itself is covered).
+template <class Use>
+void window_stats(const std::vector<float>& x, const std::vector<uint8_t>& covered, int w, int h,
+                  int r, const Use& use) {
   tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
     std::vector<double> cn(w), c1(w), c2(w);
     for (int j = rows.begin(); j < rows.end(); ++j) {
@@ -198,52 +191,45 @@ Ranges clamp_ranges(const std::vector<float>& x, const std::vector<uint8_t>& cov
           sum += c1[a];
           sum2 += c2[a];
         }
-        const double mean = sum / n;  // n >= 1: the pixel itself is covered
-        const double sigma = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
-        const double half = std::max(s.gamma * sigma, s.clamp_sigma_min);
-        out.lo[p] = mean - half;
-        out.hi[p] = mean + half;
+        const double mean = sum / n;
+        use(p, n, mean, std::max(0.0, sum2 / n - mean * mean));
       }
     }
+  });
+}
+
+// The clamp range of every covered pixel: mean +- max(gamma sigma, sigma_min) of the current
+// frame's raw values over the covered pixels of its (2 r + 1)^2 window.
+struct Ranges {
+  std::vector<double> lo, hi;
+};
+Ranges clamp_ranges(const std::vector<float>& x, const std::vector<uint8_t>& covered, int w, int h,
+                    const TemporalSettings& s) {
+  Ranges out;
+  out.lo.assign(x.size(), 0.0);
+  out.hi.assign(x.size(), 0.0);
+  window_stats(x, covered, w, h, s.clamp_radius, [&](size_t p, double, double mean, double var) {
+    const double half = std::max(s.gamma * std::sqrt(var), s.clamp_sigma_min);
+    out.lo[p] = mean - half;
+    out.hi[p] = mean + half;
   });
   return out;
 }
 
-// Window means and variances over the covered pixels of every (2 r + 1)^2 window, by summed-area
-// tables (double): mean[p] and var[p] (population), n[p] the covered count (0: none).
+// The anti-lag's window means and variances (float), with n[p] the covered count (0: none).
 struct BoxStats {
   std::vector<float> mean, var, n;
 };
 BoxStats box_stats(const std::vector<float>& x, const std::vector<uint8_t>& covered, int w, int h,
                    int r) {
-  const size_t stride = static_cast<size_t>(w) + 1;
-  std::vector<double> s1(stride * (h + 1), 0.0), s2(s1.size(), 0.0), sn(s1.size(), 0.0);
-  for (int j = 0; j < h; ++j)
-    for (int i = 0; i < w; ++i) {
-      const size_t p = static_cast<size_t>(j) * w + i, t = (j + 1) * stride + i + 1;
-      const double c = covered[p] ? 1.0 : 0.0, v = covered[p] ? x[p] : 0.0;
-      s1[t] = v + s1[t - 1] + s1[t - stride] - s1[t - stride - 1];
-      s2[t] = v * v + s2[t - 1] + s2[t - stride] - s2[t - stride - 1];
-      sn[t] = c + sn[t - 1] + sn[t - stride] - sn[t - stride - 1];
-    }
   BoxStats b;
-  const size_t n = static_cast<size_t>(w) * h;
-  b.mean.assign(n, 0.0f);
-  b.var.assign(n, 0.0f);
-  b.n.assign(n, 0.0f);
-  for_each_pixel(w, h, [&](int i, int j) {
-    const int a0 = std::max(0, i - r), a1 = std::min(w, i + r + 1);
-    const int b0 = std::max(0, j - r), b1 = std::min(h, j + r + 1);
-    auto rect = [&](const std::vector<double>& t) {
-      return t[b1 * stride + a1] - t[b0 * stride + a1] - t[b1 * stride + a0] + t[b0 * stride + a0];
-    };
-    const double cnt = rect(sn);
-    const size_t p = static_cast<size_t>(j) * w + i;
-    if (cnt < 0.5) return;
-    const double mean = rect(s1) / cnt;
+  b.mean.assign(x.size(), 0.0f);
+  b.var.assign(x.size(), 0.0f);
+  b.n.assign(x.size(), 0.0f);
+  window_stats(x, covered, w, h, r, [&](size_t p, double n, double mean, double var) {
     b.mean[p] = static_cast<float>(mean);
-    b.var[p] = static_cast<float>(std::max(0.0, rect(s2) / cnt - mean * mean));
-    b.n[p] = static_cast<float>(cnt);
+    b.var[p] = static_cast<float>(var);
+    b.n[p] = static_cast<float>(n);
   });
   return b;
 }
