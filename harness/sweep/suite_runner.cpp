@@ -359,10 +359,15 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
   // The folder's record and results.json, then its pages from what the store holds (the folder's
   // lock held throughout), then the run's context with where the time went (issue 16).
   write_suite_record(out, report, gallery);
-  if (o.pages) {
+  if (o.pages) {  // a page writer that throws still leaves the run registered
     recorder->write_files();
-    const auto timer = result.stages.time("report (page, plots)");
-    result.page = o.pages(out, o.database);
+    try {
+      const auto timer = result.stages.time("report (page, plots)");
+      result.page = o.pages(out, o.database);
+    } catch (...) {
+      recorder->register_run();
+      throw;
+    }
   }
   result.wall_ms = seconds_since(t_start) * 1000.0;
   nlohmann::json stages_ms = result.stages.to_json();

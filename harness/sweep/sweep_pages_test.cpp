@@ -3,13 +3,13 @@
 // point's kept files by role in the SQLite store, a sequence point's manifest and frames.csv
 // among them, at the paths the runner wrote.
 #include <gtest/gtest.h>
-#include <stdlib.h>
 
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "base/errors.h"
+#include "base/testing/scoped_env.h"
 #include "base/testing/test_temp_dir.h"
 #include "harness/results/output_lock.h"
 #include "harness/results/suite_record_io.h"
@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 
 TEST(SweepPages, AreWrittenFromTheStoreWhileTheSweepHoldsItsFolder) {
   const fs::path d = testutil::test_temp_dir("sweep_pages");
-  ::setenv("AOEVAL_CACHE", (d / "cache").c_str(), 1);
+  const testutil::ScopedEnv cache("AOEVAL_CACHE", (d / "cache").string());
   const nlohmann::json spec = {{"name", "pages"},
                                {"scenes", {"rolling-ball"}},
                                {"views", {"roll", "main"}},

@@ -202,21 +202,35 @@ int run_sweep(const SweepOptions& o, std::string* out_dir, std::string* page) {
   // the run's context.
   StageTimes stages = session.stages();
   stages.add_all(runner_stages);
-  const double wall_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count();
+  const auto wall_ms_now = [&] {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start)
+        .count();
+  };
+  recorder.context().stages_ms = stages.to_json();
+  recorder.context().stages_ms["wall"] = wall_ms_now();
+  write_record(out, spec.name, o.spec_path, recorder.context(), wall_ms_now() / 1000.0,
+               recorder.rows(), kept);
+  if (out_dir) *out_dir = out;
+  const bool stopped = interrupt_requested() && finished < pending.size();
+  // As `run` does (suite_runner.cpp): the pages from what the store now holds, the folder still
+  // locked and their time among the stages; then the run's context with where the time went. A
+  // page writer that throws still leaves the run registered.
+  if (o.pages && !stopped) {
+    recorder.write_files();
+    try {
+      const auto timer = stages.time("report (page, plots)");
+      const std::string written = o.pages(out, o.database);
+      if (page) *page = written;
+    } catch (...) {
+      recorder.register_run();
+      throw;
+    }
+  }
+  const double wall_ms = wall_ms_now();
   recorder.context().stages_ms = stages.to_json();
   recorder.context().stages_ms["wall"] = wall_ms;
   recorder.write_files();
   recorder.register_run();
-  write_record(out, spec.name, o.spec_path, recorder.context(), wall_ms / 1000.0, recorder.rows(),
-               kept);
-  if (out_dir) *out_dir = out;
-  const bool stopped = interrupt_requested() && finished < pending.size();
-  // The pages from what the store now holds, the folder still locked.
-  if (o.pages && !stopped) {
-    const std::string written = o.pages(out, o.database);
-    if (page) *page = written;
-  }
   std::fprintf(stderr, "sweep %s: time by stage\n%s", spec.name.c_str(),
                stages.table(wall_ms).c_str());
   const EvaluationSession::ReferenceCounts refs = session.reference_counts();
