@@ -7,6 +7,7 @@
 // chunks together from 0.
 #include "reports/apng.h"
 
+#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -107,15 +108,33 @@ Png encode(const OIIO::ImageBuf& frame, const std::string& scratch) {
   return png;
 }
 
+// True when every pixel of every frame is 3-channel 8-bit with R = G = B (a grey picture in RGB).
+bool all_grey(const std::vector<OIIO::ImageBuf>& frames) {
+  for (const OIIO::ImageBuf& f : frames) {
+    if (f.nchannels() != 3) return false;
+    std::vector<uint8_t> px(size_t(f.spec().width) * size_t(f.spec().height) * 3);
+    if (!f.get_pixels(f.roi(), OIIO::TypeDesc::UINT8, px.data())) return false;
+    for (size_t k = 0; k < px.size(); k += 3)
+      if (px[k] != px[k + 1] || px[k] != px[k + 2]) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 void write_apng(const std::vector<OIIO::ImageBuf>& frames, double fps, const std::string& path) {
   if (frames.empty()) throw std::runtime_error(path + ": no frames");
   const std::string temp = temporary_path_for(path);
+  // Grey frames in RGB are written as one grey channel (PNG colour type 0): the same 8-bit values,
+  // a third of the data to deflate (a sequence's video, reference | estimate: 124 -> 80 KB a
+  // frame).
+  const bool grey = all_grey(frames);
   std::vector<Png> pngs;
   try {
     for (size_t i = 0; i < frames.size(); ++i) {
-      pngs.push_back(encode(frames[i], temp + ".frame" + std::to_string(i) + ".png"));
+      const OIIO::ImageBuf frame =
+          grey ? OIIO::ImageBufAlgo::channels(frames[i], 1, {0}) : frames[i];
+      pngs.push_back(encode(frame, temp + ".frame" + std::to_string(i) + ".png"));
       // Every frame must decode with frame 0's header (size, bit depth, colour type, interlace).
       if (pngs.back().ihdr != pngs.front().ihdr)
         throw std::runtime_error(path + ": frame " + std::to_string(i) +

@@ -15,7 +15,8 @@ namespace aoeval {
 
 // Writes `frames` (equal sizes, 8-bit, 1-4 channels) as an endlessly looping APNG at `fps`
 // frames per second (10 when fps <= 0) to `path`, atomically. std::runtime_error when the frames
-// differ in size or OpenImageIO cannot write a PNG.
+// differ in size or OpenImageIO cannot write a PNG. Frames that are all grey (3 channels, R = G = B
+// in every pixel of every frame) are written as one grey channel, losslessly.
 void write_apng(const std::vector<OIIO::ImageBuf>& frames, double fps, const std::string& path);
 
 }  // namespace aoeval

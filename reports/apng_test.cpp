@@ -73,16 +73,33 @@ TEST(Apng, ChunksInOrderAndFrameZeroExact) {
   EXPECT_EQ(*(first_fctl + 1), "IDAT");  // frame 0 is the default image
   for (size_t i = 0; i < sequence.size(); ++i) EXPECT_EQ(sequence[i], i);
 
-  // A plain PNG reader (OpenImageIO's) checks every CRC and sees frame 0, exactly.
+  // A plain PNG reader (OpenImageIO's) checks every CRC and sees frame 0, exactly: grey frames
+  // as one grey channel.
   OIIO::ImageBuf back(path);
   ASSERT_TRUE(back.read(0, 0, true, OIIO::TypeDesc::UINT8)) << back.geterror();
   EXPECT_EQ(back.spec().width, 37);
-  const auto diff = OIIO::ImageBufAlgo::compare(back, frames[0], 0.0f, 0.0f);
+  EXPECT_EQ(back.nchannels(), 1);
+  const auto diff = OIIO::ImageBufAlgo::compare(
+      back, OIIO::ImageBufAlgo::channels(frames[0], 1, {0}), 0.0f, 0.0f);
   EXPECT_EQ(diff.maxerror, 0.0);
 
   frames.push_back(grey_ramp(38, 21, 0));
   EXPECT_THROW(write_apng(frames, 12.0, (dir / "bad.png").string()), std::runtime_error);
   EXPECT_FALSE(std::filesystem::exists(dir / "bad.png"));
+}
+
+// One coloured pixel in one frame keeps every frame RGB, exactly.
+TEST(Apng, AColouredPixelKeepsTheFramesRgb) {
+  const auto dir = testutil::test_temp_dir("apng_rgb");
+  const std::string path = (dir / "video.png").string();
+  std::vector<OIIO::ImageBuf> frames = {grey_ramp(9, 7, 0), grey_ramp(9, 7, 5)};
+  const float red[3] = {1.0f, 0.0f, 0.0f};
+  frames[1].setpixel(4, 3, red);
+  write_apng(frames, 10.0, path);
+  OIIO::ImageBuf back(path);
+  ASSERT_TRUE(back.read(0, 0, true, OIIO::TypeDesc::UINT8)) << back.geterror();
+  EXPECT_EQ(back.nchannels(), 3);
+  EXPECT_EQ(OIIO::ImageBufAlgo::compare(back, frames[0], 0.0f, 0.0f).maxerror, 0.0);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "reports/suite_report.h"
 
+#include <tbb/parallel_for.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -138,6 +139,30 @@ Html mosaic_html(const std::string& out_dir, const SuiteReportEntry& e) {
   return compare_viewer(out_dir, e.reference_exr, r.estimate_file, "reference,estimate", image);
 }
 
+// The viewer data of every mosaic's pair, written in parallel before the page asks for them one by
+// one (compare_viewer then finds each up to date): each file once (a reference is shared by the
+// points of its view and definition; two threads must not write one file).
+void write_mosaic_viewer_data(const std::string& out_dir, const SuiteReport& report) {
+  std::set<std::string> references, estimates;
+  std::error_code ec;
+  const fs::path dir(out_dir);
+  for (const auto& e : report.entries) {
+    const ResultRow& r = e.row;
+    if (r.status != "ok" || e.mosaic_png.empty() || r.estimate_file.empty() ||
+        e.reference_exr.empty() || !fs::exists(dir / r.estimate_file, ec) ||
+        !fs::exists(dir / e.reference_exr, ec))
+      continue;
+    references.insert(e.reference_exr);
+    estimates.insert(r.estimate_file);
+  }
+  std::vector<std::pair<std::string, const std::vector<std::string>*>> files;
+  for (const auto& f : references) files.emplace_back(f, &reference_viewer_channels());
+  for (const auto& f : estimates) files.emplace_back(f, &estimate_viewer_channels());
+  tbb::parallel_for(size_t{0}, files.size(), [&](size_t i) {
+    write_viewer_data(out_dir, {files[i].first}, *files[i].second);
+  });
+}
+
 void scene_section(Html& h, const std::string& out_dir, const std::string& scene,
                    const std::vector<const SuiteReportEntry*>& rows) {
   h << "<section class=\"scene\" id=\"scene-" << attr(slug(scene)) << "\"><h2>Scene " << text(scene)
@@ -267,6 +292,7 @@ std::string write_suite_report(const std::string& out_dir, const SuiteReport& re
   // A sweep features no point of its own: its Pareto-front points are shown (mosaics drawn here).
   const SuiteReport r = with_featured_mosaics(out_dir, report);
   const std::vector<EstimatorChart> charts = write_estimator_charts(out_dir, r);
+  write_mosaic_viewer_data(out_dir, r);
   const Html sequences = sequence_sections(out_dir, r);
   std::vector<std::string> scenes;
   std::map<std::string, std::vector<const SuiteReportEntry*>> featured;

@@ -3,11 +3,13 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
+#include <tbb/parallel_for.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -217,34 +219,110 @@ Html link(const std::string& href, const std::string& label) {
   return Html("<a href=\"") << url(href) << "\">" << text(label) << "</a>";
 }
 
+// One sequence point's section as the first pass gathers it: what its drawings read and where
+// they go.
+struct PointDrawing {
+  const SuiteReportEntry* entry = nullptr;
+  const ResultRow* row = nullptr;
+  std::string manifest_rel;  // the manifest's path in the store (its role "sequence")
+  fs::path dir, manifest_path;
+  nlohmann::json manifest, kept;  // kept: the frames with both images
+  std::vector<std::string> refs, ests;
+  std::vector<int> numbers;
+  std::vector<fs::path> sources;
+  std::vector<size_t> pick;
+  ViewerSpec spec;
+};
+
+// Draws a point's strip and video when older than their sources, and writes its estimate's
+// viewer data (its reference's: reference_data).
+void draw_point(const fs::path& out, PointDrawing& p) {
+  if (p.kept.empty()) return;
+  const fs::path strip = out / p.dir / "strip.png", video = out / p.dir / "video.png";
+  if (!up_to_date(strip, p.sources)) draw_strip(out, p.kept, p.pick, strip);
+  if (!up_to_date(video, p.sources)) write_video(out, p.kept, p.manifest.value("fps", 0.0), video);
+  p.spec.b = write_viewer_data(out.string(), p.ests, estimate_viewer_channels(), p.numbers,
+                               p.manifest.value("fps", 0.0));
+}
+
+// The reference viewer data of every point, each distinct reference sequence written once (points
+// of one view and definition share it; two threads must not write one file).
+void reference_data(const fs::path& out, std::vector<PointDrawing>& drawings) {
+  std::map<std::vector<std::string>, std::vector<PointDrawing*>> by_refs;
+  for (PointDrawing& p : drawings)
+    if (!p.kept.empty()) by_refs[p.refs].push_back(&p);
+  std::vector<std::vector<PointDrawing*>> groups;
+  for (auto& [refs, group] : by_refs) groups.push_back(group);
+  tbb::parallel_for(size_t{0}, groups.size(), [&](size_t i) {
+    const PointDrawing& first = *groups[i].front();
+    const std::string data =
+        write_viewer_data(out.string(), first.refs, reference_viewer_channels(), first.numbers,
+                          first.manifest.value("fps", 0.0));
+    for (PointDrawing* p : groups[i]) p->spec.a = data;
+  });
+}
+
 }  // namespace
 
 Html sequence_sections(const std::string& out_dir, const SuiteReport& report) {
   const fs::path out(out_dir);
-  Html h;
-  std::vector<std::pair<PlotSpec, std::string>> charts;
-  std::vector<SequencePoint> points;
+  // First pass: every point's manifest and kept frames (serial: cheap).
+  std::vector<PointDrawing> drawings;
   for (const auto& e : report.entries) {
     const ResultRow& r = e.row;
     if (r.status != "ok" || !r.metrics.contains("seq_frames")) continue;
+    PointDrawing p;
+    p.entry = &e;
+    p.row = &r;
     // The point's manifest, by its role in the store; its folder holds the page's drawings too.
     const std::string manifest_rel = e.image("sequence");
     std::error_code ec;
     if (manifest_rel.empty() || !fs::exists(out / manifest_rel, ec))
       continue;  // rows of an older aoeval: no manifest in the store
-    const fs::path dir = fs::path(manifest_rel).parent_path(), manifest_path = out / manifest_rel;
-    nlohmann::json m;
+    p.manifest_rel = manifest_rel;
+    p.dir = fs::path(manifest_rel).parent_path();
+    p.manifest_path = out / manifest_rel;
     try {
-      std::ifstream in(manifest_path);
-      m = nlohmann::json::parse(in);
+      std::ifstream in(p.manifest_path);
+      p.manifest = nlohmann::json::parse(in);
     } catch (const nlohmann::json::exception& x) {
-      throw InputError(manifest_path.string() + ": not a sequence manifest (" + x.what() + ")");
+      throw InputError(p.manifest_path.string() + ": not a sequence manifest (" + x.what() + ")");
     }
-    nlohmann::json kept = nlohmann::json::array();  // the frames with both images
-    for (const auto& k : m.value("kept", nlohmann::json::array()))
+    p.kept = nlohmann::json::array();
+    for (const auto& k : p.manifest.value("kept", nlohmann::json::array()))
       if (k.contains("reference") && fs::exists(out / k["estimate"].get<std::string>(), ec) &&
           fs::exists(out / k["reference"].get<std::string>(), ec))
-        kept.push_back(k);
+        p.kept.push_back(k);
+    p.sources = {p.manifest_path};
+    for (const auto& k : p.kept) {
+      p.refs.push_back(k["reference"].get<std::string>());
+      p.ests.push_back(k["estimate"].get<std::string>());
+      p.numbers.push_back(k["frame"].get<int>());
+      p.sources.push_back(out / p.refs.back());
+      p.sources.push_back(out / p.ests.back());
+    }
+    if (!p.kept.empty())
+      p.pick =
+          strip_frames(p.kept, p.manifest.value("disoccluded_pixels", nlohmann::json::array()));
+    drawings.push_back(std::move(p));
+  }
+  // The drawings and viewer data: each point's files are its own, so the points run in
+  // parallel (issue 42: the report stage was serial; most of it is these EXR reads and
+  // encodings).
+  reference_data(out, drawings);
+  tbb::parallel_for(size_t{0}, drawings.size(), [&](size_t i) { draw_point(out, drawings[i]); });
+  // Then the page, in the entries' order.
+  Html h;
+  std::vector<std::pair<PlotSpec, std::string>> charts;
+  std::vector<SequencePoint> points;
+  for (const PointDrawing& p : drawings) {
+    const SuiteReportEntry& e = *p.entry;
+    const ResultRow& r = *p.row;
+    const std::string& manifest_rel = p.manifest_rel;
+    const fs::path& dir = p.dir;
+    const fs::path& manifest_path = p.manifest_path;
+    const nlohmann::json& m = p.manifest;
+    const nlohmann::json& kept = p.kept;
     points.push_back({&r, m, dir.string()});
     // Folded (a reader opens the points they look at: the page stays short); a link to the
     // section's id unfolds it (the browser opens a <details> holding a fragment's target).
@@ -259,32 +337,13 @@ Html sequence_sections(const std::string& out_dir, const SuiteReport& report) {
     for (const auto& k : sequence_metric_names()) h << "<td>" << value_of(r.metrics, k) << "</td>";
     h << "</tr></table>\n";
     if (!kept.empty()) {
-      std::vector<fs::path> sources = {manifest_path};
-      std::vector<std::string> refs, ests;
-      std::vector<int> numbers;
-      for (const auto& k : kept) {
-        refs.push_back(k["reference"].get<std::string>());
-        ests.push_back(k["estimate"].get<std::string>());
-        numbers.push_back(k["frame"].get<int>());
-        sources.push_back(out / refs.back());
-        sources.push_back(out / ests.back());
-      }
-      const std::vector<size_t> pick =
-          strip_frames(kept, m.value("disoccluded_pixels", nlohmann::json::array()));
       const std::string strip = (dir / "strip.png").string(), video = (dir / "video.png").string();
-      if (!up_to_date(out / strip, sources)) draw_strip(out, kept, pick, out / strip);
-      if (!up_to_date(out / video, sources))
-        write_video(out, kept, m.value("fps", 0.0), out / video);
-      const double fps = m.value("fps", 0.0);
-      ViewerSpec spec;
-      spec.a = write_viewer_data(out_dir, refs, reference_viewer_channels(), numbers, fps);
-      spec.b = write_viewer_data(out_dir, ests, estimate_viewer_channels(), numbers, fps);
       std::string picked;
-      for (size_t i : pick) picked += (picked.empty() ? "" : ", ") + std::to_string(numbers[i]);
+      for (size_t i : p.pick) picked += (picked.empty() ? "" : ", ") + std::to_string(p.numbers[i]);
       h << "<figure>"
-        << viewer_html(spec, Html("<img class=\"mosaic strip\" src=\"")
-                                 << url(strip) << "\" loading=\"lazy\" alt=\""
-                                 << attr(r.run_name + ": frames " + picked) << "\">")
+        << viewer_html(p.spec, Html("<img class=\"mosaic strip\" src=\"")
+                                   << url(strip) << "\" loading=\"lazy\" alt=\""
+                                   << attr(r.run_name + ": frames " + picked) << "\">")
         << "<figcaption>Frames " << text(picked)
         << " (the first, the one with most disoccluded pixels, the last): reference | estimate | "
            "|estimate &minus; reference|, one error scale for the three. The viewer holds all "

@@ -3,6 +3,7 @@
 #include <Imath/half.h>
 #include <OpenImageIO/imagebufalgo.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -71,6 +72,22 @@ void write_half_precision_exr(const std::string& path, const OIIO::ImageBuf& ima
                               const Attributes& attributes) {
   const OIIO::ImageBuf rounded = at_half_precision(image);
   write_exr(path, rounded, attributes, holds_only_float16_values(rounded) ? "pxr24" : "zip");
+}
+
+void compact_estimate_extras(const std::string& path) {
+  const OIIO::ImageBuf image = read_image(path);
+  const auto& names = image.spec().channelnames;
+  const auto exact = [](const std::string& n) { return n == "AO" || n == "A" || n == "AO_stderr"; };
+  if (std::all_of(names.begin(), names.end(), exact)) return;
+  const OIIO::ImageBuf rounded = at_half_precision(image);
+  OIIO::ImageBuf out;
+  out.copy(image, OIIO::TypeDesc::FLOAT);
+  const int channels = out.nchannels();
+  OIIO::ImageBuf::ConstIterator<float> from(rounded);
+  for (OIIO::ImageBuf::Iterator<float> it(out); !it.done(); ++it, ++from)
+    for (int c = 0; c < channels; ++c)
+      if (!exact(names[c])) it[c] = from[c];
+  write_exr(path, out, {}, "zip");
 }
 
 void KeptReferences::copy(const std::string& from, const std::string& rel, bool frame) {

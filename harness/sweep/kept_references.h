@@ -56,6 +56,16 @@ class KeptReferences {
   std::map<std::string, std::string> kept_from_;  // cache entry -> the file kept from it
 };
 
+// A run's still estimate EXR at `path`, compact (issue 42; not `exact`): AO, A and AO_stderr stay
+// the estimator's float32s bit for bit (the dashboard compares AO pixel by pixel, CONTRACT §12),
+// every other channel (bent.X/Y/Z, obscurance.R/G/B, AO_horizon, ...) is rounded to float16
+// precision (at_half_precision: within 4.9e-4 of the estimator's value for values in [0, 1]),
+// still a 32-bit float EXR (CONTRACT §4), zip: the low mantissa bytes of a rounded channel are
+// zeros. Rewritten atomically, header kept; untouched when it has no other channel. A unit bent
+// normal's direction then moves by at most 0.025 degrees (each component rounded by at most
+// 2.4e-4: sqrt(3) x 2.4e-4 rad); the row's keys are computed before, from the estimator's floats.
+void compact_estimate_extras(const std::string& path);
+
 // `image` with every value rounded to the nearest float16 (round to nearest even; a value beyond
 // float16's range is kept as it is), still float32: what the compact kept files hold.
 OIIO::ImageBuf at_half_precision(const OIIO::ImageBuf& image);

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 
 #include "base/errors.h"
 #include "base/testing/test_temp_dir.h"
@@ -80,6 +81,43 @@ TEST(KeptReferences, CompactFilesReadBackBitForBit) {
         }
     EXPECT_EQ(differing, 0);
   }
+}
+
+// A run's still estimate: AO, A and AO_stderr bit for bit, the bent normal at float16 precision,
+// the header kept, and a smaller file.
+TEST(KeptReferences, EstimateExtrasRoundedAndAoKeptBitForBit) {
+  OIIO::ImageSpec spec(64, 48, 6, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"A", "AO", "AO_stderr", "bent.X", "bent.Y", "bent.Z"};
+  OIIO::ImageBuf image(spec);
+  uint32_t state = 777;
+  const auto next = [&] {
+    state = state * 1664525u + 1013904223u;
+    return static_cast<float>(state >> 8) / 16777216.0f;
+  };
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const float v[6] = {1.0f, next(), 0.01f * next(), next() - 0.5f, next(), next() - 0.5f};
+      image.setpixel(x, y, v);
+    }
+  const std::string path = testutil::test_temp_dir("kept_extras").string() + "/estimate.exr";
+  write_exr(path, image, {{"aoeval:estimator", "gtao"}});
+  const auto before = std::filesystem::file_size(path);
+  compact_estimate_extras(path);
+  EXPECT_LT(std::filesystem::file_size(path), before);
+  OIIO::ImageBuf back(path);
+  ASSERT_TRUE(back.read(0, 0, true, OIIO::TypeDesc::FLOAT));
+  EXPECT_EQ(back.spec().get_string_attribute("aoeval:estimator"), "gtao");
+  const OIIO::ImageBuf rounded = at_half_precision(image);
+  int exact_differ = 0, extras_not_rounded = 0;
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 64; ++x)
+      for (int c = 0; c < 6; ++c) {
+        const float got = back.getchannel(x, y, 0, c);
+        const float want = (c < 3 ? image : rounded).getchannel(x, y, 0, c);
+        (c < 3 ? exact_differ : extras_not_rounded) += std::memcmp(&got, &want, sizeof got) != 0;
+      }
+  EXPECT_EQ(exact_differ, 0);
+  EXPECT_EQ(extras_not_rounded, 0);
 }
 
 TEST(KeptReferences, AdaptiveTimingKeysParse) {

@@ -56,6 +56,7 @@ class RunImages {
  public:
   RunImages(std::string out, std::string run_dir, bool exact)
       : out_(std::move(out)), run_dir_(std::move(run_dir)), references_(out_, exact) {}
+  bool exact() const { return references_.exact(); }
 
   // A sequence point's kept frames, references and manifest (kept_sequence.h).
   std::vector<KeptImage> keep_sequence(EvaluationSession& session, const SweepPoint& p,
@@ -184,6 +185,10 @@ SuiteReportEntry finish_point(const SuitePoint& sp, Measurement& measured,
     sequence_images = images.keep_sequence(session, p, measured, run_dir);
   }
   row.estimate_file = estimate_rel;
+  if (!images.exact()) {
+    const auto timer = stages.time("estimate EXR extras rounded");
+    compact_estimate_extras((fs::path(out) / estimate_rel).string());
+  }
   const AoDefinition definition = p.estimator->definition(measured.params);
   const View& view = session.scene(p.scene).scene.view(p.view);
   BackgroundLane::checkpoint();
