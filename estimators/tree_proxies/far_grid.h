@@ -5,8 +5,8 @@
 //
 // The split (particle-mesh style). TreeScene's product over the trees is exp(-sum_t l_t) with
 // l_t = -ln(1 - a_t), a_t eq. 7-8's occlusion (times the horizon fraction). With a weight s(d)
-// that is 1 for d <= R_in = max(R/2, r_max,t) (r_max,t the tree's largest semi-axis), 0 for
-// d >= R_in + R/2 and a smoothstep between,
+// that is 1 for d <= R_in = max(R/2, r_max,t + sqrt(3) h) (r_max,t the tree's largest semi-axis,
+// h the cell), 0 for d >= R_in + R/2 and a smoothstep between,
 //
 //   sum_t l_t = sum_t s(d_t) l_t          [near: exact per pixel]
 //             + sum_t (1 - s(d_t)) l_t    [far: smooth, sampled at the grid's nodes]
@@ -32,8 +32,11 @@
 //
 // with d the distance from the cell and a the largest occlusion over it.
 //
-// Own tree. The grid holds every tree's far part, the pixel's own included: R_in >= r_max,t makes
-// s = 1 on its own leaves (within r_max,t of its centre), where its far part is then 0.
+// Own tree. The grid holds every tree's far part, the pixel's own included: R_in >= r_max,t +
+// sqrt(3) h makes s = 1 at every corner of every cell that holds one of its leaves (within r_max,t
+// of its centre), so the interpolated far part there is 0 too, not only the exact one (with
+// R_in = r_max,t a crown pixel read its own tree back from corners up to sqrt(3) h away, 490x the
+// bound: FarGrid.OwnTreeDoesNotLeakBackThroughTheGrid).
 // Pixels outside the grid's box (the trees' box widened by the largest outer radius and by at
 // least 8 cells, within the scene's bounds) use FarField::visibility.
 #pragma once
@@ -85,7 +88,7 @@ class FarGrid {
   size_t column(const glm::vec3& x) const;
 
   std::vector<hegeman::UnitMap> occluders_;
-  std::vector<float> inner_;  // per tree: max(R/2, r_max,t); s reaches 0 at inner + R/2
+  std::vector<float> inner_;  // per tree: max(R/2, r_max,t + sqrt(3) h); s is 0 from inner + R/2
   bool horizon_ = true;
   float near_ = 0.0f, cell_ = 1.0f;
   glm::vec3 origin_{0.0f}, upper_{-1.0f};

@@ -129,11 +129,85 @@ TEST(FarGrid, TooFineACellIsRefusedWithOneLine) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("use a larger cell"), std::string::npos) << e.what();
   }
+  // A cell of 1e-9 gives ~10^32 nodes, past int's range: counted in double and refused.
+  try {
+    grid.build(maps, far, box(glm::vec3(-40.0f), glm::vec3(40.0f)), 1e-9, 2.0, true);
+    FAIL() << "far_grid_cell 1e-9 built a grid";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("far_grid_cell 1e-09 gives 5.48e+30 far-field nodes"),
+              std::string::npos)
+        << e.what();
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+  }
   // Fewer than kMinTrees trees: no grid at any cell.
   const std::vector<hm::UnitMap> few(maps.begin(), maps.begin() + 99);
   far.build(few, 0.0, 0.7);
   grid.build(few, far, box(glm::vec3(-40.0f), glm::vec3(40.0f)), 0.01, 2.0, true);
   EXPECT_FALSE(grid.covers(glm::vec3(0.0f)));
+}
+
+// far_near_radius at its maximum, 10^6, over 3,000 trees and 1,335 x 1,335 columns: every tree in
+// every column, 5.3e9 entries, past uint32_t. Refused once the count passes kMaxNearEntries (after
+// 19 trees), naming about the whole count, with no list allocated.
+TEST(FarGrid, AbsurdNearRadiusIsRefusedWithOneLine) {
+  std::vector<hm::UnitMap> maps;
+  for (int i = 0; i < 50; ++i)
+    for (int k = 0; k < 60; ++k)
+      maps.push_back(sphere(glm::vec3(-39.2f + 1.6f * i, 10.0f, -38.35f + 1.3f * k), 0.5f));
+  FarField far;
+  far.build(maps, 0.0, 0.7);
+  FarGrid grid;
+  const double cell = 0.06;  // 1,336 nodes a side, 4 high: 7.1e6 nodes, under kMaxNodes
+  try {
+    grid.build(maps, far, box(glm::vec3(-39.96f, 10.0f, -39.96f), glm::vec3(39.96f, 10.0f, 39.96f)),
+               cell, 1e6, true);
+    FAIL() << "near lists of 5.3e9 entries were built";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("far_near_radius 1e+06 puts more than 33554432 trees (about 5.3"),
+              std::string::npos)
+        << what;
+    EXPECT_NE(what.find("e+09) into the grid's near lists"), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
+  EXPECT_FALSE(grid.covers(glm::vec3(0.0f, 10.0f, 0.0f)));
+}
+
+// The pixel's own tree is the own-tree model's (skip = t): at its crown pixels the grid must not
+// give it back through the interpolated far sums. Trees of radius 2, 30 apart, no horizon, default
+// cell 4 and R 2: every other tree is beyond its outer radius, so the grid's value differs from
+// the exact product over the others (FarField at angle 0) by at most their interpolation bound
+// (far_grid.h; with no horizon the spheres' l is the bound's). A crown pixel's cell has corners
+// up to sqrt(3) 4 = 6.9 from it, where the own tree's far part, were it not 0, is ~0.1.
+TEST(FarGrid, OwnTreeDoesNotLeakBackThroughTheGrid) {
+  std::vector<hm::UnitMap> maps;
+  for (int i = 0; i < 10; ++i)
+    for (int k = 0; k < 10; ++k)
+      maps.push_back(sphere(glm::vec3(30.0f * i, 0.0f, 30.0f * k), 2.0f));
+  FarField far;
+  far.build(maps, 0.0, 0.0);
+  FarGrid grid;
+  grid.build(maps, far, box(glm::vec3(-10.0f, -5.0f, -10.0f), glm::vec3(280.0f, 5.0f, 280.0f)), 4.0,
+             2.0, false);
+  std::mt19937 rng(45);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::uniform_int_distribution<int> tree(0, 99);
+  double worst = 0.0;
+  for (int p = 0; p < 2000; ++p) {
+    const int t = tree(rng);
+    glm::vec3 off(u(rng), u(rng), u(rng));
+    off *= 1.99f * u(rng) / std::max(glm::length(off), 1e-3f);  // within the crown
+    const glm::vec3 x = maps[static_cast<size_t>(t)].center + off;
+    const glm::vec3 n = glm::normalize(glm::vec3(u(rng), u(rng), u(rng)) + glm::vec3(0, 0.01f, 0));
+    ASSERT_TRUE(grid.covers(x));
+    std::vector<hm::UnitMap> others = maps;
+    others.erase(others.begin() + t);
+    const double bound = interpolation_bound(others, x, 4.0);
+    const double error = std::fabs(grid.visibility(x, n, t) - far.visibility(x, n, t, false));
+    EXPECT_LE(error, bound + 1e-6) << "tree " << t << " at " << x.x << " " << x.y << " " << x.z;
+    worst = std::max(worst, error / bound);
+  }
+  std::printf("own tree: worst error / bound %.3f\n", worst);
 }
 
 }  // namespace
