@@ -108,14 +108,12 @@ void FarGrid::build(const std::vector<hegeman::UnitMap>& occluders, const FarFie
   }
   near_ = static_cast<float>(near);
   cell_ = static_cast<float>(cell);
-  // Per tree: s is 1 within max(R/2, r_max,t + sqrt(3) h), so at every corner of every cell that
-  // touches its leaves, where its far part is then 0 (not only its interpolation), and 0 from R/2
-  // beyond.
-  const float own_reach = std::sqrt(3.0f) * cell_;
+  // Per tree: s is 1 within max(R/2, r_max,t), so on its own leaves too, and 0 from R/2 beyond
+  // (the own tree's interpolated far part is not 0 there: far_grid.h).
   inner_.resize(occluders.size());
   float widest = near_;
   for (size_t t = 0; t < occluders.size(); ++t) {
-    inner_[t] = std::max(0.5f * near_, occluders[t].max_radius + own_reach);
+    inner_[t] = std::max(0.5f * near_, occluders[t].max_radius);
     widest = std::max(widest, inner_[t] + 0.5f * near_);
   }
   // The trees' box widened by their outer radius, and by at least 8 cells (where the far part

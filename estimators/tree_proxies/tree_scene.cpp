@@ -85,8 +85,7 @@ std::vector<ParamSpec> tree_scene_params() {
            .unit = "scene units",
            .meaning =
                "with the far-field grid: R, the near radius; a tree is evaluated exactly per "
-               "pixel within max(R/2, its largest semi-axis + sqrt(3) far_grid_cell) of its "
-               "centre, blended by a "
+               "pixel within max(R/2, its largest semi-axis) of its centre, blended by a "
                "smoothstep over the next R/2, and comes from the grid beyond (far_grid.h)"}),
   };
 }
