@@ -1,6 +1,7 @@
 // The precomputed far field (far_grid.h): a far regular cluster is interpolated within the derived
 // bound (and reading the neighbouring cell is not); a near radius that holds every tree keeps the
-// bits of the product over the trees.
+// bits of the product over the trees; at the nodes the near and far parts add up to the product
+// with trees in the blend zone and the pixel's own skipped; bad cells and radii are refused.
 #include "estimators/tree_proxies/far_grid.h"
 
 #include <gtest/gtest.h>
@@ -116,6 +117,59 @@ TEST(FarGrid, NearRadiusHoldingEveryTreeKeepsTheExactBits) {
     EXPECT_EQ(grid.far_occlusion(x, n), 0.0f);
     EXPECT_EQ(grid.visibility(x, n, skip), product);
   }
+}
+
+// The default path at the grid's nodes, where the interpolation is exact (trilinear weights 1 and
+// 0, an axis normal reads one stored direction): the near part (trees within max(R/2, r) exactly,
+// trees in the blend zone 0 < s < 1 by s ln v) and the node's far sum (1 - s) l must add up to the
+// product over every tree but the pixel's own (skip = a tree whose inner radius holds the node,
+// whose far part there is 0), to float rounding: 120 trees, each l summed in double, 1e-4 relative.
+TEST(FarGrid, NearAndFarPartsAddUpAtTheNodes) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-10.0f, 10.0f), y(3.0f, 6.0f), r(0.8f, 2.5f);
+  std::vector<hm::UnitMap> maps;
+  for (int t = 0; t < 120; ++t) maps.push_back(sphere(glm::vec3(u(rng), y(rng), u(rng)), r(rng)));
+  FarField far;
+  far.build(maps, 0.0, 0.0);
+  FarGrid grid;
+  // origin = the region's lower corner less a cell: nodes at (-14, -2, -14) + 2 (i, j, k).
+  grid.build(maps, far, box(glm::vec3(-12.0f, 0.0f, -12.0f), glm::vec3(12.0f, 8.0f, 12.0f)), 2.0,
+             2.0, true);
+  const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  int blended = 0, owned = 0, wrong_own = 0;
+  for (int i = 0; i <= 14; ++i)
+    for (int j = 0; j <= 4; ++j)
+      for (int k = 0; k <= 14; ++k) {
+        const glm::vec3 x(-14.0f + 2.0f * i, -2.0f + 2.0f * j, -14.0f + 2.0f * k);
+        ASSERT_TRUE(grid.covers(x));
+        int skip = -1;
+        bool blend = false;
+        for (size_t t = 0; t < maps.size(); ++t) {
+          const float d = glm::length(maps[t].center - x);
+          const float inner = std::max(1.0f, maps[t].max_radius);
+          if (d <= inner && skip < 0) skip = static_cast<int>(t);
+          blend = blend || (d > inner && d < inner + 1.0f);
+        }
+        blended += blend;
+        owned += skip >= 0;
+        for (const glm::vec3& n : axes) {
+          const double exact = far.visibility(x, n, skip, true);
+          const double got = grid.visibility(x, n, skip);
+          EXPECT_NEAR(got, exact, 1e-4 * exact + 1e-7)
+              << "at " << x.x << " " << x.y << " " << x.z << " skip " << skip;
+          // A planted wrong answer: the own tree counted after all.
+          if (skip >= 0) {
+            const double with_own =
+                exact * hm::large_occluder_visibility(x, n, maps[static_cast<size_t>(skip)], true);
+            wrong_own += std::fabs(with_own - got) > 1e-4 * exact + 1e-7;
+          }
+        }
+      }
+  std::printf("%d nodes with a tree in its blend zone, %d in a crown (%d own-tree plants caught)\n",
+              blended, owned, wrong_own);
+  EXPECT_GT(blended, 100);
+  EXPECT_GT(owned, 20);
+  EXPECT_GT(wrong_own, owned);
 }
 
 TEST(FarGrid, TooFineACellIsRefusedWithOneLine) {
