@@ -92,17 +92,28 @@ TEST(FarGrid, FarRegularClusterIsWithinTheInterpolationBound) {
   }
 }
 
+// 120 spheres of radius 0.8-2.5 at height 3-6 over [-10, 10]^2, the far field at `angle` and the
+// grid (cell 2, near radius `near`) over [-12, 12] x [0, 8] x [-12, 12].
+struct RandomForest {
+  std::vector<hm::UnitMap> maps;
+  FarField far;
+  FarGrid grid;
+};
+void grow(std::mt19937& rng, double angle, double near, RandomForest& f) {
+  std::uniform_real_distribution<float> u(-10.0f, 10.0f), y(3.0f, 6.0f), r(0.8f, 2.5f);
+  for (int t = 0; t < 120; ++t) f.maps.push_back(sphere(glm::vec3(u(rng), y(rng), u(rng)), r(rng)));
+  f.far.build(f.maps, 0.0, angle);
+  f.grid.build(f.maps, f.far, box(glm::vec3(-12.0f, 0.0f, -12.0f), glm::vec3(12.0f, 8.0f, 12.0f)),
+               2.0, near, true);
+}
+
 TEST(FarGrid, NearRadiusHoldingEveryTreeKeepsTheExactBits) {
   std::mt19937 rng(7);
-  std::uniform_real_distribution<float> u(-10.0f, 10.0f), y(3.0f, 6.0f), r(0.8f, 2.5f);
-  std::vector<hm::UnitMap> maps;
-  for (int t = 0; t < 120; ++t) maps.push_back(sphere(glm::vec3(u(rng), y(rng), u(rng)), r(rng)));
-  FarField far;
-  far.build(maps, 0.0, 0.7);
-  FarGrid grid;
   // R/2 = 40 holds every tree from every pixel: the grid's far sums are 0, every tree exact.
-  grid.build(maps, far, box(glm::vec3(-12.0f, 0.0f, -12.0f), glm::vec3(12.0f, 8.0f, 12.0f)), 2.0,
-             80.0, true);
+  RandomForest forest;
+  grow(rng, 0.7, 80.0, forest);
+  const auto& [maps, far, grid] = forest;
+  std::uniform_real_distribution<float> u(-10.0f, 10.0f);
   std::uniform_real_distribution<float> tilt(-1.0f, 1.0f), h(0.0f, 8.0f);
   std::uniform_int_distribution<int> own(-1, 119);
   for (int p = 0; p < 2000; ++p) {
@@ -126,15 +137,10 @@ TEST(FarGrid, NearRadiusHoldingEveryTreeKeepsTheExactBits) {
 // whose far part there is 0), to float rounding: 120 trees, each l summed in double, 1e-4 relative.
 TEST(FarGrid, NearAndFarPartsAddUpAtTheNodes) {
   std::mt19937 rng(11);
-  std::uniform_real_distribution<float> u(-10.0f, 10.0f), y(3.0f, 6.0f), r(0.8f, 2.5f);
-  std::vector<hm::UnitMap> maps;
-  for (int t = 0; t < 120; ++t) maps.push_back(sphere(glm::vec3(u(rng), y(rng), u(rng)), r(rng)));
-  FarField far;
-  far.build(maps, 0.0, 0.0);
-  FarGrid grid;
   // origin = the region's lower corner less a cell: nodes at (-14, -2, -14) + 2 (i, j, k).
-  grid.build(maps, far, box(glm::vec3(-12.0f, 0.0f, -12.0f), glm::vec3(12.0f, 8.0f, 12.0f)), 2.0,
-             2.0, true);
+  RandomForest forest;
+  grow(rng, 0.0, 2.0, forest);
+  const auto& [maps, far, grid] = forest;
   const glm::vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
   int blended = 0, owned = 0, wrong_own = 0;
   for (int i = 0; i <= 14; ++i)
