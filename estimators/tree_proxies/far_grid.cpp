@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <glm/geometric.hpp>
 #include <limits>
 #include <string>
@@ -70,8 +71,16 @@ InverseWidths inverse_widths(const glm::mat3& g, const std::array<glm::vec3, 27>
   return w;
 }
 
-int axis_nodes(float extent, float cell) {
-  return std::max(2, static_cast<int>(std::ceil(std::max(extent, 0.0f) / cell)) + 1);
+// Nodes along one axis, in double: a tiny cell gives a count past int's range (refused by the
+// caller before any cast).
+double axis_nodes(double extent, double cell) {
+  return std::max(2.0, std::ceil(std::max(extent, 0.0) / cell) + 1.0);
+}
+
+// floor(v) as an index clamped to [lo, hi]; v may be far beyond int's range or not finite.
+int clamped_floor(double v, int lo, int hi) {
+  if (!(v >= lo)) return lo;
+  return v >= hi ? hi : static_cast<int>(std::floor(v));
 }
 
 }  // namespace
@@ -98,14 +107,15 @@ void FarGrid::build(const std::vector<hegeman::UnitMap>& occluders, const FarFie
     hi = glm::max(hi, m.center);
   }
   near_ = static_cast<float>(near);
-  // Per tree: s is 1 within max(R/2, r_max,t), so on its own leaves too, and 0 from R/2 beyond.
+  cell_ = static_cast<float>(cell);
+  // Per tree: s is 1 within max(R/2, r_max,t), so on its own leaves too, and 0 from R/2 beyond
+  // (the own tree's interpolated far part is not 0 there: far_grid.h).
   inner_.resize(occluders.size());
   float widest = near_;
   for (size_t t = 0; t < occluders.size(); ++t) {
     inner_[t] = std::max(0.5f * near_, occluders[t].max_radius);
     widest = std::max(widest, inner_[t] + 0.5f * near_);
   }
-  cell_ = static_cast<float>(cell);
   // The trees' box widened by their outer radius, and by at least 8 cells (where the far part
   // still changes), within the scene's bounds; pixels beyond use FarField::visibility.
   const glm::vec3 widen(std::max(widest, 8.0f * cell_));
@@ -113,18 +123,71 @@ void FarGrid::build(const std::vector<hegeman::UnitMap>& occluders, const FarFie
   origin_ = glm::max(lo - widen, region.lower - cell_);
   const glm::vec3 top = glm::min(hi + widen, region.upper + cell_);
   if (!(top.x >= origin_.x && top.y >= origin_.y && top.z >= origin_.z)) return;
-  const glm::vec3 extent = top - origin_;
-  const auto count = static_cast<double>(axis_nodes(extent.x, cell_)) *
-                     axis_nodes(extent.y, cell_) * axis_nodes(extent.z, cell_);
-  if (count > static_cast<double>(kMaxNodes))
-    throw InputError("far_grid_cell " + std::to_string(cell) + " gives " +
-                     std::to_string(static_cast<long long>(count)) +
+  const glm::dvec3 extent = glm::dvec3(top) - glm::dvec3(origin_);
+  const double ax = axis_nodes(extent.x, cell), ay = axis_nodes(extent.y, cell),
+               az = axis_nodes(extent.z, cell);
+  const double count = ax * ay * az;
+  if (!(count <= static_cast<double>(kMaxNodes))) {
+    char nodes[64];
+    std::snprintf(nodes, sizeof nodes, "%g gives %.3g", cell, count);
+    throw InputError(std::string("far_grid_cell ") + nodes +
                      " far-field nodes over the trees (more than " + std::to_string(kMaxNodes) +
                      "); use a larger cell");
-  nx_ = axis_nodes(extent.x, cell_);
-  ny_ = axis_nodes(extent.y, cell_);
-  nz_ = axis_nodes(extent.z, cell_);
+  }
+  nx_ = static_cast<int>(ax);
+  ny_ = static_cast<int>(ay);
+  nz_ = static_cast<int>(az);
   upper_ = origin_ + cell_ * glm::vec3(nx_ - 1, ny_ - 1, nz_ - 1);
+
+  // The near lists, before the far sums so that a refusal comes first: every tree whose centre is
+  // within its outer radius (in x-z) of a column's rectangle.
+  const size_t columns = static_cast<size_t>(nx_ - 1) * static_cast<size_t>(nz_ - 1);
+  start_.assign(columns + 1, 0);
+  auto each_column = [&](const glm::vec3& centre, float reach, auto&& f) {
+    const int i0 = clamped_floor((double{centre.x} - reach - origin_.x) / cell_, 0, nx_ - 2);
+    const int i1 = clamped_floor((double{centre.x} + reach - origin_.x) / cell_, -1, nx_ - 2);
+    const int k0 = clamped_floor((double{centre.z} - reach - origin_.z) / cell_, 0, nz_ - 2);
+    const int k1 = clamped_floor((double{centre.z} + reach - origin_.z) / cell_, -1, nz_ - 2);
+    for (int k = k0; k <= k1; ++k)
+      for (int i = i0; i <= i1; ++i) {
+        const float x0 = origin_.x + cell_ * static_cast<float>(i), z0 = origin_.z + cell_ * k;
+        const float dx = std::max({x0 - centre.x, 0.0f, centre.x - x0 - cell_});
+        const float dz = std::max({z0 - centre.z, 0.0f, centre.z - z0 - cell_});
+        if (dx * dx + dz * dz <= reach * reach)
+          f(static_cast<size_t>(k) * static_cast<size_t>(nx_ - 1) + static_cast<size_t>(i));
+      }
+  };
+  // Counted in size_t and refused as soon as the total passes kMaxNearEntries: one tree adds at
+  // most `columns` (< kMaxNodes) entries, so the total and start_'s uint32_t never wrap, and the
+  // count stops within a tree of the limit (the whole count can reach 10^10 at R = 10^6).
+  size_t total = 0;
+  for (size_t t = 0; t < occluders.size(); ++t) {
+    each_column(occluders[t].center, inner_[t] + 0.5f * near_, [&](size_t c) {
+      ++start_[c + 1];
+      ++total;
+    });
+    if (total > kMaxNearEntries) {
+      const double estimate = static_cast<double>(total) * static_cast<double>(occluders.size()) /
+                              static_cast<double>(t + 1);
+      char about[64];
+      std::snprintf(about, sizeof about, "%g puts more than %zu trees (about %.3g)", near,
+                    kMaxNearEntries, estimate);
+      nx_ = 0;  // covers nothing
+      throw InputError(std::string("far_near_radius ") + about +
+                       " into the grid's near lists; use a smaller radius, or far_grid_cell=0 "
+                       "for no grid");
+    }
+  }
+  for (size_t c = 0; c < columns; ++c) start_[c + 1] += start_[c];
+  items_.resize(start_.back());
+  near_trees_.resize(start_.back());
+  std::vector<uint32_t> fill(start_.begin(), start_.end() - 1);
+  for (size_t t = 0; t < occluders.size(); ++t)
+    each_column(occluders[t].center, inner_[t] + 0.5f * near_, [&](size_t c) {
+      const float outer = inner_[t] + 0.5f * near_;
+      near_trees_[fill[c]] = {occluders[t].center, outer * outer};
+      items_[fill[c]++] = static_cast<uint32_t>(t);
+    });
 
   // The far sums at the nodes.
   const auto dirs = directions();
@@ -161,45 +224,6 @@ void FarGrid::build(const std::vector<hegeman::UnitMap>& occluders, const FarFie
         out[dir] = static_cast<float>(std::min<double>(sum[dir], kMaxExponent));
     }
   });
-
-  // The near lists: every tree whose centre is within R (in x-z) of a column's rectangle.
-  const size_t columns = static_cast<size_t>(nx_ - 1) * static_cast<size_t>(nz_ - 1);
-  start_.assign(columns + 1, 0);
-  auto each_column = [&](const glm::vec3& centre, float reach, auto&& f) {
-    const int i0 =
-        std::max(0, static_cast<int>(std::floor((centre.x - reach - origin_.x) / cell_)));
-    const int i1 =
-        std::min(nx_ - 2, static_cast<int>(std::floor((centre.x + reach - origin_.x) / cell_)));
-    const int k0 =
-        std::max(0, static_cast<int>(std::floor((centre.z - reach - origin_.z) / cell_)));
-    const int k1 =
-        std::min(nz_ - 2, static_cast<int>(std::floor((centre.z + reach - origin_.z) / cell_)));
-    for (int k = k0; k <= k1; ++k)
-      for (int i = i0; i <= i1; ++i) {
-        const float x0 = origin_.x + cell_ * static_cast<float>(i), z0 = origin_.z + cell_ * k;
-        const float dx = std::max({x0 - centre.x, 0.0f, centre.x - x0 - cell_});
-        const float dz = std::max({z0 - centre.z, 0.0f, centre.z - z0 - cell_});
-        if (dx * dx + dz * dz <= reach * reach)
-          f(static_cast<size_t>(k) * static_cast<size_t>(nx_ - 1) + static_cast<size_t>(i));
-      }
-  };
-  for (size_t t = 0; t < occluders.size(); ++t)
-    each_column(occluders[t].center, inner_[t] + 0.5f * near_, [&](size_t c) { ++start_[c + 1]; });
-  for (size_t c = 0; c < columns; ++c) start_[c + 1] += start_[c];
-  if (start_.back() > kMaxNearEntries)
-    throw InputError(
-        "far_near_radius " + std::to_string(near) + " puts " + std::to_string(start_.back()) +
-        " trees into the grid's near lists (more than " + std::to_string(kMaxNearEntries) +
-        "); use a smaller radius, or far_grid_cell=0 for no grid");
-  items_.resize(start_.back());
-  near_trees_.resize(start_.back());
-  std::vector<uint32_t> fill(start_.begin(), start_.end() - 1);
-  for (size_t t = 0; t < occluders.size(); ++t)
-    each_column(occluders[t].center, inner_[t] + 0.5f * near_, [&](size_t c) {
-      const float outer = inner_[t] + 0.5f * near_;
-      near_trees_[fill[c]] = {occluders[t].center, outer * outer};
-      items_[fill[c]++] = static_cast<uint32_t>(t);
-    });
 }
 
 bool FarGrid::covers(const glm::vec3& x) const {
