@@ -50,20 +50,32 @@ fs::path small_suite(const fs::path& d) {
   return d / "suite.json";
 }
 
+// A run of the small suite into `out` with its own store (`shard`: "" or "I/N").
+SuiteRunOptions suite_run(const fs::path& suite, const fs::path& out, const std::string& shard) {
+  SuiteRunOptions o;
+  o.suite = suite.string();
+  o.shard = shard;
+  o.out_dir = out.string();
+  o.database = out.string() + ".sqlite";
+  return o;
+}
+
+// What the probe saw, for the command `what` whose page is `page` in `out`.
+void expect_written_under_lock(const LockProbe& probe, const std::string& page,
+                               const std::string& out, const char* what) {
+  ASSERT_TRUE(probe.called) << what << " wrote no pages";
+  EXPECT_TRUE(probe.locked) << what << " wrote its pages after it let its folder go";
+  EXPECT_EQ(probe.entries, 2u) << what;
+  EXPECT_EQ(page, out + "/the page") << what;
+}
+
 TEST(PagesUnderLock, RunWritesItsPagesWhileItHoldsItsFolder) {
   const fs::path d = testutil::test_temp_dir("pages_lock_run");
   const testutil::ScopedEnv cache("AOEVAL_CACHE", (d / "cache").string());
   LockProbe probe;
-  SuiteRunOptions o;
-  o.suite = small_suite(d).string();
-  o.out_dir = (d / "out").string();
-  o.database = (d / "db.sqlite").string();
+  SuiteRunOptions o = suite_run(small_suite(d), d / "out", "");
   o.pages = probe.writer();
-  const SuiteRun run = run_suite(o);
-  ASSERT_TRUE(probe.called);
-  EXPECT_TRUE(probe.locked) << "run wrote its pages after it let its folder go";
-  EXPECT_EQ(probe.entries, 2u);
-  EXPECT_EQ(run.page, o.out_dir + "/the page");
+  expect_written_under_lock(probe, run_suite(o).page, o.out_dir, "run");
 }
 
 TEST(PagesUnderLock, MergeWritesItsPagesWhileItHoldsItsFolder) {
@@ -73,11 +85,7 @@ TEST(PagesUnderLock, MergeWritesItsPagesWhileItHoldsItsFolder) {
   MergeOptions m;
   size_t rows = 0;
   for (const char* shard : {"0/2", "1/2"}) {
-    SuiteRunOptions o;
-    o.suite = suite.string();
-    o.shard = shard;
-    o.out_dir = (d / ("shard" + std::string(1, shard[0]))).string();
-    o.database = (d / ("shard" + std::string(1, shard[0]) + ".sqlite")).string();
+    const SuiteRunOptions o = suite_run(suite, d / ("shard" + std::string(1, shard[0])), shard);
     rows += run_suite(o).rows;
     m.dirs.push_back(o.out_dir);
   }
@@ -86,11 +94,7 @@ TEST(PagesUnderLock, MergeWritesItsPagesWhileItHoldsItsFolder) {
   m.out = (d / "merged").string();
   m.database = (d / "merged.sqlite").string();
   m.pages = probe.writer();
-  const MergeResult merged = merge_results(m);
-  ASSERT_TRUE(probe.called);
-  EXPECT_TRUE(probe.locked) << "merge wrote its pages after it let its folder go";
-  EXPECT_EQ(probe.entries, 2u);
-  EXPECT_EQ(merged.page, m.out + "/the page");
+  expect_written_under_lock(probe, merge_results(m).page, m.out, "merge");
 }
 
 }  // namespace
