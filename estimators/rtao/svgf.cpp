@@ -51,6 +51,14 @@ Span covered_span(const float* cov, int w) {
   return {lo, hi};
 }
 
+// The 24 offsets of the 5x5 kernel in 12 mirror pairs (kx, ky) ~ (-kx, -ky), which share eq. 3's
+// denominator: the index of (kx, ky)'s pair.
+constexpr int kMirrorOffsets = 12;
+int mirror_offset(int kx, int ky) {
+  if (ky < 0 || (ky == 0 && kx < 0)) kx = -kx, ky = -ky;
+  return ky == 0 ? kx - 1 : 2 + (ky - 1) * 5 + (kx + 2);
+}
+
 }  // namespace
 
 SvgfGuide svgf_guide(const GBuffer& g) {
@@ -100,7 +108,7 @@ std::vector<float> svgf_variance(const SvgfGuide& g, const std::vector<float>& m
   const float sigma_z = static_cast<float>(s.sigma_z), sigma_n = static_cast<float>(s.sigma_n);
   const GuideRows gr(g);
   const float *m1 = moment1.data(), *m2 = moment2.data(), *len = history_length.data();
-  const SvgfTaps& taps = svgf_taps(simd_isa());
+  const SvgfTaps& taps = svgf_taps(simd_isa(), s.sigma_n);
   std::vector<float> variance(static_cast<size_t>(w) * g.height, 0.0f);
   for_each_row_tile(g.height, [&](int j0, int j1) {
     std::vector<double> sw(w), s1(w), s2(w);
@@ -157,15 +165,16 @@ void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
   const GuideRows gr(g);
   const float *c = in_value.data(), *var = in_variance.data();
   float *out_c = value.data(), *out_var = variance.data();
-  const SvgfTaps& taps = svgf_taps(simd_isa());
+  const SvgfTaps& taps = svgf_taps(simd_isa(), s.sigma_n);
   for_each_row_tile(h, [&](int j0, int j1) {
-    std::vector<float> sw(w), sc(w), sv(w), lum(w);
+    std::vector<float> sw(w), sc(w), sv(w), rl(w), rz(kMirrorOffsets * static_cast<size_t>(w));
+    auto inv_depth = [&](int kx, int ky) { return rz.data() + mirror_offset(kx, ky) * w; };
     for (int j = j0; j < j1; ++j) {
       const ptrdiff_t row = static_cast<ptrdiff_t>(j) * w;
       const Span span = covered_span(gr.cov + row, w);
       if (span.lo == span.hi) continue;
       // g_3x3 of eq. 5: the variance under a 3x3 Gaussian (1/4, 1/2, 1/4)^2 over covered pixels,
-      // then the luminance weight's denominator sigma_l sqrt(g_3x3(Var)) + eps.
+      // then the reciprocal of the luminance weight's denominator sigma_l sqrt(g_3x3(Var)) + eps.
       constexpr float k[3] = {0.25f, 0.5f, 0.25f};
       std::fill(sw.begin(), sw.end(), 0.0f);
       std::fill(sv.begin(), sv.end(), 0.0f);
@@ -179,7 +188,17 @@ void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
         }
       }
       for (int i = span.lo; i < span.hi; ++i)  // only the span's pixels are read below
-        lum[i] = gr.cov[row + i] > 0.5f ? sigma_l * std::sqrt(sv[i] / sw[i]) + 1e-10f : 1.0f;
+        rl[i] =
+            gr.cov[row + i] > 0.5f ? 1.0f / (sigma_l * std::sqrt(sv[i] / sw[i]) + 1e-10f) : 1.0f;
+      // Eq. 3's reciprocal denominators, one per pair of mirror offsets, for the kernel rows that
+      // lie in the image.
+      for (int ky = 0; ky <= 2; ++ky) {
+        const int dy = ky * step;
+        if ((j + dy < 0 || j + dy >= h) && (j - dy < 0 || j - dy >= h)) continue;
+        for (int kx = ky == 0 ? 1 : -2; kx <= 2; ++kx)
+          taps.depth_reciprocals(gr, row, static_cast<float>(kx * step), static_cast<float>(dy),
+                                 sigma_z, inv_depth(kx, ky), span.lo, span.hi);
+      }
       // Eqs. 1-2 over the 5x5 taps in the kernel's order; the centre's weight is exp(0) = 1. The
       // pixels whose taps all lie inside the row, [in_lo, in_hi), take a kernel row in one loop;
       // the others tap by tap (the same order of sums).
@@ -192,31 +211,31 @@ void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
       for (int ky = -2; ky <= 2; ++ky) {
         const int dy = ky * step;
         if (j + dy < 0 || j + dy >= h) continue;
-        AtrousRow kernel_row{
-            {}, step, static_cast<float>(dy), static_cast<ptrdiff_t>(dy) * w, sigma_z, sigma_n};
-        for (int kx = -2; kx <= 2; ++kx) kernel_row.hk[kx + 2] = kB3[kx + 2] * kB3[ky + 2];
+        AtrousRow kernel_row{{}, step, static_cast<ptrdiff_t>(dy) * w, {}, sigma_n};
+        for (int kx = -2; kx <= 2; ++kx) {
+          kernel_row.hk[kx + 2] = kB3[kx + 2] * kB3[ky + 2];
+          if (kx != 0 || ky != 0) kernel_row.inv_depth[kx + 2] = inv_depth(kx, ky);
+        }
         if (in_lo < in_hi)
-          taps.atrous_row(gr, row, kernel_row, c, var, lum.data(), sums, in_lo, in_hi);
+          taps.atrous_row(gr, row, kernel_row, c, var, rl.data(), sums, in_lo, in_hi);
         for (int kx = -2; kx <= 2; ++kx) {
           const int dx = kx * step;
-          const ptrdiff_t shift = static_cast<ptrdiff_t>(dy) * w + dx;
-          const float hk = kernel_row.hk[kx + 2];
-          const TapGeometry geometry{static_cast<float>(dx), static_cast<float>(dy), sigma_z,
-                                     sigma_n};
+          const AtrousTap tap{static_cast<ptrdiff_t>(dy) * w + dx, kernel_row.hk[kx + 2],
+                              kernel_row.inv_depth[kx + 2], sigma_n};
           // This tap's pixels outside [in_lo, in_hi).
           const int b = span.begin(first_inside(dx)), e = span.end(end_inside(w, dx));
           for (const auto& [i0, i1] :
                {std::pair{b, std::min(e, in_lo)}, std::pair{std::max(b, in_hi), e}}) {
             if (i0 >= i1) continue;
-            if (shift == 0) {
+            if (tap.shift == 0) {
               for (int i = i0; i < i1; ++i) {
-                sw[i] += hk;
-                sc[i] += hk * c[row + i];
-                sv[i] += hk * hk * var[row + i];
+                sw[i] += tap.hk;
+                sc[i] += tap.hk * c[row + i];
+                sv[i] += tap.hk * tap.hk * var[row + i];
               }
               continue;
             }
-            taps.atrous(gr, row, shift, geometry, c, var, lum.data(), hk, sums, i0, i1);
+            taps.atrous(gr, row, tap, c, var, rl.data(), sums, i0, i1);
           }
         }
       }
