@@ -79,13 +79,14 @@ void svgf_guide(const GBuffer& g, SvgfGuide& s) {
   };
   for_each_pixel(g.width, g.height, [&](int i, int j) {
     const size_t p = g.index(i, j);
-    s.nx[p] = g.normal[p].x;
-    s.ny[p] = g.normal[p].y;
-    s.nz[p] = g.normal[p].z;
+    s.nx[p] = s.ny[p] = s.nz[p] = 0.0f;  // n_p . n_q = 0 where either is uncovered
     s.depth[p] = g.depth[p];
     s.covered[p] = 0.0f;
     s.grad_x[p] = s.grad_y[p] = 0.0f;
     if (!g.covered(p)) return;
+    s.nx[p] = g.normal[p].x;
+    s.ny[p] = g.normal[p].y;
+    s.nz[p] = g.normal[p].z;
     s.covered[p] = 1.0f;
     auto slope = [&](int a0, int b0, int a1, int b1) {
       const bool lo = in(a0, b0), hi = in(a1, b1);
@@ -158,7 +159,13 @@ std::vector<float> svgf_variance(const SvgfGuide& g, const std::vector<float>& m
 
 void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
                       std::vector<float>& value, std::vector<float>& variance) {
-  const std::vector<float> in_value = value, in_variance = variance;
+  // The input, 0 where uncovered, so that a tap of weight 0 adds 0 whatever was there.
+  std::vector<float> in_value(value.size()), in_variance(variance.size());
+  for (size_t p = 0; p < value.size(); ++p) {
+    const bool covered = g.covered[p] > 0.5f;
+    in_value[p] = covered ? value[p] : 0.0f;
+    in_variance[p] = covered ? variance[p] : 0.0f;
+  }
   const int w = g.width, h = g.height;
   const float sigma_z = static_cast<float>(s.sigma_z), sigma_n = static_cast<float>(s.sigma_n);
   const float sigma_l = static_cast<float>(s.sigma_l);
@@ -187,9 +194,9 @@ void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
                     span.begin(first_inside(dx)), span.end(end_inside(w, dx)));
         }
       }
-      for (int i = span.lo; i < span.hi; ++i)  // only the span's pixels are read below
-        rl[i] =
-            gr.cov[row + i] > 0.5f ? 1.0f / (sigma_l * std::sqrt(sv[i] / sw[i]) + 1e-10f) : 1.0f;
+      // Only the span's pixels are read below.
+      taps.luminance_reciprocals(gr.cov + row, sw.data(), sv.data(), sigma_l, rl.data(), span.lo,
+                                 span.hi);
       // Eq. 3's reciprocal denominators, one per pair of mirror offsets, for the kernel rows that
       // lie in the image.
       for (int ky = 0; ky <= 2; ++ky) {
@@ -239,12 +246,8 @@ void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
           }
         }
       }
-      for (int i = span.lo; i < span.hi; ++i) {
-        const ptrdiff_t p = row + i;
-        if (!(gr.cov[p] > 0.5f)) continue;
-        out_c[p] = std::clamp(sc[i] / sw[i], 0.0f, 1.0f);  // sw >= 9/64: the centre tap
-        out_var[p] = sv[i] / (sw[i] * sw[i]);
-      }
+      taps.finish(gr.cov + row, sw.data(), sc.data(), sv.data(), out_c + row, out_var + row,
+                  span.lo, span.hi);
     }
   });
 }

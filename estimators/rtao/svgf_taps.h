@@ -82,6 +82,13 @@ struct SvgfTaps {
   // 1 / (sigma_z |grad z(p) . (dx, dy)| + 1e-6 z(p)) (eq. 3's denominator) for pixels [i0, i1).
   void (*depth_reciprocals)(const GuideRows& gr, ptrdiff_t row, float dx, float dy, float sigma_z,
                             float* out, int i0, int i1);
+  // 1 / (sigma_l sqrt(sv / sw) + 1e-10) (eq. 5's denominator from the 3x3 blur's sums) where
+  // cov > 0.5, else 1.
+  void (*luminance_reciprocals)(const float* cov, const float* sw, const float* sv, float sigma_l,
+                                float* rl, int i0, int i1);
+  // Eqs. 1-2: out_c = clamp(sc / sw, 0, 1), out_var = sv / sw^2 where cov > 0.5 (else unchanged).
+  void (*finish)(const float* cov, const float* sw, const float* sc, const float* sv, float* out_c,
+                 float* out_var, int i0, int i1);
 };
 
 // The tap loops compiled for `isa`, their w_n for sigma_n.

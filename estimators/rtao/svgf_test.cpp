@@ -65,6 +65,7 @@ GBuffer scene() {
       const size_t p = g.index(i, j);
       if (i == 30 || (i > 10 && i < 14 && j > 5 && j < 9)) {
         g.coverage[p] = 0.0f;
+        g.normal[p] = glm::vec3(0.0f, 1.0f, 0.0f);  // what the filter must not read
         continue;
       }
       const float bump = 0.2f * std::sin(0.7f * i) * std::cos(0.5f * j);
@@ -84,7 +85,7 @@ Signal signal(const GBuffer& g) {
   for (size_t p = 0; p < g.pixel_count(); ++p) {
     const bool c = g.covered(p);
     const float m1 = c ? u(rng) : 0.0f;
-    s.value.push_back(c ? std::min(1.0f, m1 + 0.1f * u(rng)) : 0.0f);
+    s.value.push_back(c ? std::min(1.0f, m1 + 0.1f * u(rng)) : NAN);  // NaN: must not be read
     s.moment1.push_back(m1);
     s.moment2.push_back(c ? m1 * m1 + 0.05f * u(rng) : 0.0f);
     s.length.push_back(c ? static_cast<float>(1 + static_cast<int>(8 * u(rng))) : 0.0f);
@@ -211,6 +212,8 @@ template <class Variance, class Atrous>
 std::vector<float> denoise(const Signal& x, const Variance& variance, const Atrous& atrous) {
   std::vector<float> c = x.value, var = variance();
   for (int i = 0; i < 5; ++i) atrous(1 << i, c, var);
+  for (size_t p = 0; p < c.size(); ++p)
+    if (x.length[p] == 0.0f) c[p] = 0.0f;  // uncovered: the input's NaN, left as it was
   c.insert(c.end(), var.begin(), var.end());
   return c;
 }

@@ -331,10 +331,13 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
     const double qx = i + 0.5 - mx, qy = j + 0.5 - my;
     const BilinearTaps taps = bilinear_taps(qx, qy, g.width, g.height, valid);
     if (taps.taps == 0) return start_afresh();
-    // The bilinear read of one of frame k - 1's buffers over the valid taps (weights renormalised).
+    // The bilinear read of one of frame k - 1's buffers over the valid taps (weights renormalised
+    // once, for every buffer read).
+    double weight[4];
+    for (int t = 0; t < taps.taps; ++t) weight[t] = taps.weight[t] / taps.total;
     const auto read = [&](const std::vector<float>& image) {
       double sum = 0.0;
-      for (int t = 0; t < taps.taps; ++t) sum += taps.weight[t] / taps.total * image[taps.index[t]];
+      for (int t = 0; t < taps.taps; ++t) sum += weight[t] * image[taps.index[t]];
       return sum;
     };
     double h = read(history_), len = read(prev_length_);
