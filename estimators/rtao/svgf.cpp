@@ -8,7 +8,6 @@
 #include <cstddef>
 #include <utility>
 
-#include "estimators/pixel_loops.h"
 #include "estimators/rtao/svgf_taps.h"
 
 namespace aoeval {
@@ -67,37 +66,49 @@ SvgfGuide svgf_guide(const GBuffer& g) {
   return s;
 }
 
+// The central difference of depth z at pixel i along a line of pixels (previous / next: z_lo,
+// z_hi, whether each is covered), a one-sided difference where only one is, 0 where neither is.
+inline float slope(bool lo, bool hi, float z_lo, float z, float z_hi) {
+  if (lo && hi) return 0.5f * (z_hi - z_lo);
+  if (hi) return z_hi - z;
+  if (lo) return z - z_lo;
+  return 0.0f;
+}
+
 void svgf_guide(const GBuffer& g, SvgfGuide& s) {
   s.width = g.width;
   s.height = g.height;
+  const int w = g.width, h = g.height;
   const size_t n = g.pixel_count();
   // Every element is written below: a guide of the same size is reused without clearing.
   for (std::vector<float>* v : {&s.nx, &s.ny, &s.nz, &s.depth, &s.grad_x, &s.grad_y, &s.covered})
     v->resize(n);
-  auto in = [&](int a, int b) {
-    return a >= 0 && b >= 0 && a < g.width && b < g.height && g.covered(g.index(a, b));
-  };
-  for_each_pixel(g.width, g.height, [&](int i, int j) {
-    const size_t p = g.index(i, j);
-    s.nx[p] = s.ny[p] = s.nz[p] = 0.0f;  // n_p . n_q = 0 where either is uncovered
-    s.depth[p] = g.depth[p];
-    s.covered[p] = 0.0f;
-    s.grad_x[p] = s.grad_y[p] = 0.0f;
-    if (!g.covered(p)) return;
-    s.nx[p] = g.normal[p].x;
-    s.ny[p] = g.normal[p].y;
-    s.nz[p] = g.normal[p].z;
-    s.covered[p] = 1.0f;
-    auto slope = [&](int a0, int b0, int a1, int b1) {
-      const bool lo = in(a0, b0), hi = in(a1, b1);
-      const float z = g.depth[p];
-      if (lo && hi) return 0.5f * (g.depth[g.index(a1, b1)] - g.depth[g.index(a0, b0)]);
-      if (hi) return g.depth[g.index(a1, b1)] - z;
-      if (lo) return z - g.depth[g.index(a0, b0)];
-      return 0.0f;
-    };
-    s.grad_x[p] = slope(i - 1, j, i + 1, j);
-    s.grad_y[p] = slope(i, j - 1, i, j + 1);
+  for_each_row_tile(h, [&](int j0, int j1) {
+    for (int j = j0; j < j1; ++j) {
+      const size_t row = static_cast<size_t>(j) * w;
+      const float* cov = g.coverage.data() + row;
+      const float* z = g.depth.data() + row;
+      // The rows above and below (themselves where there is none: never read then).
+      const size_t up = j > 0 ? row - w : row, down = j + 1 < h ? row + w : row;
+      const bool has_up = j > 0, has_down = j + 1 < h;
+      for (int i = 0; i < w; ++i) {
+        const size_t p = row + i;
+        const bool c = is_covered(cov[i]);
+        // n_p . n_q = 0 where either is uncovered.
+        s.nx[p] = c ? g.normal[p].x : 0.0f;
+        s.ny[p] = c ? g.normal[p].y : 0.0f;
+        s.nz[p] = c ? g.normal[p].z : 0.0f;
+        s.depth[p] = z[i];
+        s.covered[p] = c ? 1.0f : 0.0f;
+        const bool left = c && i > 0 && is_covered(cov[i - 1]);
+        const bool right = c && i + 1 < w && is_covered(cov[i + 1]);
+        const bool above = c && has_up && is_covered(g.coverage[up + i]);
+        const bool below = c && has_down && is_covered(g.coverage[down + i]);
+        s.grad_x[p] = slope(left, right, left ? z[i - 1] : 0.0f, z[i], right ? z[i + 1] : 0.0f);
+        s.grad_y[p] = slope(above, below, above ? g.depth[up + i] : 0.0f, z[i],
+                            below ? g.depth[down + i] : 0.0f);
+      }
+    }
   });
 }
 

@@ -235,6 +235,36 @@ std::vector<float> reference(const SvgfGuide& g, const Signal& x, const SvgfSett
 const auto fast_exp = [](float e) { return svgf_exp(e); };
 const auto fast_log = [](float x) { return svgf_log(x); };
 
+// The guide pixel by pixel: the normal (0 where uncovered), the depth, and its central differences
+// over covered pixels (one-sided where one neighbour is, 0 where none is or p is uncovered).
+TEST(Svgf, TheGuideIsTheGBuffersNormalsAndDepthSlopes) {
+  const GBuffer g = scene();
+  const SvgfGuide s = svgf_guide(g);
+  auto in = [&](int a, int b) {
+    return a >= 0 && b >= 0 && a < g.width && b < g.height && g.covered(g.index(a, b));
+  };
+  auto slope = [&](size_t p, int a0, int b0, int a1, int b1) {
+    const bool lo = in(a0, b0), hi = in(a1, b1);
+    if (!g.covered(p)) return 0.0f;
+    if (lo && hi) return 0.5f * (g.depth[g.index(a1, b1)] - g.depth[g.index(a0, b0)]);
+    if (hi) return g.depth[g.index(a1, b1)] - g.depth[p];
+    if (lo) return g.depth[p] - g.depth[g.index(a0, b0)];
+    return 0.0f;
+  };
+  for (int j = 0; j < g.height; ++j)
+    for (int i = 0; i < g.width; ++i) {
+      const size_t p = g.index(i, j);
+      const float c = g.covered(p) ? 1.0f : 0.0f;
+      ASSERT_EQ(s.covered[p], c) << i << " " << j;
+      ASSERT_EQ(s.nx[p], c * g.normal[p].x) << i << " " << j;
+      ASSERT_EQ(s.ny[p], c * g.normal[p].y) << i << " " << j;
+      ASSERT_EQ(s.nz[p], c * g.normal[p].z) << i << " " << j;
+      ASSERT_EQ(s.depth[p], g.depth[p]) << i << " " << j;
+      ASSERT_EQ(s.grad_x[p], slope(p, i - 1, j, i + 1, j)) << i << " " << j;
+      ASSERT_EQ(s.grad_y[p], slope(p, i, j - 1, i, j + 1)) << i << " " << j;
+    }
+}
+
 // Both ways of w_n: by squarings (sigma_n = 128) and by exp and log (sigma_n = 100).
 TEST(Svgf, TheRowLoopsGiveThePixelLoopsBits) {
   const GBuffer g = scene();
