@@ -9,6 +9,7 @@
 // Deterministic: IEEE float operations in a fixed order, the same bits on every thread.
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 
@@ -20,10 +21,11 @@ inline float keep(bool ok, float v) {
 }
 
 inline float svgf_exp(float x) {
-  // Below -88 (and at -infinity and NaN), x = -88 gives n = -127 below, whose 2^n is +0 (a
-  // bit-mask select: a ?: stops GCC vectorising the loops without AVX-512's masks).
-  const bool low = !(x > -88.0f);
-  const float xc = keep(!low, x) + keep(low, -88.0f);
+  // Below -88 (and at -infinity and NaN), x = -88 gives n = -127 below, whose 2^n is +0: for
+  // x <= 0 the smaller magnitude has the smaller bits as an unsigned integer (NaN's are above
+  // -infinity's), and an integer min vectorises where a float ?: does not (-ftrapping-math).
+  const float xc =
+      std::bit_cast<float>(std::min(std::bit_cast<uint32_t>(x), std::bit_cast<uint32_t>(-88.0f)));
   // n = round(x / ln 2) by the 1.5 2^23 trick (exact in round-to-nearest), r = x - n ln 2 in two
   // parts (Cody-Waite), so |r| <= ln 2 / 2.
   const float n = (xc * 1.44269504088896341f + 12582912.0f) - 12582912.0f;
