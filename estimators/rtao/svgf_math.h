@@ -4,7 +4,7 @@
 // Mathematical Functions"), expf's shortened by two terms. Within 2 ulp of libm over the ranges
 // SVGF uses (svgf_test: FastExp.WithinTwoUlpOfLibm, FastLog.WithinTwoUlpOfLibm):
 //  - svgf_exp(x) for x <= 0 (every SVGF exponent is): 0 below about -87.7 (where expf leaves the
-//    normal floats; a weight under 1e-38 beside a centre tap of 9/64), at -infinity and NaN.
+//    normal floats; a weight under 1e-38 beside a centre tap of 9/64) and at -infinity.
 //  - svgf_log(x) for normal x in (0, 1] (a cosine of two normals, capped at 1).
 // Deterministic: IEEE float operations in a fixed order, the same bits on every thread.
 #pragma once
@@ -21,9 +21,10 @@ inline float keep(bool ok, float v) {
 }
 
 inline float svgf_exp(float x) {
-  // Below -88 (and at -infinity and NaN), x = -88 gives n = -127 below, whose 2^n is +0: for
-  // x <= 0 the smaller magnitude has the smaller bits as an unsigned integer (NaN's are above
-  // -infinity's), and an integer min vectorises where a float ?: does not (-ftrapping-math).
+  // Below -88 (and at -infinity), x = -88 gives n = -127 below, whose 2^n is +0: for x <= 0 the
+  // smaller magnitude has the smaller bits as an unsigned integer, and an integer min vectorises
+  // where a float ?: does not (-ftrapping-math). A NaN is not defined (SVGF's exponents are NaN
+  // only on taps whose weight is masked to 0).
   const float xc =
       std::bit_cast<float>(std::min(std::bit_cast<uint32_t>(x), std::bit_cast<uint32_t>(-88.0f)));
   // n = round(x / ln 2) by the 1.5 2^23 trick (exact in round-to-nearest), r = x - n ln 2 in two
