@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <memory>
 #include <utility>
 
+#include "estimators/rtao/svgf_math.h"
 #include "estimators/rtao/svgf_taps.h"
 
 namespace aoeval {
@@ -172,11 +174,14 @@ void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
                       std::vector<float>& value, std::vector<float>& variance) {
   // The input, 0 where uncovered, so that a tap of weight 0 adds 0 whatever was there.
   std::vector<float> in_value(value.size()), in_variance(variance.size());
-  for (size_t p = 0; p < value.size(); ++p) {
-    const bool covered = g.covered[p] > 0.5f;
-    in_value[p] = covered ? value[p] : 0.0f;
-    in_variance[p] = covered ? variance[p] : 0.0f;
-  }
+  for_each_row_tile(g.height, [&](int j0, int j1) {
+    const size_t p0 = static_cast<size_t>(j0) * g.width, p1 = static_cast<size_t>(j1) * g.width;
+    for (size_t p = p0; p < p1; ++p) {  // bit-mask selects: a vectorised loop
+      const bool covered = g.covered[p] > 0.5f;
+      in_value[p] = keep(covered, value[p]);
+      in_variance[p] = keep(covered, variance[p]);
+    }
+  });
   const int w = g.width, h = g.height;
   const float sigma_z = static_cast<float>(s.sigma_z), sigma_n = static_cast<float>(s.sigma_n);
   const float sigma_l = static_cast<float>(s.sigma_l);
@@ -185,8 +190,11 @@ void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
   float *out_c = value.data(), *out_var = variance.data();
   const SvgfTaps& taps = svgf_taps(simd_isa(), s.sigma_n);
   for_each_row_tile(h, [&](int j0, int j1) {
-    std::vector<float> sw(w), sc(w), sv(w), rl(w), rz(kMirrorOffsets * static_cast<size_t>(w));
-    auto inv_depth = [&](int kx, int ky) { return rz.data() + mirror_offset(kx, ky) * w; };
+    // A row's sums, eq. 5's reciprocals and eq. 3's per mirror offset, read and written over the
+    // row's covered span only (not cleared beyond it).
+    const std::unique_ptr<float[]> buffer(new float[(4 + kMirrorOffsets) * static_cast<size_t>(w)]);
+    float *sw = buffer.get(), *sc = sw + w, *sv = sc + w, *rl = sv + w, *rz = rl + w;
+    auto inv_depth = [&](int kx, int ky) { return rz + mirror_offset(kx, ky) * w; };
     for (int j = j0; j < j1; ++j) {
       const ptrdiff_t row = static_cast<ptrdiff_t>(j) * w;
       const Span span = covered_span(gr.cov + row, w);
@@ -194,20 +202,19 @@ void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
       // g_3x3 of eq. 5: the variance under a 3x3 Gaussian (1/4, 1/2, 1/4)^2 over covered pixels,
       // then the reciprocal of the luminance weight's denominator sigma_l sqrt(g_3x3(Var)) + eps.
       constexpr float k[3] = {0.25f, 0.5f, 0.25f};
-      std::fill(sw.begin(), sw.end(), 0.0f);
-      std::fill(sv.begin(), sv.end(), 0.0f);
+      std::fill(sw + span.lo, sw + span.hi, 0.0f);
+      std::fill(sv + span.lo, sv + span.hi, 0.0f);
       for (int dy = -1; dy <= 1; ++dy) {
         if (j + dy < 0 || j + dy >= h) continue;
         for (int dx = -1; dx <= 1; ++dx) {
           const ptrdiff_t shift = static_cast<ptrdiff_t>(dy) * w + dx;
           const float kw = k[dx + 1] * k[dy + 1];
-          taps.blur(gr.cov + row + shift, var + row + shift, kw, sw.data(), sv.data(),
+          taps.blur(gr.cov + row + shift, var + row + shift, kw, sw, sv,
                     span.begin(first_inside(dx)), span.end(end_inside(w, dx)));
         }
       }
       // Only the span's pixels are read below.
-      taps.luminance_reciprocals(gr.cov + row, sw.data(), sv.data(), sigma_l, rl.data(), span.lo,
-                                 span.hi);
+      taps.luminance_reciprocals(gr.cov + row, sw, sv, sigma_l, rl, span.lo, span.hi);
       // Eq. 3's reciprocal denominators, one per pair of mirror offsets, for the kernel rows that
       // lie in the image.
       for (int ky = 0; ky <= 2; ++ky) {
@@ -220,12 +227,12 @@ void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
       // Eqs. 1-2 over the 5x5 taps in the kernel's order; the centre's weight is exp(0) = 1. The
       // pixels whose taps all lie inside the row, [in_lo, in_hi), take a kernel row in one loop;
       // the others tap by tap (the same order of sums).
-      std::fill(sw.begin(), sw.end(), 0.0f);
-      std::fill(sc.begin(), sc.end(), 0.0f);
-      std::fill(sv.begin(), sv.end(), 0.0f);
+      std::fill(sw + span.lo, sw + span.hi, 0.0f);
+      std::fill(sc + span.lo, sc + span.hi, 0.0f);
+      std::fill(sv + span.lo, sv + span.hi, 0.0f);
       const int in_lo = std::max(span.lo, 2 * step);
       const int in_hi = std::max(in_lo, std::min(span.hi, w - 2 * step));
-      const Sums sums{sw.data(), sc.data(), sv.data()};
+      const Sums sums{sw, sc, sv};
       for (int ky = -2; ky <= 2; ++ky) {
         const int dy = ky * step;
         if (j + dy < 0 || j + dy >= h) continue;
@@ -234,8 +241,7 @@ void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
           kernel_row.hk[kx + 2] = kB3[kx + 2] * kB3[ky + 2];
           if (kx != 0 || ky != 0) kernel_row.inv_depth[kx + 2] = inv_depth(kx, ky);
         }
-        if (in_lo < in_hi)
-          taps.atrous_row(gr, row, kernel_row, c, var, rl.data(), sums, in_lo, in_hi);
+        if (in_lo < in_hi) taps.atrous_row(gr, row, kernel_row, c, var, rl, sums, in_lo, in_hi);
         for (int kx = -2; kx <= 2; ++kx) {
           const int dx = kx * step;
           const AtrousTap tap{static_cast<ptrdiff_t>(dy) * w + dx, kernel_row.hk[kx + 2],
@@ -253,12 +259,11 @@ void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
               }
               continue;
             }
-            taps.atrous(gr, row, tap, c, var, rl.data(), sums, i0, i1);
+            taps.atrous(gr, row, tap, c, var, rl, sums, i0, i1);
           }
         }
       }
-      taps.finish(gr.cov + row, sw.data(), sc.data(), sv.data(), out_c + row, out_var + row,
-                  span.lo, span.hi);
+      taps.finish(gr.cov + row, sw, sc, sv, out_c + row, out_var + row, span.lo, span.hi);
     }
   });
 }
