@@ -351,8 +351,11 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
     };
     double h = read(history_), len = read(prev_length_);
     const double m1 = read(prev_moment1_), m2 = read(prev_moment2_);
+    // At a whole-pixel offset both reads are the one texel's value (the Catmull-Rom weights are
+    // (0, 1, 0, 0) on each axis): the bilinear read stands, the same bits.
+    const bool whole = qx - 0.5 == std::floor(qx - 0.5) && qy - 0.5 == std::floor(qy - 0.5);
     double sharp = 0.0;
-    if (s.history_read == HistoryRead::catmull_rom &&
+    if (s.history_read == HistoryRead::catmull_rom && !whole &&
         catmull_rom_read(history_, qx, qy, g.width, g.height, valid, &sharp))
       h = sharp;
     // Anti-lag (step 5b): the fast history of the window mean against the raw history's at q.
