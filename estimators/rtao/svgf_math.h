@@ -29,7 +29,8 @@ inline float svgf_exp(float x) {
       std::bit_cast<float>(std::min(std::bit_cast<uint32_t>(x), std::bit_cast<uint32_t>(-88.0f)));
   // n = round(x / ln 2) by the 1.5 2^23 trick (exact in round-to-nearest), r = x - n ln 2 in two
   // parts (Cody-Waite), so |r| <= ln 2 / 2.
-  const float n = (xc * 1.44269504088896341f + 12582912.0f) - 12582912.0f;
+  const float shifted = xc * 1.44269504088896341f + 12582912.0f;  // 1.5 2^23 + n, ulp 1
+  const float n = shifted - 12582912.0f;
   float r = xc - n * 0.693359375f;
   r = r - n * -2.12194440e-4f;
   const float r2 = r * r;
@@ -40,8 +41,10 @@ inline float svgf_exp(float x) {
   p = p * r + 1.666711444180814e-1f;
   p = p * r + 4.9999231674419164e-1f;
   p = p * r2 + r + 1.0f;
-  // 2^n for n in [-127, 0]: a normal float's exponent field, or +0 for n = -127.
-  const float scale = std::bit_cast<float>((static_cast<int32_t>(n) + 127) << 23);
+  // 2^n for n in [-127, 0]: a normal float's exponent field, or +0 for n = -127; n + 127 read
+  // from the bits of 1.5 2^23 + n (no float-to-integer conversion).
+  const float scale = std::bit_cast<float>(
+      (std::bit_cast<int32_t>(shifted) - (std::bit_cast<int32_t>(12582912.0f) - 127)) << 23);
   return p * scale;
 }
 

@@ -38,8 +38,8 @@ struct MomentSums {
   double* __restrict sw, * __restrict s1, * __restrict s2;
 };
 
-// One tap of the a-trous kernel, q = p + shift: its weight h, eq. 3's reciprocal denominator per
-// pixel of row p for its offset (depth_reciprocals) and sigma_n (eq. 4).
+// One tap of the a-trous kernel, q = p + shift: its weight h, eq. 3's negated reciprocal
+// denominator per pixel of row p for its offset (depth_reciprocals) and sigma_n (eq. 4).
 struct AtrousTap {
   ptrdiff_t shift;
   float hk;
@@ -48,8 +48,8 @@ struct AtrousTap {
 };
 
 // One row of the a-trous kernel: its taps' weights h (kx = -2..2), their spacing, the offset of its
-// row from p's (dy x width), eq. 3's reciprocal denominators of its taps (the centre's unused) and
-// sigma_n.
+// row from p's (dy x width), eq. 3's negated reciprocal denominators of its taps (the centre's
+// unused) and sigma_n.
 struct AtrousRow {
   float hk[5];
   int step;
@@ -68,8 +68,8 @@ struct SvgfTaps {
   void (*blur)(const float* cov_q, const float* var_q, float kw, float* sw, float* sv, int i0,
                int i1);
   // One a-trous tap (eqs. 1-5) for pixels [i0, i1) of row `row` (its first pixel's index):
-  // accumulates h w_i c(q), h^2 w_i^2 Var(q) (eq. 2's numerator) and h w_i; rl is the reciprocal
-  // of eq. 5's denominator per pixel of the row.
+  // accumulates h w_i c(q), h^2 w_i^2 Var(q) (eq. 2's numerator) and h w_i; rl is the negated
+  // reciprocal of eq. 5's denominator per pixel of the row.
   void (*atrous)(const GuideRows& gr, ptrdiff_t row, const AtrousTap& t, const float* c,
                  const float* var, const float* rl, Sums out, int i0, int i1);
   // The five taps of kernel row k as five atrous calls would add them, for pixels [i0, i1) whose
@@ -79,11 +79,11 @@ struct SvgfTaps {
   // One tap of the spatial variance estimate (§4.2): accumulates w, w m1(q) and w m2(q).
   void (*variance)(const GuideRows& gr, ptrdiff_t row, ptrdiff_t shift, const TapGeometry& t,
                    const float* m1, const float* m2, MomentSums out, int i0, int i1);
-  // 1 / (sigma_z |grad z(p) . (dx, dy)| + 1e-6 z(p)) (eq. 3's denominator) for pixels [i0, i1).
+  // -1 / (sigma_z |grad z(p) . (dx, dy)| + 1e-6 z(p)) (eq. 3's denominator) for pixels [i0, i1).
   void (*depth_reciprocals)(const GuideRows& gr, ptrdiff_t row, float dx, float dy, float sigma_z,
                             float* out, int i0, int i1);
-  // 1 / (sigma_l sqrt(sv / sw) + 1e-10) (eq. 5's denominator from the 3x3 blur's sums) where
-  // cov > 0.5, else 1.
+  // -1 / (sigma_l sqrt(sv / sw) + 1e-10) (eq. 5's denominator from the 3x3 blur's sums) where
+  // cov > 0.5, else -1.
   void (*luminance_reciprocals)(const float* cov, const float* sw, const float* sv, float sigma_l,
                                 float* rl, int i0, int i1);
   // Eqs. 1-2: out_c = clamp(sc / sw, 0, 1), out_var = sv / sw^2 where cov > 0.5 (else unchanged).
