@@ -80,19 +80,19 @@ class RtaoEstimator : public Estimator {
     r.pass_ms["rays_ms"] = ms_since(t0);
 
     const auto t1 = std::chrono::steady_clock::now();
-    std::vector<float> value, moment1, moment2, length;
+    std::vector<float> value, raw_moment2, raw_length;
     if (temporal_) {
       stage_.accumulate(g, traced.ao);
-      value = stage_.value();
-      moment1 = stage_.moment1();
-      moment2 = stage_.moment2();
-      length = stage_.history_length();
+      value = stage_.value();  // filtered in place below; the stage's moments are read as they are
     } else {  // no history: this frame's rays alone, every pixel of history length 1
-      value = moment1 = traced.ao;
-      moment2.resize(value.size());
-      for (size_t p = 0; p < value.size(); ++p) moment2[p] = value[p] * value[p];
-      length.assign(value.size(), 1.0f);
+      value = traced.ao;
+      raw_moment2.resize(value.size());
+      for (size_t p = 0; p < value.size(); ++p) raw_moment2[p] = value[p] * value[p];
+      raw_length.assign(value.size(), 1.0f);
     }
+    const std::vector<float>& moment1 = temporal_ ? stage_.moment1() : traced.ao;
+    const std::vector<float>& moment2 = temporal_ ? stage_.moment2() : raw_moment2;
+    const std::vector<float>& length = temporal_ ? stage_.history_length() : raw_length;
     r.pass_ms["temporal_ms"] = ms_since(t1);
 
     const auto t2 = std::chrono::steady_clock::now();
@@ -115,9 +115,9 @@ class RtaoEstimator : public Estimator {
     r.pass_ms["atrous_ms"] = atrous_total;
 
     r.ao = std::move(value);
+    r.extra_channels["history_length"] = length;
     r.extra_channels["AO_raw"] = std::move(traced.ao);
     r.extra_channels["AO_variance"] = std::move(variance);
-    r.extra_channels["history_length"] = std::move(length);
     return r;
   }
 

@@ -6,9 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <memory>
 #include <utility>
 
-#include "estimators/pixel_loops.h"
+#include "estimators/rtao/svgf_math.h"
 #include "estimators/rtao/svgf_taps.h"
 
 namespace aoeval {
@@ -51,6 +52,14 @@ Span covered_span(const float* cov, int w) {
   return {lo, hi};
 }
 
+// The 24 offsets of the 5x5 kernel in 12 mirror pairs (kx, ky) ~ (-kx, -ky), which share eq. 3's
+// denominator: the index of (kx, ky)'s pair.
+constexpr int kMirrorOffsets = 12;
+int mirror_offset(int kx, int ky) {
+  if (ky < 0 || (ky == 0 && kx < 0)) kx = -kx, ky = -ky;
+  return ky == 0 ? kx - 1 : 2 + (ky - 1) * 5 + (kx + 2);
+}
+
 }  // namespace
 
 SvgfGuide svgf_guide(const GBuffer& g) {
@@ -59,36 +68,49 @@ SvgfGuide svgf_guide(const GBuffer& g) {
   return s;
 }
 
+// The central difference of depth z at pixel i along a line of pixels (previous / next: z_lo,
+// z_hi, whether each is covered), a one-sided difference where only one is, 0 where neither is.
+inline float slope(bool lo, bool hi, float z_lo, float z, float z_hi) {
+  if (lo && hi) return 0.5f * (z_hi - z_lo);
+  if (hi) return z_hi - z;
+  if (lo) return z - z_lo;
+  return 0.0f;
+}
+
 void svgf_guide(const GBuffer& g, SvgfGuide& s) {
   s.width = g.width;
   s.height = g.height;
+  const int w = g.width, h = g.height;
   const size_t n = g.pixel_count();
   // Every element is written below: a guide of the same size is reused without clearing.
   for (std::vector<float>* v : {&s.nx, &s.ny, &s.nz, &s.depth, &s.grad_x, &s.grad_y, &s.covered})
     v->resize(n);
-  auto in = [&](int a, int b) {
-    return a >= 0 && b >= 0 && a < g.width && b < g.height && g.covered(g.index(a, b));
-  };
-  for_each_pixel(g.width, g.height, [&](int i, int j) {
-    const size_t p = g.index(i, j);
-    s.nx[p] = g.normal[p].x;
-    s.ny[p] = g.normal[p].y;
-    s.nz[p] = g.normal[p].z;
-    s.depth[p] = g.depth[p];
-    s.covered[p] = 0.0f;
-    s.grad_x[p] = s.grad_y[p] = 0.0f;
-    if (!g.covered(p)) return;
-    s.covered[p] = 1.0f;
-    auto slope = [&](int a0, int b0, int a1, int b1) {
-      const bool lo = in(a0, b0), hi = in(a1, b1);
-      const float z = g.depth[p];
-      if (lo && hi) return 0.5f * (g.depth[g.index(a1, b1)] - g.depth[g.index(a0, b0)]);
-      if (hi) return g.depth[g.index(a1, b1)] - z;
-      if (lo) return z - g.depth[g.index(a0, b0)];
-      return 0.0f;
-    };
-    s.grad_x[p] = slope(i - 1, j, i + 1, j);
-    s.grad_y[p] = slope(i, j - 1, i, j + 1);
+  for_each_row_tile(h, [&](int j0, int j1) {
+    for (int j = j0; j < j1; ++j) {
+      const size_t row = static_cast<size_t>(j) * w;
+      const float* cov = g.coverage.data() + row;
+      const float* z = g.depth.data() + row;
+      // The rows above and below (themselves where there is none: never read then).
+      const size_t up = j > 0 ? row - w : row, down = j + 1 < h ? row + w : row;
+      const bool has_up = j > 0, has_down = j + 1 < h;
+      for (int i = 0; i < w; ++i) {
+        const size_t p = row + i;
+        const bool c = is_covered(cov[i]);
+        // n_p . n_q = 0 where either is uncovered.
+        s.nx[p] = c ? g.normal[p].x : 0.0f;
+        s.ny[p] = c ? g.normal[p].y : 0.0f;
+        s.nz[p] = c ? g.normal[p].z : 0.0f;
+        s.depth[p] = z[i];
+        s.covered[p] = c ? 1.0f : 0.0f;
+        const bool left = c && i > 0 && is_covered(cov[i - 1]);
+        const bool right = c && i + 1 < w && is_covered(cov[i + 1]);
+        const bool above = c && has_up && is_covered(g.coverage[up + i]);
+        const bool below = c && has_down && is_covered(g.coverage[down + i]);
+        s.grad_x[p] = slope(left, right, left ? z[i - 1] : 0.0f, z[i], right ? z[i + 1] : 0.0f);
+        s.grad_y[p] = slope(above, below, above ? g.depth[up + i] : 0.0f, z[i],
+                            below ? g.depth[down + i] : 0.0f);
+      }
+    }
   });
 }
 
@@ -100,7 +122,7 @@ std::vector<float> svgf_variance(const SvgfGuide& g, const std::vector<float>& m
   const float sigma_z = static_cast<float>(s.sigma_z), sigma_n = static_cast<float>(s.sigma_n);
   const GuideRows gr(g);
   const float *m1 = moment1.data(), *m2 = moment2.data(), *len = history_length.data();
-  const SvgfTaps& taps = svgf_taps(simd_isa());
+  const SvgfTaps& taps = svgf_taps(simd_isa(), s.sigma_n);
   std::vector<float> variance(static_cast<size_t>(w) * g.height, 0.0f);
   for_each_row_tile(g.height, [&](int j0, int j1) {
     std::vector<double> sw(w), s1(w), s2(w);
@@ -150,82 +172,98 @@ std::vector<float> svgf_variance(const SvgfGuide& g, const std::vector<float>& m
 
 void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
                       std::vector<float>& value, std::vector<float>& variance) {
-  const std::vector<float> in_value = value, in_variance = variance;
+  // The input, 0 where uncovered, so that a tap of weight 0 adds 0 whatever was there.
+  std::vector<float> in_value(value.size()), in_variance(variance.size());
+  for_each_row_tile(g.height, [&](int j0, int j1) {
+    const size_t p0 = static_cast<size_t>(j0) * g.width, p1 = static_cast<size_t>(j1) * g.width;
+    for (size_t p = p0; p < p1; ++p) {  // bit-mask selects: a vectorised loop
+      const bool covered = g.covered[p] > 0.5f;
+      in_value[p] = keep(covered, value[p]);
+      in_variance[p] = keep(covered, variance[p]);
+    }
+  });
   const int w = g.width, h = g.height;
   const float sigma_z = static_cast<float>(s.sigma_z), sigma_n = static_cast<float>(s.sigma_n);
   const float sigma_l = static_cast<float>(s.sigma_l);
   const GuideRows gr(g);
   const float *c = in_value.data(), *var = in_variance.data();
   float *out_c = value.data(), *out_var = variance.data();
-  const SvgfTaps& taps = svgf_taps(simd_isa());
+  const SvgfTaps& taps = svgf_taps(simd_isa(), s.sigma_n);
   for_each_row_tile(h, [&](int j0, int j1) {
-    std::vector<float> sw(w), sc(w), sv(w), lum(w);
+    // A row's sums, eq. 5's reciprocals and eq. 3's per mirror offset, read and written over the
+    // row's covered span only (not cleared beyond it).
+    const std::unique_ptr<float[]> buffer(new float[(4 + kMirrorOffsets) * static_cast<size_t>(w)]);
+    float *sw = buffer.get(), *sc = sw + w, *sv = sc + w, *rl = sv + w, *rz = rl + w;
+    auto inv_depth = [&](int kx, int ky) { return rz + mirror_offset(kx, ky) * w; };
     for (int j = j0; j < j1; ++j) {
       const ptrdiff_t row = static_cast<ptrdiff_t>(j) * w;
       const Span span = covered_span(gr.cov + row, w);
       if (span.lo == span.hi) continue;
       // g_3x3 of eq. 5: the variance under a 3x3 Gaussian (1/4, 1/2, 1/4)^2 over covered pixels,
-      // then the luminance weight's denominator sigma_l sqrt(g_3x3(Var)) + eps.
+      // then the reciprocal of the luminance weight's denominator sigma_l sqrt(g_3x3(Var)) + eps.
       constexpr float k[3] = {0.25f, 0.5f, 0.25f};
-      std::fill(sw.begin(), sw.end(), 0.0f);
-      std::fill(sv.begin(), sv.end(), 0.0f);
+      std::fill(sw + span.lo, sw + span.hi, 0.0f);
+      std::fill(sv + span.lo, sv + span.hi, 0.0f);
       for (int dy = -1; dy <= 1; ++dy) {
         if (j + dy < 0 || j + dy >= h) continue;
         for (int dx = -1; dx <= 1; ++dx) {
           const ptrdiff_t shift = static_cast<ptrdiff_t>(dy) * w + dx;
           const float kw = k[dx + 1] * k[dy + 1];
-          taps.blur(gr.cov + row + shift, var + row + shift, kw, sw.data(), sv.data(),
+          taps.blur(gr.cov + row + shift, var + row + shift, kw, sw, sv,
                     span.begin(first_inside(dx)), span.end(end_inside(w, dx)));
         }
       }
-      for (int i = span.lo; i < span.hi; ++i)  // only the span's pixels are read below
-        lum[i] = gr.cov[row + i] > 0.5f ? sigma_l * std::sqrt(sv[i] / sw[i]) + 1e-10f : 1.0f;
+      // Only the span's pixels are read below.
+      taps.luminance_reciprocals(gr.cov + row, sw, sv, sigma_l, rl, span.lo, span.hi);
+      // Eq. 3's reciprocal denominators, one per pair of mirror offsets, for the kernel rows that
+      // lie in the image.
+      for (int ky = 0; ky <= 2; ++ky) {
+        const int dy = ky * step;
+        if ((j + dy < 0 || j + dy >= h) && (j - dy < 0 || j - dy >= h)) continue;
+        for (int kx = ky == 0 ? 1 : -2; kx <= 2; ++kx)
+          taps.depth_reciprocals(gr, row, static_cast<float>(kx * step), static_cast<float>(dy),
+                                 sigma_z, inv_depth(kx, ky), span.lo, span.hi);
+      }
       // Eqs. 1-2 over the 5x5 taps in the kernel's order; the centre's weight is exp(0) = 1. The
       // pixels whose taps all lie inside the row, [in_lo, in_hi), take a kernel row in one loop;
       // the others tap by tap (the same order of sums).
-      std::fill(sw.begin(), sw.end(), 0.0f);
-      std::fill(sc.begin(), sc.end(), 0.0f);
-      std::fill(sv.begin(), sv.end(), 0.0f);
+      std::fill(sw + span.lo, sw + span.hi, 0.0f);
+      std::fill(sc + span.lo, sc + span.hi, 0.0f);
+      std::fill(sv + span.lo, sv + span.hi, 0.0f);
       const int in_lo = std::max(span.lo, 2 * step);
       const int in_hi = std::max(in_lo, std::min(span.hi, w - 2 * step));
-      const Sums sums{sw.data(), sc.data(), sv.data()};
+      const Sums sums{sw, sc, sv};
       for (int ky = -2; ky <= 2; ++ky) {
         const int dy = ky * step;
         if (j + dy < 0 || j + dy >= h) continue;
-        AtrousRow kernel_row{
-            {}, step, static_cast<float>(dy), static_cast<ptrdiff_t>(dy) * w, sigma_z, sigma_n};
-        for (int kx = -2; kx <= 2; ++kx) kernel_row.hk[kx + 2] = kB3[kx + 2] * kB3[ky + 2];
-        if (in_lo < in_hi)
-          taps.atrous_row(gr, row, kernel_row, c, var, lum.data(), sums, in_lo, in_hi);
+        AtrousRow kernel_row{{}, step, static_cast<ptrdiff_t>(dy) * w, {}, sigma_n};
+        for (int kx = -2; kx <= 2; ++kx) {
+          kernel_row.hk[kx + 2] = kB3[kx + 2] * kB3[ky + 2];
+          if (kx != 0 || ky != 0) kernel_row.inv_depth[kx + 2] = inv_depth(kx, ky);
+        }
+        if (in_lo < in_hi) taps.atrous_row(gr, row, kernel_row, c, var, rl, sums, in_lo, in_hi);
         for (int kx = -2; kx <= 2; ++kx) {
           const int dx = kx * step;
-          const ptrdiff_t shift = static_cast<ptrdiff_t>(dy) * w + dx;
-          const float hk = kernel_row.hk[kx + 2];
-          const TapGeometry geometry{static_cast<float>(dx), static_cast<float>(dy), sigma_z,
-                                     sigma_n};
+          const AtrousTap tap{static_cast<ptrdiff_t>(dy) * w + dx, kernel_row.hk[kx + 2],
+                              kernel_row.inv_depth[kx + 2], sigma_n};
           // This tap's pixels outside [in_lo, in_hi).
           const int b = span.begin(first_inside(dx)), e = span.end(end_inside(w, dx));
           for (const auto& [i0, i1] :
                {std::pair{b, std::min(e, in_lo)}, std::pair{std::max(b, in_hi), e}}) {
             if (i0 >= i1) continue;
-            if (shift == 0) {
+            if (tap.shift == 0) {
               for (int i = i0; i < i1; ++i) {
-                sw[i] += hk;
-                sc[i] += hk * c[row + i];
-                sv[i] += hk * hk * var[row + i];
+                sw[i] += tap.hk;
+                sc[i] += tap.hk * c[row + i];
+                sv[i] += tap.hk * tap.hk * var[row + i];
               }
               continue;
             }
-            taps.atrous(gr, row, shift, geometry, c, var, lum.data(), hk, sums, i0, i1);
+            taps.atrous(gr, row, tap, c, var, rl, sums, i0, i1);
           }
         }
       }
-      for (int i = span.lo; i < span.hi; ++i) {
-        const ptrdiff_t p = row + i;
-        if (!(gr.cov[p] > 0.5f)) continue;
-        out_c[p] = std::clamp(sc[i] / sw[i], 0.0f, 1.0f);  // sw >= 9/64: the centre tap
-        out_var[p] = sv[i] / (sw[i] * sw[i]);
-      }
+      taps.finish(gr.cov + row, sw, sc, sv, out_c + row, out_var + row, span.lo, span.hi);
     }
   });
 }

@@ -1,14 +1,15 @@
 // exp and log for SVGF's edge-stopping weights (svgf.h, eqs. 3-5) as branch-free inline float code
 // that the compiler vectorises inside a row loop (a libm call per tap cannot be): Cody-Waite range
-// reduction and the minimax polynomials of Cephes' expf and logf (Moshier 1992, "Methods and
-// Programs for Mathematical Functions"). Within 2 ulp of libm over the ranges SVGF uses
-// (svgf_test: FastExp.WithinTwoUlpOfLibm, FastLog.WithinTwoUlpOfLibm):
-//  - svgf_exp(x) for x <= 0 (every SVGF exponent is): 0 below -87.3 (where expf leaves the normal
-//    floats; a weight under 1e-38 beside a centre tap of 9/64) and at -infinity.
+// reduction and the polynomials of Cephes' expf and logf (Moshier 1992, "Methods and Programs for
+// Mathematical Functions"), expf's shortened by two terms. Within 2 ulp of libm over the ranges
+// SVGF uses (svgf_test: FastExp.WithinTwoUlpOfLibm, FastLog.WithinTwoUlpOfLibm):
+//  - svgf_exp(x) for x <= 0 (every SVGF exponent is): 0 below about -87.7 (where expf leaves the
+//    normal floats; a weight under 1e-38 beside a centre tap of 9/64) and at -infinity.
 //  - svgf_log(x) for normal x in (0, 1] (a cosine of two normals, capped at 1).
 // Deterministic: IEEE float operations in a fixed order, the same bits on every thread.
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 
@@ -20,24 +21,31 @@ inline float keep(bool ok, float v) {
 }
 
 inline float svgf_exp(float x) {
-  const bool underflow = !(x >= -87.33654f);  // -infinity and NaN too
-  const float xc = keep(!underflow, x);
+  // Below -88 (and at -infinity), x = -88 gives n = -127 below, whose 2^n is +0: for x <= 0 the
+  // smaller magnitude has the smaller bits as an unsigned integer, and an integer min vectorises
+  // where a float ?: does not (-ftrapping-math). A NaN is not defined (SVGF's exponents are NaN
+  // only on taps whose weight is masked to 0).
+  const float xc =
+      std::bit_cast<float>(std::min(std::bit_cast<uint32_t>(x), std::bit_cast<uint32_t>(-88.0f)));
   // n = round(x / ln 2) by the 1.5 2^23 trick (exact in round-to-nearest), r = x - n ln 2 in two
   // parts (Cody-Waite), so |r| <= ln 2 / 2.
-  const float n = (xc * 1.44269504088896341f + 12582912.0f) - 12582912.0f;
+  const float shifted = xc * 1.44269504088896341f + 12582912.0f;  // 1.5 2^23 + n, ulp 1
+  const float n = shifted - 12582912.0f;
   float r = xc - n * 0.693359375f;
   r = r - n * -2.12194440e-4f;
   const float r2 = r * r;
-  float p = 1.9875691500e-4f;
-  p = p * r + 1.3981999507e-3f;
-  p = p * r + 8.3334519073e-3f;
-  p = p * r + 4.1665795894e-2f;
-  p = p * r + 1.6666665459e-1f;
-  p = p * r + 5.0000001201e-1f;
+  // exp(r) = 1 + r + r^2 p(r), p cubic: its relative error is 1.05e-7 on |r| <= ln 2 / 2 (fitted
+  // by iteratively reweighted least squares towards the minimax; Cephes' expf takes a quintic p).
+  float p = 8.312530800149888e-3f;
+  p = p * r + 4.1890125564609096e-2f;
+  p = p * r + 1.666711444180814e-1f;
+  p = p * r + 4.9999231674419164e-1f;
   p = p * r2 + r + 1.0f;
-  // 2^n for n in [-126, 0]: a normal float's exponent field.
-  const float scale = std::bit_cast<float>((static_cast<int32_t>(n) + 127) << 23);
-  return keep(!underflow, p * scale);
+  // 2^n for n in [-127, 0]: a normal float's exponent field, or +0 for n = -127; n + 127 read
+  // from the bits of 1.5 2^23 + n (no float-to-integer conversion).
+  const float scale = std::bit_cast<float>(
+      (std::bit_cast<int32_t>(shifted) - (std::bit_cast<int32_t>(12582912.0f) - 127)) << 23);
+  return p * scale;
 }
 
 inline float svgf_log(float x) {

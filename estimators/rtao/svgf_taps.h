@@ -25,7 +25,7 @@ struct GuideRows {
         cov(g.covered.data()) {}
 };
 
-// The per-tap constants of the depth and normal weights.
+// The per-tap constants of the variance estimate's depth and normal weights.
 struct TapGeometry {
   float dx, dy, sigma_z, sigma_n;
 };
@@ -38,37 +38,60 @@ struct MomentSums {
   double* __restrict sw, * __restrict s1, * __restrict s2;
 };
 
-// One row of the a-trous kernel: its taps' weights h (kx = -2..2), their spacing, its dy and the
-// offset of its row from p's (dy x width), and the depth and normal settings.
+// One tap of the a-trous kernel, q = p + shift: its weight h, eq. 3's negated reciprocal
+// denominator per pixel of row p for its offset (depth_reciprocals) and sigma_n (eq. 4).
+struct AtrousTap {
+  ptrdiff_t shift;
+  float hk;
+  const float* inv_depth;
+  float sigma_n;
+};
+
+// One row of the a-trous kernel: its taps' weights h (kx = -2..2), their spacing, the offset of its
+// row from p's (dy x width), eq. 3's negated reciprocal denominators of its taps (the centre's
+// unused) and sigma_n.
 struct AtrousRow {
   float hk[5];
   int step;
-  float dy;
   ptrdiff_t row_shift;
-  float sigma_z, sigma_n;
+  const float* inv_depth[5];
+  float sigma_n;
 };
+
+// w_n = (n_p . n_q)^sigma_n by squarings where sigma_n = 2^k, k <= kMaxSquarings (the default 128
+// takes 7 multiplies), else by exp and log.
+constexpr int kMaxSquarings = 10;
 
 struct SvgfTaps {
   // The 3x3 blur's tap at q = p + shift for pixels [i0, i1) of a row: weight kw where q is
   // covered (cov_q, var_q: the row shifted to q).
   void (*blur)(const float* cov_q, const float* var_q, float kw, float* sw, float* sv, int i0,
                int i1);
-  // One a-trous tap (eqs. 1-5) at q = p + shift for pixels [i0, i1) of row `row` (its first
-  // pixel's index): accumulates h w_i c(q), h^2 w_i^2 Var(q) (eq. 2's numerator) and h w_i;
-  // lum is eq. 5's denominator per pixel of the row.
-  void (*atrous)(const GuideRows& gr, ptrdiff_t row, ptrdiff_t shift, const TapGeometry& t,
-                 const float* c, const float* var, const float* lum, float hk, Sums out, int i0,
-                 int i1);
+  // One a-trous tap (eqs. 1-5) for pixels [i0, i1) of row `row` (its first pixel's index):
+  // accumulates h w_i c(q), h^2 w_i^2 Var(q) (eq. 2's numerator) and h w_i; rl is the negated
+  // reciprocal of eq. 5's denominator per pixel of the row.
+  void (*atrous)(const GuideRows& gr, ptrdiff_t row, const AtrousTap& t, const float* c,
+                 const float* var, const float* rl, Sums out, int i0, int i1);
   // The five taps of kernel row k as five atrous calls would add them, for pixels [i0, i1) whose
-  // taps all lie inside the row (the centre tap where k.dy = 0).
+  // taps all lie inside the row (the centre tap where k.row_shift = 0).
   void (*atrous_row)(const GuideRows& gr, ptrdiff_t row, const AtrousRow& k, const float* c,
-                     const float* var, const float* lum, Sums out, int i0, int i1);
+                     const float* var, const float* rl, Sums out, int i0, int i1);
   // One tap of the spatial variance estimate (§4.2): accumulates w, w m1(q) and w m2(q).
   void (*variance)(const GuideRows& gr, ptrdiff_t row, ptrdiff_t shift, const TapGeometry& t,
                    const float* m1, const float* m2, MomentSums out, int i0, int i1);
+  // -1 / (sigma_z |grad z(p) . (dx, dy)| + 1e-6 z(p)) (eq. 3's denominator) for pixels [i0, i1).
+  void (*depth_reciprocals)(const GuideRows& gr, ptrdiff_t row, float dx, float dy, float sigma_z,
+                            float* out, int i0, int i1);
+  // -1 / (sigma_l sqrt(sv / sw) + 1e-10) (eq. 5's denominator from the 3x3 blur's sums) where
+  // cov > 0.5, else -1.
+  void (*luminance_reciprocals)(const float* cov, const float* sw, const float* sv, float sigma_l,
+                                float* rl, int i0, int i1);
+  // Eqs. 1-2: out_c = clamp(sc / sw, 0, 1), out_var = sv / sw^2 where cov > 0.5 (else unchanged).
+  void (*finish)(const float* cov, const float* sw, const float* sc, const float* sv, float* out_c,
+                 float* out_var, int i0, int i1);
 };
 
-// The tap loops compiled for `isa`.
-const SvgfTaps& svgf_taps(SimdIsa isa);
+// The tap loops compiled for `isa`, their w_n for sigma_n.
+const SvgfTaps& svgf_taps(SimdIsa isa, double sigma_n);
 
 }  // namespace aoeval

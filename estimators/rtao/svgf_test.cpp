@@ -65,6 +65,7 @@ GBuffer scene() {
       const size_t p = g.index(i, j);
       if (i == 30 || (i > 10 && i < 14 && j > 5 && j < 9)) {
         g.coverage[p] = 0.0f;
+        g.normal[p] = glm::vec3(0.0f, 1.0f, 0.0f);  // what the filter must not read
         continue;
       }
       const float bump = 0.2f * std::sin(0.7f * i) * std::cos(0.5f * j);
@@ -84,7 +85,7 @@ Signal signal(const GBuffer& g) {
   for (size_t p = 0; p < g.pixel_count(); ++p) {
     const bool c = g.covered(p);
     const float m1 = c ? u(rng) : 0.0f;
-    s.value.push_back(c ? std::min(1.0f, m1 + 0.1f * u(rng)) : 0.0f);
+    s.value.push_back(c ? std::min(1.0f, m1 + 0.1f * u(rng)) : NAN);  // NaN: must not be read
     s.moment1.push_back(m1);
     s.moment2.push_back(c ? m1 * m1 + 0.05f * u(rng) : 0.0f);
     s.length.push_back(c ? static_cast<float>(1 + static_cast<int>(8 * u(rng))) : 0.0f);
@@ -92,9 +93,13 @@ Signal signal(const GBuffer& g) {
   return s;
 }
 
-SvgfSettings settings() {
-  return {
-      .sigma_z = 1.0, .sigma_n = 128.0, .sigma_l = 4.0, .variance_frames = 4, .variance_radius = 3};
+// sigma_n = 128 (the default, 2^7: w_n by squarings) or any other value (w_n by exp and log).
+SvgfSettings settings(double sigma_n = 128.0) {
+  return {.sigma_z = 1.0,
+          .sigma_n = sigma_n,
+          .sigma_l = 4.0,
+          .variance_frames = 4,
+          .variance_radius = 3};
 }
 
 // Schied et al. 2017 §4.2 and eqs. 1-5 pixel by pixel (svgf.h), with the given exp and log.
@@ -139,9 +144,34 @@ std::vector<float> reference_variance(const SvgfGuide& g, const Signal& x, const
   return var;
 }
 
-template <class Exp, class Log>
+// An a-trous weight w_i = w_z w_n w_l (eqs. 3-5) of tap q = p + (dx, dy), lum being eq. 5's
+// denominator at p, as the passes compute it: eqs. 3 and 5 through the reciprocals of their
+// denominators, one exp, and w_n by 7 squarings where sigma_n = 128 (else by exp and log).
+float fast_weight(const SvgfGuide& g, size_t p, size_t q, int dx, int dy, float lum, float cp,
+                  float cq, const SvgfSettings& s) {
+  const float cos_n = g.nx[p] * g.nx[q] + g.ny[p] * g.ny[q] + g.nz[p] * g.nz[q];
+  const float along = std::abs(g.grad_x[p] * dx + g.grad_y[p] * dy);
+  const float rz = 1.0f / (float(s.sigma_z) * along + 1e-6f * g.depth[p]), rl = 1.0f / lum;
+  const float d = std::abs(g.depth[p] - g.depth[q]) * rz + std::abs(cp - cq) * rl;
+  float wn = std::min(cos_n, 1.0f);
+  if (s.sigma_n != 128.0) return svgf_exp(float(s.sigma_n) * svgf_log(wn) - d);
+  for (int k = 0; k < 7; ++k) wn *= wn;
+  return wn * svgf_exp(-d);
+}
+// The same as the paper writes it, with libm's exp and log (the filter before svgf_math.h).
+float libm_weight(const SvgfGuide& g, size_t p, size_t q, int dx, int dy, float lum, float cp,
+                  float cq, const SvgfSettings& s) {
+  const float cos_n = g.nx[p] * g.nx[q] + g.ny[p] * g.ny[q] + g.nz[p] * g.nz[q];
+  const float along = std::abs(g.grad_x[p] * dx + g.grad_y[p] * dy);
+  const float wz =
+      std::abs(g.depth[p] - g.depth[q]) / (float(s.sigma_z) * along + 1e-6f * g.depth[p]);
+  return std::exp(float(s.sigma_n) * std::log(std::min(cos_n, 1.0f)) - wz -
+                  std::abs(cp - cq) / lum);
+}
+
+template <class Weight>
 void reference_atrous(const SvgfGuide& g, int step, const SvgfSettings& s, std::vector<float>& c,
-                      std::vector<float>& var, const Exp& exp, const Log& log) {
+                      std::vector<float>& var, const Weight& weight) {
   const std::vector<float> c0 = c, v0 = var;
   constexpr float b3[5] = {1.0f / 16, 1.0f / 4, 3.0f / 8, 1.0f / 4, 1.0f / 16},
                   k[3] = {.25f, .5f, .25f};
@@ -164,10 +194,10 @@ void reference_atrous(const SvgfGuide& g, int step, const SvgfSettings& s, std::
           const int dx = kx * step, dy = ky * step;
           if (!in(i + dx, j + dy) || !g.covered[p + dy * g.width + dx]) continue;
           const size_t q = p + dy * g.width + dx;
+          const float cos_n = g.nx[p] * g.nx[q] + g.ny[p] * g.ny[q] + g.nz[p] * g.nz[q];
+          if (q != p && !(cos_n > 0.0f)) continue;
           const float h = b3[kx + 2] * b3[ky + 2];
-          const float w =
-              q == p ? 1.0f
-                     : exp(exponent<Exp>(g, p, q, dx, dy, s, log) - std::abs(c0[p] - c0[q]) / lum);
+          const float w = q == p ? 1.0f : weight(g, p, q, dx, dy, lum, c0[p], c0[q], s);
           sw += h * w;
           sc += h * w * c0[q];
           sv += h * w * (h * w) * v0[q];
@@ -182,33 +212,72 @@ template <class Variance, class Atrous>
 std::vector<float> denoise(const Signal& x, const Variance& variance, const Atrous& atrous) {
   std::vector<float> c = x.value, var = variance();
   for (int i = 0; i < 5; ++i) atrous(1 << i, c, var);
+  for (size_t p = 0; p < c.size(); ++p)
+    if (x.length[p] == 0.0f) c[p] = 0.0f;  // uncovered: the input's NaN, left as it was
   c.insert(c.end(), var.begin(), var.end());
   return c;
 }
 
-std::vector<float> fast(const SvgfGuide& g, const Signal& x) {
+std::vector<float> fast(const SvgfGuide& g, const Signal& x, const SvgfSettings& s = settings()) {
   return denoise(
-      x, [&] { return svgf_variance(g, x.moment1, x.moment2, x.length, settings()); },
-      [&](int step, auto& c, auto& v) { atrous_iteration(g, step, settings(), c, v); });
+      x, [&] { return svgf_variance(g, x.moment1, x.moment2, x.length, s); },
+      [&](int step, auto& c, auto& v) { atrous_iteration(g, step, s, c, v); });
 }
 
-template <class Exp, class Log>
-std::vector<float> reference(const SvgfGuide& g, const Signal& x, const Exp& exp, const Log& log) {
+template <class Exp, class Log, class Weight>
+std::vector<float> reference(const SvgfGuide& g, const Signal& x, const SvgfSettings& s,
+                             const Exp& exp, const Log& log, const Weight& weight) {
   return denoise(
-      x, [&] { return reference_variance(g, x, settings(), exp, log); },
-      [&](int step, auto& c, auto& v) { reference_atrous(g, step, settings(), c, v, exp, log); });
+      x, [&] { return reference_variance(g, x, s, exp, log); },
+      [&](int step, auto& c, auto& v) { reference_atrous(g, step, s, c, v, weight); });
 }
 
 const auto fast_exp = [](float e) { return svgf_exp(e); };
 const auto fast_log = [](float x) { return svgf_log(x); };
 
+// The guide pixel by pixel: the normal (0 where uncovered), the depth, and its central differences
+// over covered pixels (one-sided where one neighbour is, 0 where none is or p is uncovered).
+TEST(Svgf, TheGuideIsTheGBuffersNormalsAndDepthSlopes) {
+  const GBuffer g = scene();
+  const SvgfGuide s = svgf_guide(g);
+  auto in = [&](int a, int b) {
+    return a >= 0 && b >= 0 && a < g.width && b < g.height && g.covered(g.index(a, b));
+  };
+  auto slope = [&](size_t p, int a0, int b0, int a1, int b1) {
+    const bool lo = in(a0, b0), hi = in(a1, b1);
+    if (!g.covered(p)) return 0.0f;
+    if (lo && hi) return 0.5f * (g.depth[g.index(a1, b1)] - g.depth[g.index(a0, b0)]);
+    if (hi) return g.depth[g.index(a1, b1)] - g.depth[p];
+    if (lo) return g.depth[p] - g.depth[g.index(a0, b0)];
+    return 0.0f;
+  };
+  for (int j = 0; j < g.height; ++j)
+    for (int i = 0; i < g.width; ++i) {
+      const size_t p = g.index(i, j);
+      const float c = g.covered(p) ? 1.0f : 0.0f;
+      ASSERT_EQ(s.covered[p], c) << i << " " << j;
+      ASSERT_EQ(s.nx[p], c * g.normal[p].x) << i << " " << j;
+      ASSERT_EQ(s.ny[p], c * g.normal[p].y) << i << " " << j;
+      ASSERT_EQ(s.nz[p], c * g.normal[p].z) << i << " " << j;
+      ASSERT_EQ(s.depth[p], g.depth[p]) << i << " " << j;
+      ASSERT_EQ(s.grad_x[p], slope(p, i - 1, j, i + 1, j)) << i << " " << j;
+      ASSERT_EQ(s.grad_y[p], slope(p, i, j - 1, i, j + 1)) << i << " " << j;
+    }
+}
+
+// Both ways of w_n: by squarings (sigma_n = 128) and by exp and log (sigma_n = 100).
 TEST(Svgf, TheRowLoopsGiveThePixelLoopsBits) {
   const GBuffer g = scene();
   const SvgfGuide guide = svgf_guide(g);
   const Signal x = signal(g);
-  const std::vector<float> a = fast(guide, x), b = reference(guide, x, fast_exp, fast_log);
-  ASSERT_EQ(a.size(), b.size());
-  for (size_t k = 0; k < a.size(); ++k) ASSERT_EQ(a[k], b[k]) << k;
+  for (double sigma_n : {128.0, 100.0}) {
+    const std::vector<float> a = fast(guide, x, settings(sigma_n)),
+                             b = reference(guide, x, settings(sigma_n), fast_exp, fast_log,
+                                           fast_weight);
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t k = 0; k < a.size(); ++k)
+      ASSERT_EQ(a[k], b[k]) << "sigma_n " << sigma_n << ": " << k;
+  }
 }
 
 TEST(Svgf, OneThreadGivesTheBitsOfMany) {
@@ -233,37 +302,44 @@ TEST(Svgf, EveryInstructionSetGivesTheBaselineBits) {
   if (best == SimdIsa::baseline)
     GTEST_SKIP() << "neither AVX2 nor AVX-512 on this CPU (or this compiler builds the baseline "
                     "only): nothing to compare the baseline's bits with";
-  set_simd_isa(SimdIsa::baseline);
-  const std::vector<float> baseline = fast(guide, x);
-  for (SimdIsa isa : {SimdIsa::avx2, SimdIsa::avx512}) {
-    if (isa > best) {
-      std::printf("%s: not on this CPU\n", simd_isa_name(isa));
-      continue;
+  for (double sigma_n : {128.0, 100.0}) {
+    set_simd_isa(SimdIsa::baseline);
+    const std::vector<float> baseline = fast(guide, x, settings(sigma_n));
+    for (SimdIsa isa : {SimdIsa::avx2, SimdIsa::avx512}) {
+      if (isa > best) {
+        std::printf("%s: not on this CPU\n", simd_isa_name(isa));
+        continue;
+      }
+      set_simd_isa(isa);
+      const bool same = fast(guide, x, settings(sigma_n)) == baseline;
+      EXPECT_TRUE(same) << simd_isa_name(isa) << ", sigma_n " << sigma_n;
+      std::printf("%s, sigma_n %g: %s\n", simd_isa_name(isa), sigma_n,
+                  same ? "the baseline's bits" : "other bits");
     }
-    set_simd_isa(isa);
-    const bool same = fast(guide, x) == baseline;
-    EXPECT_TRUE(same) << simd_isa_name(isa);
-    std::printf("%s: %s\n", simd_isa_name(isa), same ? "the baseline's bits" : "other bits");
   }
   set_simd_isa(best);
 }
 
-// Against libm's exp and log (the filter before svgf_math.h): each weight moves by at most a few
-// float ulps (2 from exp, sigma_n times 2 ulp of log(n_p . n_q), which is tiny near 1), so each
-// pass's weighted mean moves by about 1e-6 of the spread of its taps; five passes compound that
-// to a few 1e-6. The bound, 1e-5, is a few times what this scene shows, far below a 1-ray
-// pixel's noise (0.5).
+// Against libm's exp and log and the paper's divisions (the filter before svgf_math.h): each
+// weight moves by a few float ulps (2 from exp, 1 from each reciprocal, sigma_n times 2 ulp of
+// log(n_p . n_q), which is tiny near 1, or 7 squarings' roundings, 2^7 - 1 half-ulps at most, for
+// sigma_n = 128), so each pass's weighted mean moves by about 1e-6 of the spread of its taps; five
+// passes compound that to a few 1e-6. The bound, 1e-5, is a few times what this scene shows, far
+// below a 1-ray pixel's noise (0.5).
 TEST(Svgf, WithinABoundOfLibm) {
   const GBuffer g = scene();
   const SvgfGuide guide = svgf_guide(g);
   const Signal x = signal(g);
-  const std::vector<float> a = fast(guide, x);
-  const std::vector<float> b = reference(
-      guide, x, [](float e) { return std::exp(e); }, [](float v) { return std::log(v); });
-  double worst = 0.0;
-  for (size_t k = 0; k < a.size(); ++k) worst = std::max(worst, std::abs(double(a[k]) - b[k]));
-  EXPECT_LE(worst, 1e-5);
-  std::printf("largest difference from libm's exp and log: %.3g\n", worst);
+  for (double sigma_n : {128.0, 100.0}) {
+    const std::vector<float> a = fast(guide, x, settings(sigma_n));
+    const std::vector<float> b = reference(
+        guide, x, settings(sigma_n), [](float e) { return std::exp(e); },
+        [](float v) { return std::log(v); }, libm_weight);
+    double worst = 0.0;
+    for (size_t k = 0; k < a.size(); ++k) worst = std::max(worst, std::abs(double(a[k]) - b[k]));
+    EXPECT_LE(worst, 1e-5) << "sigma_n " << sigma_n;
+    std::printf("sigma_n %g: largest difference from libm's exp and log: %.3g\n", sigma_n, worst);
+  }
 }
 
 }  // namespace

@@ -140,6 +140,7 @@ TemporalSettings temporal_settings(const ParamSet& p) {
 TemporalAccumulator::TemporalAccumulator(const TemporalSettings& settings) : settings_(settings) {}
 
 void TemporalAccumulator::reset() {
+  pending_ = replaced_ = false;
   history_.clear();
   prev_moment1_.clear();
   prev_moment2_.clear();
@@ -153,7 +154,9 @@ void TemporalAccumulator::reset() {
 }
 
 void TemporalAccumulator::replace_history(const std::vector<float>& history) {
-  if (history.size() == history_.size()) history_ = history;
+  if (!pending_ || history.size() != value_.size()) return;
+  history_ = history;
+  replaced_ = true;
 }
 
 namespace {
@@ -198,22 +201,17 @@ void window_stats(const std::vector<float>& x, const std::vector<uint8_t>& cover
   });
 }
 
-// The clamp range of every covered pixel: mean +- max(gamma sigma, sigma_min) of the current
-// frame's raw values over the covered pixels of its (2 r + 1)^2 window.
-struct Ranges {
-  std::vector<double> lo, hi;
-};
-Ranges clamp_ranges(const std::vector<float>& x, const std::vector<uint8_t>& covered, int w, int h,
-                    const TemporalSettings& s) {
-  Ranges out;
-  out.lo.assign(x.size(), 0.0);
-  out.hi.assign(x.size(), 0.0);
+// The clamp range of every covered pixel (lo, hi: written there only): mean +- max(gamma sigma,
+// sigma_min) of the current frame's raw values over the covered pixels of its (2 r + 1)^2 window.
+void clamp_ranges(const std::vector<float>& x, const std::vector<uint8_t>& covered, int w, int h,
+                  const TemporalSettings& s, std::vector<double>& lo, std::vector<double>& hi) {
+  lo.resize(x.size());
+  hi.resize(x.size());
   window_stats(x, covered, w, h, s.clamp_radius, [&](size_t p, double, double mean, double var) {
     const double half = std::max(s.gamma * std::sqrt(var), s.clamp_sigma_min);
-    out.lo[p] = mean - half;
-    out.hi[p] = mean + half;
+    lo[p] = mean - half;
+    hi[p] = mean + half;
   });
-  return out;
 }
 
 // The anti-lag's window means and variances (float), with n[p] the covered count (0: none).
@@ -286,18 +284,24 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
   if (g.width != width_ || g.height != height_) reset();
   width_ = g.width;
   height_ = g.height;
+  if (pending_) {  // the last frame's results become frame k - 1's buffers
+    if (!replaced_) history_.swap(value_);
+    prev_moment1_.swap(moment1_);
+    prev_moment2_.swap(moment2_);
+    prev_length_.swap(length_);
+    pending_ = replaced_ = false;
+  }
   const bool history = has_history();
   const bool moving = !g.motion.empty(), disocclusion = !g.disoccluded.empty();
-  value_.assign(n, 0.0f);
-  moment1_.assign(n, 0.0f);
-  moment2_.assign(n, 0.0f);
-  length_.assign(n, 0.0f);
-  reset_.assign(n, 0);
+  // Every pixel is written below (0 where not covered): no clearing.
+  for (std::vector<float>* v : {&value_, &moment1_, &moment2_, &length_}) v->resize(n);
+  reset_.resize(n);
   const TemporalSettings& s = settings_;
-  std::vector<uint8_t> covered(n, 0);
+  std::vector<uint8_t>& covered = covered_;
+  covered.resize(n);
   for (size_t p = 0; p < n; ++p) covered[p] = g.covered(p);
-  Ranges ranges;
-  if (s.clamp && history) ranges = clamp_ranges(current, covered, g.width, g.height, s);
+  if (s.clamp && history)
+    clamp_ranges(current, covered, g.width, g.height, s, clamp_lo_, clamp_hi_);
   BoxStats box;
   if (s.antilag > 0.0) box = box_stats(current, covered, g.width, g.height, s.antilag_radius);
   const bool antilag = s.antilag > 0.0 && prev_box_.size() == n;
@@ -309,7 +313,12 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
   }
   for_each_pixel(g.width, g.height, [&](int i, int j) {
     const size_t p = g.index(i, j);
-    if (!g.covered(p)) return;
+    if (!covered[p]) {
+      value_[p] = moment1_[p] = moment2_[p] = length_[p] = 0.0f;
+      reset_[p] = 0;
+      return;
+    }
+    reset_[p] = 0;
     const double x = current[p];
     auto start_afresh = [&] {
       value_[p] = static_cast<float>(x);
@@ -331,16 +340,22 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
     const double qx = i + 0.5 - mx, qy = j + 0.5 - my;
     const BilinearTaps taps = bilinear_taps(qx, qy, g.width, g.height, valid);
     if (taps.taps == 0) return start_afresh();
-    // The bilinear read of one of frame k - 1's buffers over the valid taps (weights renormalised).
+    // The bilinear read of one of frame k - 1's buffers over the valid taps (weights renormalised
+    // once, for every buffer read).
+    double weight[4];
+    for (int t = 0; t < taps.taps; ++t) weight[t] = taps.weight[t] / taps.total;
     const auto read = [&](const std::vector<float>& image) {
       double sum = 0.0;
-      for (int t = 0; t < taps.taps; ++t) sum += taps.weight[t] / taps.total * image[taps.index[t]];
+      for (int t = 0; t < taps.taps; ++t) sum += weight[t] * image[taps.index[t]];
       return sum;
     };
     double h = read(history_), len = read(prev_length_);
     const double m1 = read(prev_moment1_), m2 = read(prev_moment2_);
+    // At a whole-pixel offset both reads are the one texel's value (the Catmull-Rom weights are
+    // (0, 1, 0, 0) on each axis): the bilinear read stands, the same bits.
+    const bool whole = qx - 0.5 == std::floor(qx - 0.5) && qy - 0.5 == std::floor(qy - 0.5);
     double sharp = 0.0;
-    if (s.history_read == HistoryRead::catmull_rom &&
+    if (s.history_read == HistoryRead::catmull_rom && !whole &&
         catmull_rom_read(history_, qx, qy, g.width, g.height, valid, &sharp))
       h = sharp;
     // Anti-lag (step 5b): the fast history of the window mean against the raw history's at q.
@@ -361,7 +376,7 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
       }
     }
     // Neighbourhood clamp of the history (step 5).
-    if (s.clamp) h = std::clamp(h, ranges.lo[p], ranges.hi[p]);
+    if (s.clamp) h = std::clamp(h, clamp_lo_[p], clamp_hi_[p]);
     // The exponential history with its minimum blend factor (step 4).
     const double alpha = std::max(s.alpha_min, 1.0 / (len + 1.0));
     value_[p] = static_cast<float>(alpha * x + (1.0 - alpha) * h);
@@ -369,12 +384,9 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
     moment2_[p] = static_cast<float>(alpha * x * x + (1.0 - alpha) * m2);
     length_[p] = static_cast<float>(std::min(len + 1.0, static_cast<double>(s.history_limit)));
   });
-  history_ = value_;
-  prev_moment1_ = moment1_;
-  prev_moment2_ = moment2_;
-  prev_length_ = length_;
+  pending_ = true;  // value_, moment1_, moment2_ and length_ become frame k - 1's at the next frame
   prev_object_ = g.object_id;
-  prev_covered_ = std::move(covered);
+  prev_covered_.swap(covered_);
   prev_box_.clear();
   if (s.antilag > 0.0)
     prev_box_ = box_stats(moment1_, prev_covered_, g.width, g.height, s.antilag_radius).mean;

@@ -115,7 +115,7 @@ class TemporalAccumulator {
 
   // Forgets the history: the next accumulate() starts afresh everywhere (a still frame, frame 0).
   void reset();
-  bool has_history() const { return !history_.empty(); }
+  bool has_history() const { return pending_ || !history_.empty(); }
 
   // Accumulates one frame: `current` holds this frame's raw value per pixel (g.pixel_count()
   // values, read where g is covered). The G-buffer's motion and disoccluded are read when present
@@ -140,9 +140,15 @@ class TemporalAccumulator {
   int width_ = 0, height_ = 0;
   std::vector<float> value_, moment1_, moment2_, length_;
   std::vector<uint8_t> reset_;
-  // Frame k - 1, read by frame k.
+  // Frame k - 1, read by frame k. A frame's results become these at the start of the next
+  // accumulate() (buffers swapped, not copied): `pending_` until then, and `replaced_` where
+  // replace_history() has already set history_.
   std::vector<float> history_, prev_moment1_, prev_moment2_, prev_length_, prev_object_;
   std::vector<uint8_t> prev_covered_;
+  bool pending_ = false, replaced_ = false;
+  // Buffers reused from frame to frame: the coverage and the clamp ranges.
+  std::vector<uint8_t> covered_;
+  std::vector<double> clamp_lo_, clamp_hi_;
   std::vector<float> prev_box_;  // the window means of frame k - 1's raw first moment (anti-lag)
   // Anti-lag's fast history of the window mean, its variance and its length (frame k - 1).
   std::vector<float> prev_fast_, prev_fast_var_, prev_fast_length_;
