@@ -28,10 +28,11 @@ AoDefinition definition_of(const ParamSet& p) {
 // input against a 9x9 neighbourhood (a 3x3 one of 0/1 samples is flat often enough to clamp an
 // unchanged history at random) with std.dev gamma 0.6, a minimum half-width 0.05 and a minimum
 // smoothing factor 0.03. The anti-lag is `aoeval tune harness/tune/specs/tune-rtao-motion.json`'s
-// best (lag_rmse_excess + steady_rmse_excess over rolling-ball/roll and dragon/walk, 128x96, 60
-// evaluations): 0.1825 against 0.2283 with anti-lag off (lag 0.172 -> 0.137 on roll, 0.151 ->
-// 0.117 on walk; steady 0.042 -> 0.039, 0.093 -> 0.072). A 1-ray frame's 7x7 window mean is the
-// fast history; a 1x1 window (antilag_radius 0) scored 0.39-0.41, worse than no anti-lag.
+// best (lag_rmse_excess + steady_rmse_excess over rolling-ball/roll, dragon/walk and bunny/orbit,
+// 128x96, 60 evaluations): 0.1748 against 0.2050 with anti-lag off (lag 0.172 -> 0.138 on roll,
+// 0.151 -> 0.117 on walk, 0.106 -> 0.106 on orbit; steady 0.042 -> 0.040, 0.093 -> 0.072, 0.053 ->
+// 0.053). A 1-ray frame's 9x9 window mean is the fast history; a 1x1 window (antilag_radius 0)
+// scored 0.344 at best, worse than no anti-lag.
 TemporalDefaults rtao_temporal_defaults() {
   return {.history_limit = 32,
           .alpha_min = 0.03,
@@ -39,9 +40,9 @@ TemporalDefaults rtao_temporal_defaults() {
           .gamma = 0.6,
           .clamp_sigma_min = 0.05,
           .clamp_radius = 4,
-          .antilag = 1.01,
-          .antilag_min = 0.0569,
-          .antilag_radius = 3,
+          .antilag = 1.21,
+          .antilag_min = 0.0422,
+          .antilag_radius = 4,
           .antilag_frames = 1};
 }
 
