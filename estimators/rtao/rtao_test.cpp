@@ -31,14 +31,17 @@ std::unique_ptr<Estimator> make(const nlohmann::json& overrides) {
 // first 2^n rays form a (0, n, 2)-net (samplers.h), which puts exactly half its points in
 // u.x < 1/2; the concentric map sends those to local x < 0 (the sign of x_disk is the sign of 2
 // u.x - 1 on every wedge), and the frame of n = +Y has local x = world x: exactly half the rays
-// hit the wall. So the running mean (alpha_min 0, no clamp, no filter) is 1/2 after 2, 4, 8, 16
-// frames, where independent rays would leave a standard error of 0.5/sqrt(16) = 0.125.
+// hit the wall. So the running mean (alpha_min 0, no clamp, no anti-lag, no filter) is 1/2 after
+// 2, 4, 8, 16 frames, where independent rays would leave a standard error of 0.5/sqrt(16) = 0.125.
 TEST(Rtao, TheAdvancingSequenceIntegratesTheFootOfAWallExactly) {
   const Scene s = wall_foot();
   EmbreeScene es(s);
   const GBuffer g = probe({1e-3f, 0, 0}, {0, 1, 0}, 64);
-  auto est =
-      make({{"alpha_min", 0.0}, {"history_limit", 64}, {"clamp", false}, {"atrous_iterations", 0}});
+  auto est = make({{"alpha_min", 0.0},
+                   {"history_limit", 64},
+                   {"clamp", false},
+                   {"antilag", 0.0},
+                   {"atrous_iterations", 0}});
   for (int k = 0; k < 16; ++k) {
     const FrameInfo info{
         .index = k, .count = 16, .fps = 30, .seed_offset = static_cast<uint64_t>(k)};

@@ -31,6 +31,21 @@ EvaluationRequest evaluation_request(const SweepPoint& p) {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// A view entry "scene/view" whose scene is one of the spec's names that scene's view alone (two
+// scenes' sequences in one sweep or tune); any other entry is a view name for every scene.
+std::pair<std::string, std::string> qualified_view(const std::string& entry,
+                                                   const std::vector<std::string>& scenes) {
+  const size_t slash = entry.rfind('/');
+  if (slash == std::string::npos ||
+      std::find(scenes.begin(), scenes.end(), entry.substr(0, slash)) == scenes.end())
+    return {"", entry};
+  return {entry.substr(0, slash), entry.substr(slash + 1)};
+}
+
+}  // namespace
+
 std::vector<nlohmann::json> expand_grid_values(const ParamSpec& param, const nlohmann::json& entry,
                                                const std::string& file, const std::string& path) {
   const std::string where = file + ": " + path;
@@ -236,7 +251,9 @@ std::vector<SweepPoint> expand_sweep(const SweepSpec& spec, size_t max_points) {
         } else if (spec.views.empty()) {
           chosen.push_back(&views.front());
         } else {
-          for (const auto& name : spec.views) {
+          for (const auto& entry : spec.views) {
+            const auto [only, name] = qualified_view(entry, spec.scenes);
+            if (!only.empty() && only != scene) continue;  // "scene/view": that scene's alone
             const View* found = nullptr;
             for (const auto& v : views)
               if (v.name == name) found = &v;
@@ -245,6 +262,9 @@ std::vector<SweepPoint> expand_sweep(const SweepSpec& spec, size_t max_points) {
                                "'");
             chosen.push_back(found);
           }
+          if (chosen.empty())
+            throw InputError(spec.name + ": views: none applies to scene " + scene +
+                             " (each names another scene)");
         }
         for (const View* v : chosen) {
           SweepPoint p;

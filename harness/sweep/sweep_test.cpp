@@ -40,6 +40,28 @@ TEST(Sweep, AllViewsMultiplies) {
   EXPECT_EQ(expand_sweep(parse_sweep_spec(j, "spec.json")).size(), 2u);
 }
 
+// "scene/view" names that scene's view alone, so one sweep or tune can hold the sequences of
+// several scenes (rolling-ball/roll and dragon/walk); a plain name still applies to every scene.
+TEST(Sweep, AQualifiedViewBelongsToItsSceneAlone) {
+  nlohmann::json j = spec_with({{{"estimator", "constant"}}});
+  j["views"] = {"bunny/orbit", "cornell-box/corner", "main"};
+  std::set<std::string> got;
+  for (const auto& p : expand_sweep(parse_sweep_spec(j, "spec.json")))
+    got.insert(p.scene + "/" + p.view);
+  EXPECT_EQ(got, (std::set<std::string>{"bunny/orbit", "bunny/main", "cornell-box/corner",
+                                        "cornell-box/main"}));
+  j["views"] = {"bunny/orbit"};  // cornell-box is left with no view: an error, not a silent gap
+  try {
+    expand_sweep(parse_sweep_spec(j, "spec.json"));
+    ADD_FAILURE() << "a scene with no view expanded";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("none applies to scene cornell-box"), std::string::npos)
+        << e.what();
+  }
+  j["views"] = {"dragon/walk"};  // not one of the spec's scenes: a view name, which bunny lacks
+  EXPECT_THROW(expand_sweep(parse_sweep_spec(j, "spec.json")), InputError);
+}
+
 TEST(Sweep, RangesLinearLogAndIntegerDedup) {
   const ParamSpec real = real_param({.name = "R",
                                      .def = 0.5,

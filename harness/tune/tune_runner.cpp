@@ -1,5 +1,6 @@
 #include "harness/tune/tune_runner.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -137,8 +138,6 @@ int run_tune(const TuneOptions& o) {
   EvaluationSession session(spec.sweep.reference, spec.sweep.timing);
   std::unique_ptr<EvaluationSession> retime_session;  // 2 x repetitions, made on first need
   const int repetitions = spec.sweep.timing.repetitions;
-  const bool true_key = spec.objective.rfind("true_", 0) == 0;
-  const std::string key = true_key ? spec.objective.substr(5) : spec.objective;
   const TuneSpace space = make_tune_space(spec);
   std::map<std::string, TrialRecord> records;  // by overrides.dump()
   size_t computed = 0, reused = 0, retimed = 0;
@@ -217,8 +216,11 @@ int run_tune(const TuneOptions& o) {
         record.retimed = record.retimed || r.repetitions > first_samples(r, repetitions);
       double sum = 0.0;
       for (const ResultRow& r : rows)
-        sum += objective_of(r, true_key ? r.true_metrics : r.metrics, key, spec.objective,
-                            o.spec_path);
+        for (const std::string& term : spec.objective_terms) {  // a sum's terms, or the one key
+          const bool true_key = term.rfind("true_", 0) == 0;
+          sum += objective_of(r, true_key ? r.true_metrics : r.metrics,
+                              true_key ? term.substr(5) : term, spec.objective, o.spec_path);
+        }
       record.objective = sum / static_cast<double>(rows.size());
       outcome.objective = spec.maximise ? -record.objective : record.objective;
       outcome.time_ms = record.time.mean_median;
@@ -299,8 +301,12 @@ int run_tune(const TuneOptions& o) {
        "more) and feasible when the pooled "
        "mean median <= budget"},
       {"noise",
-       {{"objective", key.size() >= 11 && key.compare(key.size() - 11, 11, "rmse_excess") == 0
-                          ? key + ": the reference's own noise (AO_stderr) removed"
+       {{"objective", std::all_of(spec.objective_terms.begin(), spec.objective_terms.end(),
+                                  [](const std::string& k) {
+                                    return k.size() >= 11 &&
+                                           k.compare(k.size() - 11, 11, "rmse_excess") == 0;
+                                  })
+                          ? spec.objective + ": the reference's own noise (AO_stderr) removed"
                           : "as the metric reads (the reference's noise not removed)"},
         {"seed", "every point runs with the same estimator seed (common random numbers): " +
                      (spec.estimator->find_param("seed")

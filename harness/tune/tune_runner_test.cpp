@@ -226,6 +226,23 @@ TEST(TuneRunner, TunesASequenceScoreThroughTheTemporalRunner) {
   for (const auto& trial : t["trials"]) most = std::max(most, trial["params"]["rays"].get<int>());
   EXPECT_EQ(t["best"]["params"]["rays"], most);
 
+  // A sum objective scores each trial by the sum of its row's keys.
+  nlohmann::json summed = doc;
+  summed["tune"]["objective"] = "temporal_rmse_excess+seq_rmse_excess";
+  std::ofstream(spec) << summed.dump(1);
+  o.out_dir = (d / "summed").string();
+  ASSERT_EQ(run_tune(o), 0);
+  const nlohmann::json st = parse_json_file((d / "summed" / "tune.json").string());
+  const nlohmann::json srows = parse_json_file((d / "summed" / "results.json").string())["rows"];
+  ASSERT_EQ(st["trials"].size(), srows.size());
+  for (const auto& trial : st["trials"]) {
+    for (const auto& r : srows) {
+      if (r["run_name"] != trial["run_names"][0]) continue;
+      EXPECT_DOUBLE_EQ(trial["objective"].get<double>(), r["temporal_rmse_excess"].get<double>() +
+                                                             r["seq_rmse_excess"].get<double>());
+    }
+  }
+
   // The budget bounds the per-frame time (the trials' time_ms is a median frame time): below any
   // frame's time no point is feasible, and the tune still ends 0 with no best point.
   nlohmann::json tight = doc;

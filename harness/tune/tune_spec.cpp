@@ -167,18 +167,35 @@ TuneSpec parse_tune_spec(const nlohmann::json& doc, const std::string& file,
   for (const auto& p : e.params)  // declaration order, as run names and grids use
     if (params.contains(p.name)) spec.params.push_back(parse_param(e, p, params[p.name], tune));
 
+  // The objective is one key or a sum of keys, "lag_rmse_excess+steady_rmse_excess": each term
+  // is scored per view as a single key would be, and the sum is the point's value per view.
   spec.objective = tune.string("objective", "rmse_excess");
-  const std::string bare =
-      spec.objective.rfind("true_", 0) == 0 ? spec.objective.substr(5) : spec.objective;
-  if (!contains(tune_objective_keys(), bare)) {
-    if (find_metric(bare))
-      tune.fail("objective", "'" + spec.objective + "' is not an error measure; use one of " +
-                                 joined(tune_objective_keys()));
-    tune.fail("objective", "'" + spec.objective + "' is not a metric key; use one of " +
-                               joined(tune_objective_keys()) + " (or true_ before one)");
+  for (size_t at = 0;;) {
+    const size_t plus = spec.objective.find('+', at);
+    spec.objective_terms.push_back(spec.objective.substr(at, plus - at));
+    if (plus == std::string::npos) break;
+    at = plus + 1;
   }
-  spec.maximise = find_metric(bare)->better == Better::higher;
-  spec.sequence_objective = contains(tune_sequence_objective_keys(), bare);
+  const bool sum = spec.objective_terms.size() > 1;
+  for (const std::string& term : spec.objective_terms) {
+    const std::string bare = term.rfind("true_", 0) == 0 ? term.substr(5) : term;
+    if (!contains(tune_objective_keys(), bare)) {
+      if (find_metric(bare))
+        tune.fail("objective", "'" + term + "' is not an error measure; use one of " +
+                                   joined(tune_objective_keys()));
+      tune.fail("objective", "'" + term + "' is not a metric key; use one of " +
+                                 joined(tune_objective_keys()) + " (or true_ before one)" +
+                                 (sum ? ", or a sum of them joined by +" : ""));
+    }
+    const bool higher = find_metric(bare)->better == Better::higher;
+    if (sum && higher)
+      tune.fail("objective", "'" + term + "' grows with quality: a sum adds errors to minimise");
+    if (std::count(spec.objective_terms.begin(), spec.objective_terms.end(), term) > 1)
+      tune.fail("objective", "'" + term + "' appears twice in the sum");
+    spec.maximise = higher;
+    spec.sequence_objective =
+        spec.sequence_objective || contains(tune_sequence_objective_keys(), bare);
+  }
   spec.budget_ms = tune.has("budget_ms") ? tune.number("budget_ms", 1e-6, 1e9) : 0.0;
   spec.evaluations =
       static_cast<int>(tune.integer("evaluations", kDefaultTuneEvaluations, 1, 100000));

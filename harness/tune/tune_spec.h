@@ -41,7 +41,8 @@ struct TuneSpec {
   const EstimatorInfo* estimator = nullptr;
   std::vector<TuneParam> params;  // declaration order
   nlohmann::json fixed = nlohmann::json::object();
-  std::string objective;  // a metric key, possibly "true_"-prefixed
+  std::string objective;  // a metric key, possibly "true_"-prefixed, or a sum "a+b" of such keys
+  std::vector<std::string> objective_terms;  // the objective's keys, in order (one unless a sum)
   bool maximise = false;  // ssim and psnr grow with quality; every other objective key is an error
   bool sequence_objective = false;  // a sequence score (CONTRACT §10): every view is a sequence
   double budget_ms = 0.0;           // 0 = no time budget
@@ -58,7 +59,8 @@ using EstimatorLookup = std::function<const EstimatorInfo&(const std::string&)>;
 
 // Parses and validates; InputError naming the file and the field for unknown keys, an unknown
 // estimator or parameter, a range outside the declaration, a value in both params and fixed, an
-// objective that is not a metric key (or not an error measure), a seed left free.
+// objective that is not a metric key (or not an error measure), a sum with a term that is not an
+// error to minimise (ssim, psnr) or that repeats one, a seed left free.
 TuneSpec parse_tune_spec(const nlohmann::json& doc, const std::string& file,
                          const EstimatorLookup& lookup = {});
 TuneSpec load_tune_spec(const std::string& path, const EstimatorLookup& lookup = {});

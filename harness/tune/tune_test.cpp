@@ -143,6 +143,32 @@ TEST(TuneSpec, TakesEveryObjectiveKeyAndItsTrueTwin) {
   EXPECT_TRUE(parse_tune_spec(hbao_spec(t), "s").maximise);
 }
 
+// A sum of keys is one objective (the anti-lag tunes' lag + steady): its terms in order, each a key
+// a single objective could be; a term that grows with quality, a repeated term or an unknown one
+// exits 2 naming tune.objective.
+TEST(TuneSpec, TakesASumOfErrorKeys) {
+  nlohmann::json t = hbao_tune();
+  t["objective"] = "lag_rmse_excess+true_steady_rmse_excess";
+  nlohmann::json doc = hbao_spec(t);
+  doc["views"] = {"orbit"};
+  const TuneSpec s = parse_tune_spec(doc, "s");
+  EXPECT_EQ(s.objective_terms,
+            std::vector<std::string>({"lag_rmse_excess", "true_steady_rmse_excess"}));
+  EXPECT_TRUE(s.sequence_objective);
+  EXPECT_FALSE(s.maximise);
+  EXPECT_EQ(parse_tune_spec(hbao_spec(hbao_tune()), "s").objective_terms,
+            std::vector<std::string>({"rmse_excess"}));
+  for (const std::string bad : {"rmse_excess+ssim", "rmse_excess+rmse_excess", "rmse_excess+",
+                                "rmse_excess+pixels", "rmse_excess+lag"}) {
+    t["objective"] = bad;
+    doc["tune"] = t;
+    const std::string e = error_of(doc);
+    EXPECT_NE(e.find("tune.objective"), std::string::npos) << bad << ": " << e;
+  }
+  t["objective"] = "rmse_excess+lag_rmse_excess";  // a sequence term needs sequence views
+  EXPECT_NE(error_of(hbao_spec(t)).find("is a sequence score"), std::string::npos);
+}
+
 // u = 0 and u = 1 give the range's ends; each integer owns an equal share of u; reals keep 3
 // significant digits; choices and booleans enumerate in mixed radix, the last fastest.
 TEST(TuneSpace, RoundsIntegersFairlyAndRealsTo3DigitsAndEnumeratesChoices) {
