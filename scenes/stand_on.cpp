@@ -1,5 +1,6 @@
 #include "scenes/stand_on.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -26,14 +27,20 @@ float height_at(const SurfaceHeight& surface, double x, double z, const std::str
   return p->y;
 }
 
-void lift_grass(SceneObject& o, const SurfaceHeight& surface, const std::string& where) {
+// The grass generator's layout: vertices per blade and blades; {0, 0} when the mesh is not it.
+std::pair<size_t, size_t> blade_layout(const SceneObject& o) {
   const auto& f = o.facts;
-  if (!f.contains("segments") || !f.contains("blade_count"))
-    throw InputError(where + ": a grass field without the grass generator's facts");
+  if (!f.contains("segments") || !f.contains("blade_count")) return {0, 0};
   const size_t stride = 2 * f["segments"].get<size_t>() + 1;
   const size_t blades = f["blade_count"].get<size_t>();
-  if (blades * stride != o.mesh.positions.size())
-    throw InputError(where + ": the grass field's vertices are not whole blades");
+  if (blades * stride != o.mesh.positions.size()) return {0, 0};
+  return {stride, blades};
+}
+
+void lift_grass(SceneObject& o, const SurfaceHeight& surface, const std::string& where) {
+  const auto [stride, blades] = blade_layout(o);
+  if (stride == 0)
+    throw InputError(where + ": the grass field's vertices are not the grass generator's blades");
   for (size_t b = 0; b < blades; ++b) {
     glm::vec3* v = &o.mesh.positions[b * stride];
     const double x = 0.5 * (static_cast<double>(v[0].x) + v[1].x);
@@ -45,6 +52,17 @@ void lift_grass(SceneObject& o, const SurfaceHeight& surface, const std::string&
 }
 
 }  // namespace
+
+std::optional<float> grass_blade_height(const SceneObject& grass) {
+  const auto [stride, blades] = blade_layout(grass);
+  if (stride == 0) return std::nullopt;
+  float h = 0.0f;
+  for (size_t b = 0; b < blades; ++b) {
+    const glm::vec3* v = &grass.mesh.positions[b * stride];
+    h = std::max(h, v[stride - 1].y - 0.5f * (v[0].y + v[1].y));
+  }
+  return h;
+}
 
 void stand_on_surfaces(Scene& scene) {
   std::map<std::string, size_t> by_name;

@@ -4,6 +4,8 @@
 // their root, so trunks and blades meet the terrain's triangles exactly (scenes/surface_height.h).
 #pragma once
 
+#include <optional>
+
 #include "scenes/scene.h"
 
 namespace aoeval {
@@ -15,5 +17,10 @@ namespace aoeval {
 // of its two root vertices. Placements are validated again once lifted. Throws one InputError
 // naming the scene file, the object and the first spot that fails.
 void stand_on_surfaces(Scene& scene);
+
+// A grass field's blade height as laid out by the grass generator: the largest rise from a blade's
+// root midpoint to its tip (exact for blades lifted rigidly); nullopt without the generator's
+// facts.
+std::optional<float> grass_blade_height(const SceneObject& grass);
 
 }  // namespace aoeval

@@ -8,11 +8,13 @@
 //   ground, solid
 //           eq. 7-8 for every tree, multiplied (independent occluders); a ground pixel inside a
 //           grass field's footprint and below its blade tips is a grass pixel at its height
-//           (parameter grass_ground);
+//           (parameter grass_ground); a field standing "on" a terrain measures that height from
+//           the terrain under the pixel;
 //   grass   eq. 9 (see hegeman_model.h), times eq. 7-8 for the trees.
 #pragma once
 
 #include <limits>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <vector>
 
@@ -22,6 +24,7 @@
 #include "estimators/tree_proxies/hegeman_model.h"
 #include "estimators/tree_proxies/occluder_index.h"
 #include "estimators/tree_proxies/tree_proxy.h"
+#include "scenes/surface_height.h"
 
 namespace aoeval {
 
@@ -71,7 +74,7 @@ class TreeScene {
         if (options_.grass_ground)
           for (const GrassField& f : fields_)
             if (x.x >= f.x0 && x.x <= f.x1 && x.z >= f.z0 && x.z <= f.z1 &&
-                x.y <= f.base + f.height)
+                x.y <= root(f, x) + f.height)
               return grass(f, x, n) * others(x, n, -1);
         return others(x, n, -1);
       case Rule::solid:
@@ -100,6 +103,9 @@ class TreeScene {
   struct GrassField {
     float base = 0.0f, height = 1.0f;                  // lowest vertex, blade height (eq. 9's h)
     float x0 = 0.0f, x1 = 0.0f, z0 = 0.0f, z1 = 0.0f;  // footprint
+    // A field standing "on" a terrain (scenes/stand_on.h): its blades' roots are at the terrain's
+    // height under the pixel, not at `base`.
+    std::shared_ptr<const SurfaceHeight> ground;
   };
   enum class Rule : uint8_t { solid, ground, tree, grass };
   struct ObjectRule {
@@ -107,8 +113,14 @@ class TreeScene {
     int index = -1;  // into outer_ (trees) or fields_
   };
 
+  // The height of the blade roots under x: the field's base, or its terrain's height there.
+  static float root(const GrassField& f, const glm::vec3& x) {
+    if (!f.ground) return f.base;
+    const auto p = f.ground->at(x.x, x.z);
+    return p ? p->y : f.base;
+  }
   static float grass(const GrassField& f, const glm::vec3& x, const glm::vec3& n) {
-    return hegeman::grass_visibility(x.y - f.base, f.height, n.y);  // eq. 9, cos theta = n . +Y
+    return hegeman::grass_visibility(x.y - root(f, x), f.height, n.y);  // eq. 9, cos = n . +Y
   }
 
   TreeSceneOptions options_{};
