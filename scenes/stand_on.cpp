@@ -82,11 +82,12 @@ void stand_on_surfaces(Scene& scene) {
       lift_grass(o, *surface, where);
       continue;
     }
+    const Bounds local = o.mesh.bounds();
     for (size_t k = 0; k < o.instances.size(); ++k) {
       glm::mat4& m = o.instances[k];
       const std::string spot = where + ": instances[" + std::to_string(k) + "]";
       m[3].y += height_at(*surface, m[3].x, m[3].z, spot, o.on);
-      validate_instance(m, o.mesh.bounds(), spot);
+      validate_instance(m, local, spot);
     }
   }
 }

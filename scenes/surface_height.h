@@ -28,7 +28,13 @@ class SurfaceHeight {
   std::optional<SurfacePoint> at(double x, double z) const;
 
  private:
-  std::vector<glm::dvec3> a_, b_, c_;  // the kept triangles
+  // A kept triangle: its first vertex, its edges' heights and the rows of the inverse of its
+  // (x, z) edge matrix, so that the barycentrics of p are u = (p - a) . ru, v = (p - a) . rv.
+  struct Triangle {
+    double ax, az, ay, ux, uz, vx, vz, dy1, dy2;
+  };
+  std::vector<Triangle> triangles_;
+  std::vector<glm::vec3> normals_;  // unit, facing +Y
   std::vector<uint32_t> start_, items_;
   double x0_ = 0.0, z0_ = 0.0, cell_x_ = 1.0, cell_z_ = 1.0;
   int nx_ = 1, nz_ = 1;

@@ -68,14 +68,17 @@ class TreeScene {
         const float v = self(static_cast<size_t>(rule.index), x, n);
         return outer_.size() > 1 ? v * others(x, n, rule.index) : v;
       }
-      case Rule::grass:
-        return grass(fields_[static_cast<size_t>(rule.index)], x, n) * others(x, n, -1);
+      case Rule::grass: {
+        const GrassField& f = fields_[static_cast<size_t>(rule.index)];
+        return grass(f, x.y - root(f, x), n) * others(x, n, -1);
+      }
       case Rule::ground:
         if (options_.grass_ground)
           for (const GrassField& f : fields_)
-            if (x.x >= f.x0 && x.x <= f.x1 && x.z >= f.z0 && x.z <= f.z1 &&
-                x.y <= root(f, x) + f.height)
-              return grass(f, x, n) * others(x, n, -1);
+            if (x.x >= f.x0 && x.x <= f.x1 && x.z >= f.z0 && x.z <= f.z1) {
+              const float r = root(f, x);
+              if (x.y <= r + f.height) return grass(f, x.y - r, n) * others(x, n, -1);
+            }
         return others(x, n, -1);
       case Rule::solid:
         return others(x, n, -1);
@@ -119,8 +122,9 @@ class TreeScene {
     const auto p = f.ground->at(x.x, x.z);
     return p ? p->y : f.base;
   }
-  static float grass(const GrassField& f, const glm::vec3& x, const glm::vec3& n) {
-    return hegeman::grass_visibility(x.y - root(f, x), f.height, n.y);  // eq. 9, cos = n . +Y
+  // Eq. 9 at height pz over the roots, cos theta = n . +Y.
+  static float grass(const GrassField& f, float pz, const glm::vec3& n) {
+    return hegeman::grass_visibility(pz, f.height, n.y);
   }
 
   TreeSceneOptions options_{};
