@@ -11,8 +11,8 @@
 #include "base/errors.h"
 #include "base/testing/test_temp_dir.h"
 #include "scenes/generators/generators.h"
-#include "scenes/surface_height.h"
 #include "scenes/scene.h"
+#include "scenes/surface_height.h"
 
 namespace aoeval {
 namespace {
