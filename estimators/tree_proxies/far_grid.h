@@ -44,9 +44,15 @@
 // sharp there, read too high inside and too low just outside. Widening R_in to r_max,t + sqrt(3) h
 // removes the own-tree leak but on forest-10k made tree-sphere's rmse against the exact product
 // worse (0.0074 -> 0.0089) at 4-7x the frame time, as did a blend one or two cells wide
-// (0.0080-0.0088): the fix is a per-pixel correction that subtracts each near tree's interpolated
-// far part (particle-mesh's P3M), not done. Pixels outside the grid's box (the trees' box widened
-// by the largest outer radius and by at least 8 cells, within the scene's bounds) use
+// (0.0080-0.0088). A per-pixel P3M correction was tried and measured (forest-10k ground view,
+// 320x240, against far_field_angle=0): subtracting the own tree's interpolated far part (its 8
+// corners x direction taps, re-evaluated) makes the disabled test pass (0.103 of the bound) but
+// moves tree-sphere's rmse 0.00744 -> 0.00791; doing it for every tree of the column's list, with
+// those trees kept out of the nodes' aggregates, improves ground pixels (0.00058 -> 0.00038) and
+// worsens crown pixels (0.0097 -> 0.0102: their error is the cube-face direction interpolation of
+// trees beyond the list under downward normals, which the leak had partly offset), at 60-90x the
+// frame time (930 ms against 10-16 ms). Not taken. Pixels outside the grid's box (the trees' box
+// widened by the largest outer radius and by at least 8 cells, within the scene's bounds) use
 // FarField::visibility.
 #pragma once
 

@@ -1,6 +1,7 @@
 // Tree envelopes of an instanced forest (issue 45): one per placement, in G-buffer id order, equal
 // to the envelopes of the same forest written as copies where the scene gives the proxy, and
-// enclosing every placed leaf where it is derived.
+// enclosing every placed leaf where it is derived; the row records an instanced object's proxy
+// once, in object space, and that record placed by an instance's transform is that tree's envelope.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -116,6 +117,41 @@ TEST(TreeInstances, SceneRulesFollowPlacementIds) {
                   });
   EXPECT_FALSE(self);
   EXPECT_LT(v, 1.0f);
+}
+
+TEST(TreeInstances, TheRowRecordsAnInstancedObjectsProxyOnceAndPlacingItGivesEachTree) {
+  const Scene s = forest();
+  TreeScene scene;
+  const TreeSceneOptions options{.proxy = ProxyOptions{},
+                                 .prefer_scene = true,
+                                 .horizon = true,
+                                 .grass_ground = false,
+                                 .blade_height = 0.0};
+  const auto& envelopes = scene.prepare(s, options);
+  const nlohmann::json& proxies = scene.derived()["proxies"];
+  ASSERT_EQ(proxies.size(), 2u);  // oak and birch, 6 placed trees each
+  const PlacementIds ids(s);
+  for (const nlohmann::json& p : proxies) {
+    EXPECT_EQ(p["instances"], 6);
+    EXPECT_EQ(p["space"], "object");
+    const size_t object = p["object"] == "oak" ? 1 : 2;
+    ASSERT_EQ(s.objects[object].name, p["object"]);
+    TreeProxy recorded;
+    recorded.type = p["type"];
+    for (const nlohmann::json& shape : p["shapes"]) {
+      Ellipsoid e;
+      e.center = glm::vec3(shape["center"][0], shape["center"][1], shape["center"][2]);
+      e.radii = glm::vec3(shape["radii"][0], shape["radii"][1], shape["radii"][2]);
+      recorded.shapes.push_back(e);
+    }
+    for (const TreeEnvelope& e : envelopes) {
+      if (e.object != object) continue;
+      TreeProxy placed = recorded;
+      place_proxy(s.objects[object].instances[e.placement - ids.first[object]], placed);
+      EXPECT_LE(glm::length(placed.shapes[0].center - e.proxy.shapes[0].center), 1e-5f);
+      EXPECT_NEAR(placed.shapes[0].radii.x, e.proxy.shapes[0].radii.x, 1e-5f);
+    }
+  }
 }
 
 }  // namespace

@@ -265,7 +265,7 @@ TreeProxy derive_proxy(const SceneObject& object, const ProxyOptions& options) {
 }
 
 std::vector<TreeEnvelope> tree_envelopes(const Scene& scene, const ProxyOptions& options,
-                                         bool prefer_scene) {
+                                         bool prefer_scene, std::vector<TreeEnvelope>* prototypes) {
   std::vector<TreeEnvelope> out;
   const PlacementIds ids(scene);
   for (size_t i = 0; i < scene.objects.size(); ++i) {
@@ -300,6 +300,7 @@ std::vector<TreeEnvelope> tree_envelopes(const Scene& scene, const ProxyOptions&
       out.push_back(std::move(e));
       continue;
     }
+    if (prototypes) prototypes->push_back(e);
     for (size_t k = 0; k < o.instances.size(); ++k) {
       const glm::mat4& m = o.instances[k];
       const double s = std::cbrt(std::fabs(static_cast<double>(glm::determinant(glm::mat3(m)))));

@@ -86,8 +86,11 @@ struct TreeEnvelope {
 // instanced tree's envelope is derived once from the prototype and placed per instance (issue 45):
 // shapes by the instance's transform; with s = cbrt|det| its mean scale, the leaf area by s^2 and
 // lambda by 1/s (leaf area over volume) or by s^2 (a scene density times the larger leaf).
+// `prototypes`, when given, receives each instanced object's envelope before placement (object
+// space, the prototype's leaves), one per object, in object order.
 std::vector<TreeEnvelope> tree_envelopes(const Scene& scene, const ProxyOptions& options,
-                                         bool prefer_scene);
+                                         bool prefer_scene,
+                                         std::vector<TreeEnvelope>* prototypes = nullptr);
 
 // For records and logs: {"object", "source", "type", "shapes": [{"center", "radii"}], "lambda",
 // "leaf_area", "leaf_count"}. The harness should store this beside each result of a tree estimator.

@@ -105,6 +105,37 @@ TreeSceneOptions tree_scene_options(const ParamSet& p, const ProxyOptions& proxy
   return o;
 }
 
+namespace {
+
+// What the row records of the proxies: a plain tree's envelope as used (world space); an
+// instanced object's once, as its prototype's (object space) with its instance count, since
+// every copy is that envelope placed by the instance's transform (tree_envelopes). One entry per
+// placed tree made forest-10k's row 3 MB of JSON, rebuilt every frame.
+nlohmann::json proxies_record(const Scene& scene, const std::vector<TreeEnvelope>& placed,
+                              const std::vector<TreeEnvelope>& prototypes) {
+  nlohmann::json out = nlohmann::json::array();
+  std::map<size_t, const TreeEnvelope*> prototype_of;  // by object index
+  for (const TreeEnvelope& p : prototypes) prototype_of[p.object] = &p;
+  for (const TreeEnvelope& e : placed) {
+    const SceneObject& o = scene.objects[e.object];
+    if (o.instances.empty()) {
+      out.push_back(envelope_to_json(scene, e));
+      continue;
+    }
+    const auto it = prototype_of.find(e.object);
+    if (it == prototype_of.end()) continue;  // recorded at the object's first copy
+    nlohmann::json j = envelope_to_json(scene, *it->second);
+    j["object"] = o.name;
+    j["instances"] = o.instances.size();
+    j["space"] = "object";
+    out.push_back(std::move(j));
+    prototype_of.erase(it);
+  }
+  return out;
+}
+
+}  // namespace
+
 const std::vector<TreeEnvelope>& TreeScene::prepare(const Scene& scene,
                                                     const TreeSceneOptions& options) {
   options_ = options;
@@ -114,9 +145,10 @@ const std::vector<TreeEnvelope>& TreeScene::prepare(const Scene& scene,
   fields_.clear();
   derived_ = {{"proxies", nlohmann::json::array()}};
   std::map<size_t, TreeProxy> bounding;  // shells: each tree object's leaf bounding sphere
-  envelopes_ = tree_envelopes(scene, options.proxy, options.prefer_scene);
+  std::vector<TreeEnvelope> prototypes;
+  envelopes_ = tree_envelopes(scene, options.proxy, options.prefer_scene, &prototypes);
+  derived_["proxies"] = proxies_record(scene, envelopes_, prototypes);
   for (const TreeEnvelope& e : envelopes_) {
-    derived_["proxies"].push_back(envelope_to_json(scene, e));
     // Eq. 7-8's occluder is one convex shape: the envelope itself, or for shells (which overlap
     // and so cannot be added) the bounding sphere of the leaves.
     if (options.proxy.kind == ProxyKind::shells) {
@@ -135,8 +167,13 @@ const std::vector<TreeEnvelope>& TreeScene::prepare(const Scene& scene,
     rules_[e.placement] = {Rule::tree, static_cast<int>(outer_.size() - 1)};
   }
   if (options.far_angle > 0.0) {
-    far_.build(outer_, options.cull, options.far_angle);
-    grid_.build(outer_, far_, scene.bounds(), options.far_cell, options.far_near, options.horizon);
+    far_fields_ = shared_far_fields({.occluders = outer_,
+                                     .region = scene.bounds(),
+                                     .cull = options.cull,
+                                     .angle = options.far_angle,
+                                     .cell = options.far_cell,
+                                     .near = options.far_near,
+                                     .horizon = options.horizon});
   } else {
     index_.build(outer_, options.cull);
   }

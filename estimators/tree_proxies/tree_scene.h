@@ -19,8 +19,7 @@
 #include <vector>
 
 #include "estimators/estimator.h"
-#include "estimators/tree_proxies/far_field.h"
-#include "estimators/tree_proxies/far_grid.h"
+#include "estimators/tree_proxies/far_cache.h"
 #include "estimators/tree_proxies/hegeman_model.h"
 #include "estimators/tree_proxies/occluder_index.h"
 #include "estimators/tree_proxies/tree_proxy.h"
@@ -92,8 +91,9 @@ class TreeScene {
   // interpolated where far_grid_cell > 0 (far_grid.h).
   float others(const glm::vec3& x, const glm::vec3& n, int skip) const {
     if (options_.far_angle > 0.0)
-      return grid_.covers(x) ? grid_.visibility(x, n, skip)
-                             : far_.visibility(x, n, skip, options_.horizon);
+      return far_fields_->grid.covers(x)
+                 ? far_fields_->grid.visibility(x, n, skip)
+                 : far_fields_->far.visibility(x, n, skip, options_.horizon);
     float v = 1.0f;
     index_.visit(x, [&](uint32_t t) {
       if (static_cast<int>(t) != skip)
@@ -133,8 +133,9 @@ class TreeScene {
   std::vector<ObjectRule> rules_;
   std::vector<hegeman::UnitMap> outer_;  // per tree: the large occluder of eq. 7-8
   OccluderIndex index_;                  // over outer_ (far_field_angle = 0)
-  FarField far_;                         // over outer_ (far_field_angle > 0)
-  FarGrid grid_;                         // its far part precomputed (far_grid_cell > 0)
+  // over outer_ (far_field_angle > 0), its far part precomputed (far_grid_cell > 0); shared with
+  // every other prepare of the same trees (far_cache.h)
+  std::shared_ptr<const FarFields> far_fields_;
   std::vector<GrassField> fields_;
 };
 
