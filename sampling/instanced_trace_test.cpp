@@ -34,8 +34,9 @@ struct Pair {
   TracedAo instanced, copies;
 };
 
-Pair trace_both(const AoTraceSettings& settings) {
-  const Scene s = load_scene_file(testutil::write_small_forest(testutil::test_temp_dir("forest")));
+Pair trace_both(const AoTraceSettings& settings, bool terrain = false) {
+  const Scene s = load_scene_file(testutil::write_small_forest(
+      testutil::test_temp_dir(terrain ? "forest-terrain" : "forest"), terrain));
   const Scene copies = scene_as_copies(s);
   const EmbreeScene a(s), b(copies);
   Pair p;
@@ -72,6 +73,17 @@ TEST(InstancedTrace, ReferenceBitsEqualCopiesUnboundedCosine) {
   for (size_t k = 0; k < p.instanced.ao.size(); ++k)
     if (p.instanced.coverage[k] > 0.5f) mean += p.instanced.ao[k], ++covered;
   EXPECT_LT(mean / static_cast<double>(covered), 0.95);
+}
+
+TEST(InstancedTrace, ReferenceBitsEqualCopiesOnTerrain) {
+  // The same forest standing "on" a sloping noise terrain: the lifted placements are the copies'.
+  AoTraceSettings s;
+  s.spp = 64;
+  s.seed = 13;
+  const Pair p = trace_both(s, true);
+  EXPECT_GT(p.instanced.rays_traced, 100000u);
+  EXPECT_EQ(differing(p.instanced.ao, p.copies.ao), 0u);
+  EXPECT_EQ(differing(p.instanced.bent, p.copies.bent), 0u);
 }
 
 TEST(InstancedTrace, ReferenceBitsEqualCopiesBoundedNoFalloff) {

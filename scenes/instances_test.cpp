@@ -145,21 +145,24 @@ TEST(Instances, PlacementIdsFollowFileOrder) {
 // both, and the barycentrics are recomputed from it (gbuffer.cpp), not taken from Embree, whose
 // instance traversal works in the prototype's space.
 TEST(Instances, GBufferOfInstancesEqualsCopiesBitForBit) {
-  const Scene s = load_scene_file(write_small_forest_for_test());
-  const Scene copies = scene_as_copies(s);
-  const EmbreeScene instanced(s), flat(copies);
-  for (const View& v : s.views) {
-    const Camera cam = make_camera(v, 0, 0);
-    const GBuffer a = render_gbuffer(instanced, cam), b = render_gbuffer(flat, cam);
-    EXPECT_TRUE(same_bits(a.coverage, b.coverage)) << v.name;
-    EXPECT_TRUE(same_bits(a.depth, b.depth)) << v.name;
-    EXPECT_TRUE(same_bits(a.position, b.position)) << v.name;
-    EXPECT_TRUE(same_bits(a.normal, b.normal)) << v.name;
-    EXPECT_TRUE(same_bits(a.geometric_normal, b.geometric_normal)) << v.name;
-    EXPECT_TRUE(same_bits(a.object_id, b.object_id)) << v.name;
-    // The test means something: many placements are seen, the mirrored rock among them.
-    std::set<float> seen(a.object_id.begin(), a.object_id.end());
-    EXPECT_GE(seen.size(), 6u) << v.name;
+  for (const bool terrain : {false, true}) {  // on flat ground, and standing on a terrain
+    const Scene s = load_scene_file(
+        testutil::write_small_forest(testutil::test_temp_dir("forest-gbuffer"), terrain));
+    const Scene copies = scene_as_copies(s);
+    const EmbreeScene instanced(s), flat(copies);
+    for (const View& v : s.views) {
+      const Camera cam = make_camera(v, 0, 0);
+      const GBuffer a = render_gbuffer(instanced, cam), b = render_gbuffer(flat, cam);
+      EXPECT_TRUE(same_bits(a.coverage, b.coverage)) << v.name;
+      EXPECT_TRUE(same_bits(a.depth, b.depth)) << v.name;
+      EXPECT_TRUE(same_bits(a.position, b.position)) << v.name;
+      EXPECT_TRUE(same_bits(a.normal, b.normal)) << v.name;
+      EXPECT_TRUE(same_bits(a.geometric_normal, b.geometric_normal)) << v.name;
+      EXPECT_TRUE(same_bits(a.object_id, b.object_id)) << v.name;
+      // The test means something: many placements are seen, the mirrored rock among them.
+      std::set<float> seen(a.object_id.begin(), a.object_id.end());
+      EXPECT_GE(seen.size(), 6u) << v.name;
+    }
   }
 }
 

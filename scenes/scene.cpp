@@ -17,6 +17,7 @@
 #include "scenes/gltf_scene.h"
 #include "scenes/instances.h"
 #include "scenes/mesh_io.h"
+#include "scenes/stand_on.h"
 
 namespace aoeval {
 
@@ -303,6 +304,15 @@ SceneObject load_object(JsonReader reader, const fs::path& scene_dir) {
     place_proxy(placement.matrix, *obj.proxy);
   }
   if (reader.has("instances")) obj.instances = read_instances(reader, obj.mesh.bounds());
+  if (reader.has("on")) {
+    obj.on = reader.string("on");
+    if (obj.instances.empty() &&
+        !(obj.role == Role::grass && obj.source.starts_with("generator grass ")))
+      reader.fail("on",
+                  "only instanced objects and grass fields of the grass generator stand on "
+                  "another object");
+    if (obj.on == obj.name) reader.fail("on", "an object cannot stand on itself");
+  }
   obj.albedo = reader.vec3("albedo", obj.albedo);
   for (int c = 0; c < 3; ++c)
     if (obj.albedo[c] < 0.0f || obj.albedo[c] > 1.0f)
@@ -432,6 +442,7 @@ Scene load_scene_file(const std::string& path) {
       if (scene.objects[i].name == scene.objects[j].name)
         throw InputError(path + ": objects[" + std::to_string(i) +
                          "].name: duplicate object name '" + scene.objects[i].name + "'");
+  stand_on_surfaces(scene);
   if (instance_count(scene) > kMaxInstances)
     throw InputError(path + ": objects: " + std::to_string(instance_count(scene)) +
                      " instances in all exceed the limit of " + std::to_string(kMaxInstances));

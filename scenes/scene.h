@@ -50,6 +50,9 @@ struct SceneObject {
   std::vector<glm::mat4> instances;
   // glTF (scenes/gltf_scene.h): the node each instance is, by name (empty for scene-file objects).
   std::vector<std::string> instance_names;
+  // Issue 45 (scenes/stand_on.h): the object this one stands on ("on"), by name; empty = none.
+  // Loading has already lifted the placements (or the grass blades) onto it.
+  std::string on;
 };
 
 // The object's world-space bounds: its mesh's, or the union over its instances of the placed

@@ -416,22 +416,32 @@ TEST(TreeEstimators, EllipsoidEstimatorEqualsSphereEstimatorOnASphere) {
   for (size_t k = 0; k < s.size(); ++k) EXPECT_NEAR(s[k], e[k], 1e-6);
 }
 
-TEST(TreeEstimators, GroundGrassAndSceneWithoutTrees) {
-  // Grass field only (no trees): grass pixels follow eq. 9, the ground under it too, open ground 1.
+// A 1 x 1 grass field of blades 0.4 high (with the generator's facts) and a 10 x 10 ground whose
+// height is `slope` x.
+Scene grass_on_ground(float slope) {
   nlohmann::json gp = {{"size", {1.0, 1.0}}, {"density", 50}, {"blade_height", 0.4}};
   JsonReader reader(gp, "test");
   SceneObject grass;
   grass.name = "grass";
   grass.role = Role::grass;
-  grass.mesh = find_generator("grass")->function(1, reader).mesh;
+  GeneratedGeometry field = find_generator("grass")->function(1, reader);
+  grass.mesh = std::move(field.mesh);
+  grass.facts = std::move(field.facts);
   reader.finish();
   SceneObject ground;
   ground.name = "ground";
   ground.role = Role::ground;
-  ground.mesh.positions = {{-5, 0, -5}, {5, 0, -5}, {5, 0, 5}, {-5, 0, 5}};
+  ground.mesh.positions = {
+      {-5, -5 * slope, -5}, {5, 5 * slope, -5}, {5, 5 * slope, 5}, {-5, -5 * slope, 5}};
   ground.mesh.triangles = {{0, 2, 1}, {0, 3, 2}};
   Scene scene;
   scene.objects = {ground, grass};
+  return scene;
+}
+
+TEST(TreeEstimators, GroundGrassAndSceneWithoutTrees) {
+  // Grass field only (no trees): grass pixels follow eq. 9, the ground under it too, open ground 1.
+  const Scene scene = grass_on_ground(0.0f);
   const glm::vec3 up(0, 1, 0);
   const GBuffer g =
       probes({{0.1f, 0.4f, 0.0f}, {0.1f, 0.1f, 0.0f}, {0.0f, 0.0f, 0.0f}, {3.0f, 0.0f, 0.0f}},
@@ -446,6 +456,28 @@ TEST(TreeEstimators, GroundGrassAndSceneWithoutTrees) {
   }
   const auto rb = estimate("reeves-blau", scene, g);
   for (float v : rb) EXPECT_EQ(v, 1.0f);
+}
+
+TEST(TreeEstimators, GrassOnATerrainMeasuresItsHeightFromTheTerrain) {
+  // The field of the test above standing "on" the tilted ground y = x / 2 (each blade lifted by
+  // the height under its root, as stand_on.h does): eq. 9's P_z is the height over the terrain
+  // under the pixel, not over the field's lowest vertex (which is 0.25 below its centre).
+  Scene scene = grass_on_ground(0.5f);
+  SceneObject& grass = scene.objects[1];
+  grass.on = "ground";
+  for (size_t b = 0; b < grass.mesh.positions.size(); b += 7) {  // 3 segments: 7 vertices a blade
+    const float h = 0.25f * (grass.mesh.positions[b].x + grass.mesh.positions[b + 1].x);
+    for (size_t k = b; k < b + 7; ++k) grass.mesh.positions[k].y += h;
+  }
+  const glm::vec3 up(0, 1, 0);
+  const GBuffer g = probes({{0.3f, 0.55f, 0.0f}, {0.3f, 0.25f, 0.0f}, {-0.4f, -0.2f, 0.0f}},
+                           {up, glm::vec3(1, 0, 0), up}, {1.0f, 1.0f, 0.0f});
+  for (const char* name : {"tree-sphere", "tree-ellipsoid", "tree-shells"}) {
+    const auto ao = estimate(name, scene, g);
+    EXPECT_NEAR(ao[0], 1.0f, 1e-5f);         // a tip facing up
+    EXPECT_NEAR(ao[1], 0.1f / 0.8f, 1e-5f);  // 0.1 over the terrain, facing sideways
+    EXPECT_NEAR(ao[2], 0.0f, 1e-5f);         // the ground at the roots
+  }
 }
 
 TEST(TreeEstimators, GroundUnderATreeFollowsEq8) {

@@ -10,6 +10,7 @@
 #include "estimators/tree_proxies/tree_proxy.h"
 #include "estimators/tree_proxies/tree_scene.h"
 #include "scenes/instances.h"
+#include "scenes/surface_height.h"
 #include "scenes/testing_forest.h"
 
 namespace aoeval {
@@ -49,6 +50,39 @@ TEST(TreeInstances, EnvelopesPerPlacementMatchCopies) {
       EXPECT_GE(a.radii.x, b.radii.x * 0.9f);
       EXPECT_LE(a.radii.x, b.radii.x * 1.5f);
     }
+  }
+}
+
+TEST(TreeInstances, ProxiesRiseWithTheTerrainTheTreesStandOn) {
+  // The same forest on flat ground and standing "on" a sloping noise terrain: every tree's
+  // envelope (the scene's sphere for the oaks, derived for the birches) moves up by the terrain's
+  // height under its placement, and not sideways.
+  const Scene flat = forest();
+  const Scene raised = load_scene_file(
+      testutil::write_small_forest(testutil::test_temp_dir("forest-terrain"), true));
+  const SurfaceHeight ground(raised.objects[0].mesh);
+  for (ProxyKind kind : {ProxyKind::sphere, ProxyKind::ellipsoid, ProxyKind::shells}) {
+    ProxyOptions options;
+    options.kind = kind;
+    const auto a = tree_envelopes(flat, options, true), b = tree_envelopes(raised, options, true);
+    ASSERT_EQ(a.size(), 12u);
+    ASSERT_EQ(b.size(), 12u);
+    const PlacementIds ids(raised);
+    double highest = 0.0;
+    for (size_t t = 0; t < a.size(); ++t) {
+      const SceneObject& o = raised.objects[b[t].object];
+      const glm::mat4& m = o.instances[b[t].placement - ids.first[b[t].object]];
+      const float h = ground.at(m[3].x, m[3].z)->y;
+      highest = std::max(highest, std::fabs(static_cast<double>(h)));
+      ASSERT_EQ(a[t].proxy.shapes.size(), b[t].proxy.shapes.size());
+      for (size_t k = 0; k < a[t].proxy.shapes.size(); ++k) {
+        const glm::vec3 d = b[t].proxy.shapes[k].center - a[t].proxy.shapes[k].center;
+        EXPECT_NEAR(d.x, 0.0f, 1e-5f);
+        EXPECT_NEAR(d.y, h, 1e-5f) << "tree " << t;
+        EXPECT_NEAR(d.z, 0.0f, 1e-5f);
+      }
+    }
+    EXPECT_GT(highest, 0.3);  // the terrain lifts some trees well off y = 0
   }
 }
 

@@ -5,6 +5,7 @@
 
 #include "base/errors.h"
 #include "scenes/instances.h"
+#include "scenes/stand_on.h"
 
 namespace aoeval {
 
@@ -191,7 +192,14 @@ const std::vector<TreeEnvelope>& TreeScene::prepare(const Scene& scene,
     const Bounds b = o.mesh.bounds();
     GrassField f;
     f.base = b.lower.y;
-    f.height = options.blade_height > 0.0 ? static_cast<float>(options.blade_height) : b.extent().y;
+    f.height = b.extent().y;
+    if (!o.on.empty()) {  // on a terrain: heights from the ground under the pixel and the root
+      const auto g = std::find_if(scene.objects.begin(), scene.objects.end(),
+                                  [&](const SceneObject& s) { return s.name == o.on; });
+      if (g != scene.objects.end()) f.ground = std::make_shared<SurfaceHeight>(g->mesh);
+      if (const auto h = grass_blade_height(o)) f.height = *h;
+    }
+    if (options.blade_height > 0.0) f.height = static_cast<float>(options.blade_height);
     if (!(f.height > 0.0f)) f.height = std::numeric_limits<float>::min();
     f.x0 = b.lower.x;
     f.x1 = b.upper.x;

@@ -8,7 +8,8 @@
 //   ground, solid
 //           eq. 7-8 for every tree, multiplied (independent occluders); a ground pixel inside a
 //           grass field's footprint and below its blade tips is a grass pixel at its height
-//           (parameter grass_ground);
+//           (parameter grass_ground); a field standing "on" a terrain measures that height from
+//           the terrain under the pixel;
 //   grass   eq. 9 (see hegeman_model.h), times eq. 7-8 for the trees.
 #pragma once
 
@@ -22,6 +23,7 @@
 #include "estimators/tree_proxies/hegeman_model.h"
 #include "estimators/tree_proxies/occluder_index.h"
 #include "estimators/tree_proxies/tree_proxy.h"
+#include "scenes/surface_height.h"
 
 namespace aoeval {
 
@@ -65,14 +67,17 @@ class TreeScene {
         const float v = self(static_cast<size_t>(rule.index), x, n);
         return outer_.size() > 1 ? v * others(x, n, rule.index) : v;
       }
-      case Rule::grass:
-        return grass(fields_[static_cast<size_t>(rule.index)], x, n) * others(x, n, -1);
+      case Rule::grass: {
+        const GrassField& f = fields_[static_cast<size_t>(rule.index)];
+        return grass(f, x.y - root(f, x), n) * others(x, n, -1);
+      }
       case Rule::ground:
         if (options_.grass_ground)
           for (const GrassField& f : fields_)
-            if (x.x >= f.x0 && x.x <= f.x1 && x.z >= f.z0 && x.z <= f.z1 &&
-                x.y <= f.base + f.height)
-              return grass(f, x, n) * others(x, n, -1);
+            if (x.x >= f.x0 && x.x <= f.x1 && x.z >= f.z0 && x.z <= f.z1) {
+              const float r = root(f, x);
+              if (x.y <= r + f.height) return grass(f, x.y - r, n) * others(x, n, -1);
+            }
         return others(x, n, -1);
       case Rule::solid:
         return others(x, n, -1);
@@ -101,6 +106,9 @@ class TreeScene {
   struct GrassField {
     float base = 0.0f, height = 1.0f;                  // lowest vertex, blade height (eq. 9's h)
     float x0 = 0.0f, x1 = 0.0f, z0 = 0.0f, z1 = 0.0f;  // footprint
+    // A field standing "on" a terrain (scenes/stand_on.h): its blades' roots are at the terrain's
+    // height under the pixel, not at `base`.
+    std::shared_ptr<const SurfaceHeight> ground;
   };
   enum class Rule : uint8_t { solid, ground, tree, grass };
   struct ObjectRule {
@@ -108,8 +116,15 @@ class TreeScene {
     int index = -1;  // into outer_ (trees) or fields_
   };
 
-  static float grass(const GrassField& f, const glm::vec3& x, const glm::vec3& n) {
-    return hegeman::grass_visibility(x.y - f.base, f.height, n.y);  // eq. 9, cos theta = n . +Y
+  // The height of the blade roots under x: the field's base, or its terrain's height there.
+  static float root(const GrassField& f, const glm::vec3& x) {
+    if (!f.ground) return f.base;
+    const auto p = f.ground->at(x.x, x.z);
+    return p ? p->y : f.base;
+  }
+  // Eq. 9 at height pz over the roots, cos theta = n . +Y.
+  static float grass(const GrassField& f, float pz, const glm::vec3& n) {
+    return hegeman::grass_visibility(pz, f.height, n.y);
   }
 
   TreeSceneOptions options_{};

@@ -3,6 +3,7 @@
 #include <malloc.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -48,7 +49,8 @@ double rss_mib() {
 }
 
 // The base scene file with its instanced objects placed `n` times at the same density: the placer's
-// square and ground planes grow as sqrt(n / base count) (ground planes never below 40 units).
+// square and ground planes grow as sqrt(n / base count) (ground planes never below 40 units; a
+// terrain's resolution grows with its size, so its cells and relief stay as in the corpus).
 std::string scaled_scene(const std::string& base, int n, const std::string& dir) {
   const fs::path src = fs::path(corpus_dir()) / (base + ".json");
   std::ifstream in(src);
@@ -67,7 +69,14 @@ std::string scaled_scene(const std::string& base, int n, const std::string& dir)
       for (auto& v : o["instances"]["size"]) v = v.get<double>() * f;
     } else if (o.value("role", "") == "ground" && o.contains("params") &&
                o["params"].contains("size")) {
-      for (auto& v : o["params"]["size"]) v = std::max(40.0, v.get<double>() * f);
+      auto& params = o["params"];
+      const double was = params["size"][0].get<double>();
+      for (auto& v : params["size"]) v = std::max(40.0, v.get<double>() * f);
+      // A terrain keeps its cell size (and so its relief and triangle heights) as it grows.
+      if (params.contains("resolution"))
+        params["resolution"] = static_cast<int>(std::clamp(
+            std::round(params["resolution"].get<double>() * params["size"][0].get<double>() / was),
+            1.0, 2048.0));
     }
   }
   const fs::path out = fs::path(dir) / (base + "-n" + std::to_string(n) + ".json");

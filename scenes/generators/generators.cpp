@@ -10,6 +10,8 @@ const std::vector<GeneratorInfo>& generator_registry() {
        generate_tree},
       {"grass", "a field of grass blades of known height (Hegeman et al. eq. 9)", generate_grass},
       {"plane", "a rectangle in the y = 0 plane, facing +Y", generate_plane},
+      {"terrain", "a height field of smooth value noise over a rectangle, facing +Y",
+       generate_terrain},
       {"box", "an axis-aligned box, optionally facing inward and with open faces", generate_box},
       {"disk", "a disk in the y = 0 plane, facing -Y or +Y", generate_disk},
       {"sphere", "a geodesic sphere", generate_sphere},

@@ -42,6 +42,7 @@ GeneratedGeometry generate_sphere_uniform(uint64_t seed, JsonReader& params);
 GeneratedGeometry generate_tree(uint64_t seed, JsonReader& params);
 GeneratedGeometry generate_grass(uint64_t seed, JsonReader& params);
 GeneratedGeometry generate_plane(uint64_t seed, JsonReader& params);
+GeneratedGeometry generate_terrain(uint64_t seed, JsonReader& params);
 GeneratedGeometry generate_box(uint64_t seed, JsonReader& params);
 GeneratedGeometry generate_disk(uint64_t seed, JsonReader& params);
 GeneratedGeometry generate_sphere(uint64_t seed, JsonReader& params);

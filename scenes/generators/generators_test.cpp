@@ -33,7 +33,7 @@ GeneratedGeometry run(const std::string& name, uint64_t seed, const json& params
 }
 
 bool is_random(const std::string& name) {
-  return name == "sphere-uniform" || name == "tree" || name == "grass";
+  return name == "sphere-uniform" || name == "tree" || name == "grass" || name == "terrain";
 }
 
 glm::dvec3 face_normal(const TriangleMesh& m, const glm::uvec3& t) {
@@ -64,7 +64,7 @@ Bounds triangle_bounds(const TriangleMesh& m, size_t first) {
 }
 
 TEST(Generators, RegistryFindsEveryGenerator) {
-  EXPECT_EQ(generator_registry().size(), 10u);
+  EXPECT_EQ(generator_registry().size(), 11u);
   for (const auto& g : generator_registry()) EXPECT_EQ(find_generator(g.name), &g);
   EXPECT_EQ(find_generator("teapot"), nullptr);
 }
