@@ -18,7 +18,8 @@ namespace {
 
 // A box on a floor seen from above at 64x48 for 8 frames, nothing moving: about half the covered
 // pixels have 0 < AO < 1 (the floor around the box, the box's sides), where the flicker lives.
-std::string static_sequence_scene() {
+// `sequence`: the view's sequence object.
+std::string sequence_scene(const std::string& sequence = R"({"frames": 8})") {
   const auto dir = testutil::test_temp_dir("sequence_eval");
   const std::string path = (dir / "still.json").string();
   std::ofstream(path) << R"({"objects": [
@@ -26,8 +27,12 @@ std::string static_sequence_scene() {
       {"name": "box", "generator": "box", "params": {"size": [0.6, 0.6, 0.6]},
        "transform": {"translate": [0, 0.3, 0]}}],
     "views": [{"name": "still", "eye": [0.9, 1.4, 1.3], "target": [0, 0.1, 0], "fov_y_deg": 50,
-               "width": 64, "height": 48, "sequence": {"frames": 8}}]})";
+               "width": 64, "height": 48, "sequence": )"
+                      << sequence << "}]}";
   return path;
+}
+std::string static_sequence_scene() {
+  return sequence_scene();
 }
 
 ResultRow run(EvaluationSession& session, const std::string& scene, const std::string& estimator,
@@ -172,14 +177,8 @@ TEST(SequenceEvaluation, ColdSessionScoresWhatAWarmOneReads) {
 // wrote is what a warm session reads: it traces nothing.
 TEST(SequenceEvaluation, ALaneScoresAndWritesWhatTheRunnersThreadDoes) {
   const auto dir = testutil::test_temp_dir("sequence_eval_lane");
-  const std::string scene = (dir / "moving.json").string();
-  std::ofstream(scene) << R"({"objects": [
-      {"name": "floor", "generator": "plane", "params": {"size": [4, 4]}},
-      {"name": "box", "generator": "box", "params": {"size": [0.6, 0.6, 0.6]},
-       "transform": {"translate": [0, 0.3, 0]}}],
-    "views": [{"name": "still", "eye": [0.9, 1.4, 1.3], "target": [0, 0.1, 0], "fov_y_deg": 50,
-               "width": 64, "height": 48, "sequence": {"frames": 6, "camera": [
-                 {"frame": 5, "eye": [1.3, 1.2, 0.8], "target": [0, 0.1, 0]}]}}]})";
+  const std::string scene = sequence_scene(
+      R"({"frames": 6, "camera": [{"frame": 5, "eye": [1.3, 1.2, 0.8], "target": [0, 0.1, 0]}]})");
   const nlohmann::json bounded = {{"rays", 4}, {"dmax", 0.5}, {"falloff", "linear"}};
   auto request = [&](const std::string& estimator, const nlohmann::json& overrides) {
     EvaluationRequest req;
