@@ -62,8 +62,9 @@ struct SequenceScoring;
 
 // What an evaluation measured before it is scored: the row so far (identity, timings, status),
 // the last frame's estimate and what scoring needs to find its references. measure() scores a
-// sequence's frames as they run except the last (a frame's G-buffer and references are dropped
-// after it); score() scores the last frame, a still's only one, and finishes the row.
+// sequence's frames as they run except the last, at once or on set_background()'s lane (a frame's
+// G-buffer and references are dropped once scored); score() scores the last frame, a still's only
+// one, and finishes the row. `frames` holds the scored frames' rows: after score() all of them.
 struct Measurement {
   ResultRow row;
   EstimateResult result;
@@ -128,7 +129,9 @@ class EvaluationSession {
   ResultRow evaluate(const EvaluationRequest& request, const std::string& estimate_path = "");
   // Runs the estimator over the view's frames (one for a still): set-up, precompute, warm-up,
   // then each frame's timed runs inside the timed frames' guard (if set); a sequence's frames but
-  // the last are scored as they run. A missing backend gives a measurement whose row is
+  // the last are scored as they run (posted to set_background()'s lane when one is set). Warm-up
+  // runs for Vulkan and process estimators only (frames.cpp). A missing backend gives a
+  // measurement whose row is
   // "skipped: ...".
   Measurement measure(const EvaluationRequest& request);
   // Scores the measurement's last frame (a still's only one), finishes its row and (when
