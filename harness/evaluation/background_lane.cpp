@@ -74,6 +74,10 @@ void BackgroundLane::checkpoint() {
   t_lane->wait_while_paused(lock);
 }
 
+bool BackgroundLane::on_lane_thread() {
+  return t_lane != nullptr;
+}
+
 void BackgroundLane::wait_while_paused(std::unique_lock<std::mutex>& lock) {
   if (!paused_) return;
   busy_ = false;

@@ -41,6 +41,8 @@ class BackgroundLane {
   // Called by a job between its steps (and a no-op off a lane's thread): when the lane is paused,
   // waits here until it resumes. Keeps pause() from waiting for a whole job.
   static void checkpoint();
+  // True on a lane's own thread (where posting to it could wait for itself).
+  static bool on_lane_thread();
 
  private:
   void work();

@@ -158,11 +158,12 @@ ResultRow EvaluationSession::score(Measurement& m, const std::string& estimate_p
   }
   if (SequenceScoring* sequence = m.sequence.get()) {
     FrameToScore frame = sequence->frame;
-    frame.gbuffer = &sequence->gbuffer;
+    frame.gbuffer = sequence->gbuffer.get();
     frame.estimate = &m.result;
-    frame.matched = &sequence->matched;
-    frame.truth = sequence->truth ? &*sequence->truth : &sequence->matched;
-    score_frame(m, frame);
+    frame.matched = sequence->matched.get();
+    frame.truth = sequence->truth ? sequence->truth.get() : sequence->matched.get();
+    score_frame(sequence, &m.row, frame);
+    for (nlohmann::json& f : sequence->frames) m.frames.push_back(std::move(f));
     const TemporalScorer& matched = sequence->matched_scores;
     m.rmse_excess_by_age = matched.rmse_excess_by_age();
     m.settle_excess_by_age = matched.settle_excess_by_age();
@@ -179,11 +180,12 @@ ResultRow EvaluationSession::score(Measurement& m, const std::string& estimate_p
     BackgroundLane::checkpoint();
     const ReferenceImage& truth = reference(m.scene, view, w, h, true_ao_definition());
     BackgroundLane::checkpoint();
-    score_frame(m, {.index = 0,
-                    .gbuffer = &gbuffer(m.scene, view, w, h),
-                    .estimate = &m.result,
-                    .matched = &matched,
-                    .truth = &truth});
+    score_frame(nullptr, &m.row,
+                {.index = 0,
+                 .gbuffer = &gbuffer(m.scene, view, w, h),
+                 .estimate = &m.result,
+                 .matched = &matched,
+                 .truth = &truth});
   }
   if (!estimate_path.empty()) write_estimate(m, estimate_path);
   last_estimate_ = std::move(m.result.ao);

@@ -62,8 +62,9 @@ struct SequenceScoring;
 
 // What an evaluation measured before it is scored: the row so far (identity, timings, status),
 // the last frame's estimate and what scoring needs to find its references. measure() scores a
-// sequence's frames as they run except the last (a frame's G-buffer and references are dropped
-// after it); score() scores the last frame, a still's only one, and finishes the row.
+// sequence's frames as they run except the last, at once or on set_background()'s lane (a frame's
+// G-buffer and references are dropped once scored); score() scores the last frame, a still's only
+// one, and finishes the row. `frames` holds the scored frames' rows: after score() all of them.
 struct Measurement {
   ResultRow row;
   EstimateResult result;
@@ -128,7 +129,9 @@ class EvaluationSession {
   ResultRow evaluate(const EvaluationRequest& request, const std::string& estimate_path = "");
   // Runs the estimator over the view's frames (one for a still): set-up, precompute, warm-up,
   // then each frame's timed runs inside the timed frames' guard (if set); a sequence's frames but
-  // the last are scored as they run. A missing backend gives a measurement whose row is
+  // the last are scored as they run (posted to set_background()'s lane when one is set). Warm-up
+  // runs for Vulkan and process estimators only (frames.cpp). A missing backend gives a
+  // measurement whose row is
   // "skipped: ...".
   Measurement measure(const EvaluationRequest& request);
   // Scores the measurement's last frame (a still's only one), finishes its row and (when
@@ -145,6 +148,15 @@ class EvaluationSession {
     after_timed_frames_ = std::move(after);
   }
 
+  // Where work that may wait goes: `post` runs a job later, jobs in the order posted (the
+  // runners' background lane, whose pause guards the timed frames). A sequence's frames but the
+  // last are scored there, and traced companions' cache entries written there; score() must then
+  // run after the measurement's jobs (on the same lane). Empty: done at once.
+  void set_background(std::function<void(std::function<void()>)> post) {
+    background_ = post;
+    references_.set_writer(std::move(post));
+  }
+
   const ReferenceSpec& reference_spec() const { return references_.spec(); }
   // Where this session's time went (scenes, G-buffers, references, the estimators' stages,
   // scoring, estimate EXRs); runners add their own stages to theirs.
@@ -159,6 +171,7 @@ class EvaluationSession {
   ReferenceStore references_;
   TimingSpec timing_;
   std::function<void()> before_timed_frames_, after_timed_frames_;
+  std::function<void(std::function<void()>)> background_;
   std::vector<float> last_estimate_;
   void fill_identity(Measurement& m, const EvaluationRequest& request);
   void write_estimate(const Measurement& m, const std::string& path);
@@ -171,8 +184,8 @@ class EvaluationSession {
                  std::vector<double>& times, std::map<std::string, std::vector<double>>& passes,
                  EstimateResult& result);
   // Scores one frame (frames.cpp): the row's metrics when it is the last, a sequence's frames.csv
-  // row and temporal scorers.
-  void score_frame(Measurement& m, const FrameToScore& frame);
+  // row and temporal scorers (`sequence`, null for a still); `row` is needed for the last only.
+  void score_frame(SequenceScoring* sequence, ResultRow* row, const FrameToScore& frame);
 };
 
 // Header attributes of an estimate EXR.

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <utility>
 
 #include "base/errors.h"
 #include "base/summary.h"
@@ -96,16 +97,26 @@ void EvaluationSession::run_frames(Measurement& m, bool seed_per_frame) {
   const bool true_is_matched = definition.to_json() == true_ao_definition().to_json();
   ResultRow& row = m.row;
   if (sequence) m.sequence = std::make_shared<SequenceScoring>();
+  // Warm-up runs only where the first run pays for what later ones do not: a Vulkan estimator's
+  // first dispatch (pipeline and shader JIT in the driver, first touch of its buffers) and a
+  // plug-in process. A CPU or Embree estimator is timed cold (issue 42): over 7 repetitions
+  // without warm-up (9 estimators x 3 scenes, under load), a CPU or Embree estimator's first run
+  // was 0.88-1.24x the median of the others, inside their own spread, and the median of all moved
+  // by 3 % at most (vertex-baked's 0.05 ms frames aside, whose own spread is 70-180 %); a Vulkan
+  // one's first was up to 1.48x.
+  const int warmup =
+      e.backend == Backend::vulkan || e.backend == Backend::process ? timing_.warmup : 0;
 
   std::vector<double> times, prepare_times;
   std::map<std::string, std::vector<double>> passes;
-  std::unique_ptr<Estimator> kept;  // keeps_state: the one instance
-  GBuffer prev_g;
+  std::unique_ptr<Estimator> kept;        // keeps_state: the one instance
+  std::shared_ptr<const GBuffer> prev_g;  // a sequence's frame k - 1
   SequenceFrame prev_f;
   const std::vector<int> keep = sequence ? kept_sequence_frames(frames) : std::vector<int>{};
-  ReferenceImage matched;                     // a sequence frame's references ...
-  std::optional<ReferenceImage> truth_owned;  // ... (truth: when it is not the matched one)
-  int prev_ref_frame = -1;                    // ... and the frame they were traced for
+  // A sequence frame's references (truth: when it is not the matched one), shared with the frames'
+  // scoring, and the frame they were traced for.
+  std::shared_ptr<const ReferenceImage> matched, truth_owned;
+  int prev_ref_frame = -1;
   size_t next_kept = 0;
   EstimateResult result;
   for (int k = 0; k < frames; ++k) {
@@ -117,24 +128,25 @@ void EvaluationSession::run_frames(Measurement& m, bool seed_per_frame) {
     const SceneData& s = posed ? *posed : base;
     const Camera camera =
         sequence ? frame_camera(f, w, h) : scenes_.gbuffer(m.scene, view, w, h).camera;
-    GBuffer frame_g;
+    std::shared_ptr<GBuffer> frame_g;
     if (sequence) {
       const auto timer = stages_.time("G-buffer");
-      frame_g = render_gbuffer(*s.embree, camera);
-      add_motion(frame_g, k > 0 ? &prev_g : nullptr, f.motion, k > 0 ? prev_f.motion : f.motion);
+      frame_g = std::make_shared<GBuffer>(render_gbuffer(*s.embree, camera));
+      add_motion(*frame_g, k > 0 ? prev_g.get() : nullptr, f.motion,
+                 k > 0 ? prev_f.motion : f.motion);
     }
-    const GBuffer& g = sequence ? frame_g : scenes_.gbuffer(m.scene, view, w, h);
+    const GBuffer& g = sequence ? *frame_g : scenes_.gbuffer(m.scene, view, w, h);
     const FrameInfo info{.index = k,
                          .count = frames,
                          .fps = sequence ? view.sequence->fps : 0.0,
                          .seed_offset = seed_per_frame ? static_cast<uint64_t>(k) : 0};
     const EstimateContext context{s.scene, *s.embree, g, sequence ? &info : nullptr};
     const ParamSet params = e.keeps_state ? m.params : frame_params(e, m.params, info.seed_offset);
-    if (sequence && k == 0 && timing_.warmup > 0) {
+    if (sequence && k == 0 && warmup > 0) {
       const auto timer = stages_.time(StageTimes::kEstimatorWarmup);
       std::unique_ptr<Estimator> warm = e.create(params);
       warm->prepare(context);
-      for (int i = 0; i < timing_.warmup; ++i) warm->run(context);
+      for (int i = 0; i < warmup; ++i) warm->run(context);
     }
     std::unique_ptr<Estimator> fresh;
     if (!e.keeps_state || !kept) {
@@ -152,7 +164,7 @@ void EvaluationSession::run_frames(Measurement& m, bool seed_per_frame) {
     }
     if (!sequence) {
       const auto timer = stages_.time(StageTimes::kEstimatorWarmup);
-      for (int i = 0; i < timing_.warmup; ++i) result = estimator.run(context);
+      for (int i = 0; i < warmup; ++i) result = estimator.run(context);
     }
 
     // The frame's references, before its timed runs and on this thread, not on a background lane
@@ -169,12 +181,13 @@ void EvaluationSession::run_frames(Measurement& m, bool seed_per_frame) {
     } else if (!repeats) {
       const std::vector<AoDefinition> companions =
           references_.planned_definitions(m.scene, view, w, h);
-      matched = references_.reference_image(
-          s, view, camera, g, frame_settings(m.scene, view, k, definition), companions);
+      matched = std::make_shared<const ReferenceImage>(references_.frame_reference(
+          s, view, camera, g, frame_settings(m.scene, view, k, definition), companions));
       truth_owned.reset();
       if (!true_is_matched)
-        truth_owned = references_.reference_image(
-            s, view, camera, g, frame_settings(m.scene, view, k, true_ao_definition()), companions);
+        truth_owned = std::make_shared<const ReferenceImage>(references_.frame_reference(
+            s, view, camera, g, frame_settings(m.scene, view, k, true_ao_definition()),
+            companions));
     }
     prev_ref_frame = ref_frame;
 
@@ -213,24 +226,39 @@ void EvaluationSession::run_frames(Measurement& m, bool seed_per_frame) {
     FrameToScore frame{.index = k,
                        .gbuffer = &g,
                        .estimate = &result,
-                       .matched = &matched,
-                       .truth = truth_owned ? &*truth_owned : &matched,
                        .time_ms = times.back(),
                        .ref_repeats_previous = repeats,
-                       .prev_jitter = k > 0 ? prev_g.camera.jitter : glm::vec2(0.0f),
+                       .prev_jitter = k > 0 ? prev_g->camera.jitter : glm::vec2(0.0f),
                        .last = k == frames - 1};
     if (frame.last) {  // left to score(), with what it needs
       SequenceScoring& state = *m.sequence;
-      state.gbuffer = std::move(frame_g);
-      state.matched = std::move(matched);
-      state.truth = std::move(truth_owned);
+      state.gbuffer = frame_g;
+      state.matched = matched;
+      state.truth = truth_owned;
       state.frame = frame;
       break;
     }
-    score_frame(m, frame);
+    // Scored in frame order, on the background lane when the runner gives one (set_background):
+    // the job shares the frame's G-buffer and references and owns its estimate.
+    auto score_job = [this, state = m.sequence, gbuffer = std::shared_ptr<const GBuffer>(frame_g),
+                      estimate = std::make_shared<const EstimateResult>(std::move(result)),
+                      matched_ref = matched, truth_ref = truth_owned, frame]() mutable {
+      frame.gbuffer = gbuffer.get();
+      frame.estimate = estimate.get();
+      frame.matched = matched_ref.get();
+      frame.truth = truth_ref ? truth_ref.get() : matched_ref.get();
+      score_frame(state.get(), nullptr, frame);
+    };
+    if (background_)
+      background_(std::move(score_job));
+    else
+      score_job();
     prev_g = std::move(frame_g);
     prev_f = f;
   }
+  // Scored at once, the frames but the last are the measurement's already; on a background lane
+  // they are when score() has run.
+  if (m.sequence && !background_) m.frames = std::exchange(m.sequence->frames, {});
   m.result = std::move(result);
   row.set_times(times);
   for (const auto& [pass, values] : passes)
@@ -238,11 +266,11 @@ void EvaluationSession::run_frames(Measurement& m, bool seed_per_frame) {
   row.precompute_ms = median(prepare_times);
 }
 
-void EvaluationSession::score_frame(Measurement& m, const FrameToScore& f) {
+void EvaluationSession::score_frame(SequenceScoring* sequence, ResultRow* row,
+                                    const FrameToScore& f) {
   const GBuffer& g = *f.gbuffer;
   const EstimateResult& result = *f.estimate;
   const int w = g.width, h = g.height;
-  SequenceScoring* sequence = m.sequence.get();
   // A still scores with FLIP's reference side the store keeps for its reference, and with bent
   // vectors when the estimate has them; a sequence frame's references are not kept.
   const auto bent = sequence
@@ -253,35 +281,53 @@ void EvaluationSession::score_frame(Measurement& m, const FrameToScore& f) {
   // timed (BackgroundLane::checkpoint; a no-op on the runner's own thread): each scoring in two
   // steps (FLIP's reference side, then the metrics), so that a pause waits for one step, not a
   // whole scoring (issue 16: the runner's waits for the lane).
-  auto against = [&](const ReferenceImage& ref, TemporalScorer* temporal) {
+  // `temporal`: the sequence's scorers this reference feeds (both when it is matched and true).
+  auto against = [&](const ReferenceImage& ref, std::vector<TemporalScorer*> temporal) {
     const flip::ReferenceSide* flip_side = nullptr;
     if (!sequence) {
       const auto timer = stages_.time("scoring");
       flip_side = &references_.flip_reference(g, ref);
     }
     BackgroundLane::checkpoint();
-    const auto timer = stages_.time("scoring");
-    const std::vector<uint8_t> mask = compared_pixels(g, ref);
-    nlohmann::json out = to_json(compare_images({w, h, ref.ao.data()}, {w, h, result.ao.data()},
-                                                mask, ref.stderr_ao, flip_side),
-                                 "");
+    std::vector<uint8_t> mask;
+    nlohmann::json out;
+    {
+      const auto timer = stages_.time("scoring");
+      mask = compared_pixels(g, ref);
+      out = to_json(compare_images({w, h, ref.ao.data()}, {w, h, result.ao.data()}, mask,
+                                   ref.stderr_ao, flip_side),
+                    "");
+    }
     BackgroundLane::checkpoint();
+    const auto timer = stages_.time("scoring");
     if (bent)
       if (const auto b = compare_bent(w, h, ref.bent, *bent, mask, ref.bent_stderr))
         add_bent_json(*b, out);
-    if (temporal)
-      temporal->add_frame(temporal_frame(w, h, result.ao.data(), ref.ao.data(), ref.stderr_ao, mask,
-                                         &g, f.prev_jitter, f.ref_repeats_previous));
+    if (!temporal.empty()) {
+      const TemporalFrame frame =
+          temporal_frame(w, h, result.ao.data(), ref.ao.data(), ref.stderr_ao, mask, &g,
+                         f.prev_jitter, f.ref_repeats_previous);
+      for (TemporalScorer* scorer : temporal) scorer->add_frame(frame);
+    }
     return out;
   };
-  const nlohmann::json matched =
-      against(*f.matched, sequence ? &sequence->matched_scores : nullptr);
-  BackgroundLane::checkpoint();
   // An estimator whose declared definition is true AO is scored against one reference twice: the
-  // same inputs give the same numbers, so a still's second scoring is the first's copy.
-  const nlohmann::json truth = f.truth == f.matched && !sequence
-                                   ? matched
-                                   : against(*f.truth, sequence ? &sequence->true_scores : nullptr);
+  // same inputs give the same numbers, so the second scoring is the first's copy, and a
+  // sequence's true-AO scorer takes the same frame as its matched one (issue 42: scoring each
+  // frame once halved that cost for the sequences' constant and raytraced points).
+  const bool one_reference = f.truth == f.matched;
+  std::vector<TemporalScorer*> matched_scorers;
+  if (sequence) {
+    matched_scorers.push_back(&sequence->matched_scores);
+    if (one_reference) matched_scorers.push_back(&sequence->true_scores);
+  }
+  const nlohmann::json matched = against(*f.matched, matched_scorers);
+  BackgroundLane::checkpoint();
+  const nlohmann::json truth =
+      one_reference
+          ? matched
+          : against(*f.truth, sequence ? std::vector<TemporalScorer*>{&sequence->true_scores}
+                                       : std::vector<TemporalScorer*>{});
   BackgroundLane::checkpoint();
   if (sequence) {
     nlohmann::json frame_row = {{"frame", f.index}, {"time_ms", f.time_ms}};
@@ -291,11 +337,11 @@ void EvaluationSession::score_frame(Measurement& m, const FrameToScore& f) {
     frame_row["disoccluded_pixels"] = disoccluded;
     frame_row.update(matched);
     for (const auto& [key, value] : truth.items()) frame_row["true_" + key] = value;
-    m.frames.push_back(frame_row);
+    sequence->frames.push_back(frame_row);
   }
   if (!f.last) return;
-  m.row.metrics = matched;
-  m.row.true_metrics = truth;
+  row->metrics = matched;
+  row->true_metrics = truth;
 }
 
 }  // namespace aoeval

@@ -2,7 +2,7 @@
 // harness/evaluation/.
 #pragma once
 
-#include <optional>
+#include <memory>
 
 #include "harness/evaluation/evaluation.h"
 #include "harness/scoring/temporal_frame.h"
@@ -21,14 +21,16 @@ struct EvaluationSession::FrameToScore {
   bool last = true;  // the row's plain metrics are the last frame's (still_frame())
 };
 
-// A sequence's scoring state: its temporal scorers, and until score() its last frame's G-buffer,
-// references and timing.
+// A sequence's scoring state: its temporal scorers and frames.csv rows (filled frame by frame, in
+// order, on the thread that scores them), and until score() its last frame's G-buffer, references
+// and timing.
 struct SequenceScoring {
   TemporalScorer matched_scores, true_scores;
-  GBuffer gbuffer;
-  ReferenceImage matched;
-  std::optional<ReferenceImage> truth;    // when it is not the matched one
-  EvaluationSession::FrameToScore frame;  // its pointers set by score()
+  std::vector<nlohmann::json> frames;
+  std::shared_ptr<const GBuffer> gbuffer;
+  std::shared_ptr<const ReferenceImage> matched;
+  std::shared_ptr<const ReferenceImage> truth;  // when it is not the matched one
+  EvaluationSession::FrameToScore frame;        // its pointers set by score()
 };
 
 }  // namespace aoeval

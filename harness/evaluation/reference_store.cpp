@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "harness/evaluation/background_lane.h"
 #include "references/cache_lock.h"
 #include "references/reference_cache.h"
 
@@ -142,7 +143,11 @@ ReferenceImage ReferenceStore::trace_references(const SceneData& s, const View& 
       ReferenceSettings other = settings;
       other.definition = d;
       const std::string key = reference_cache_key(s.content_hash, camera, other);
-      if (disk_cache_ ? fs::exists(reference_cache_path(key)) : untaken_.count(key) != 0) continue;
+      {
+        std::lock_guard<std::recursive_mutex> lock(mutex_);
+        if (untaken_.count(key) != 0 || pending_.count(key) != 0) continue;
+      }
+      if (disk_cache_ && fs::exists(reference_cache_path(key))) continue;
       batch.push_back(d);
       keys.push_back(key);
     }
@@ -157,25 +162,88 @@ ReferenceImage ReferenceStore::trace_references(const SceneData& s, const View& 
     counts_.references += batch.size();
     counts_.rays += traced[0].rays_traced;
   }
-  // The companions' entries, each complete before it is renamed into place (write_exr is atomic):
-  // a shard that traced the same entry meanwhile wrote the same bits.
-  for (size_t i = 1; disk_cache_ && i < batch.size(); ++i) {
-    const auto timer = stages_.time("reference write (cache)");
-    ReferenceSettings other = settings;
-    other.definition = batch[i];
-    const OIIO::ImageBuf written = reference_to_image(traced[i], false);
-    Attributes attributes = reference_attributes(s.scene, s.content_hash, view, camera, other);
-    add_cache_attributes(attributes, keys[i], written);
-    write_exr(reference_cache_path(keys[i]), written, attributes);
-  }
-  // The companions wait in memory for their one request, as their entries would read back: a
-  // cold run does not read what it has just traced (issue 42: 15 s of a 303 s cold default run).
-  {
+  // The companions' entries, and the companions in memory for their one request, as their
+  // entries would read back: a cold run does not read what it has just traced (issue 42: 15 s of
+  // a 303 s cold default run).
+  for (size_t i = 1; i < batch.size(); ++i) {
+    if (disk_cache_) {
+      ReferenceSettings other = settings;
+      other.definition = batch[i];
+      write_companion(s, view, camera, other, keys[i], traced[i]);
+    }
     std::lock_guard<std::recursive_mutex> lock(mutex_);
-    for (size_t i = 1; i < batch.size(); ++i)
-      untaken_[keys[i]] = as_read_back(std::move(traced[i]));
+    untaken_[keys[i]] = as_read_back(std::move(traced[i]));
   }
   return std::move(traced[0]);
+}
+
+void ReferenceStore::write_companion(const SceneData& s, const View& view, const Camera& camera,
+                                     const ReferenceSettings& settings, const std::string& key,
+                                     ReferenceImage traced) {
+  // Each entry complete before it is renamed into place (write_exr is atomic): a shard that traced
+  // the same entry meanwhile wrote the same bits. Not under the entry's lock: the runner's thread
+  // may hold the lock of the entry it traces, and another shard the companion's.
+  auto image = std::make_shared<const ReferenceImage>(std::move(traced));
+  Attributes attributes = reference_attributes(s.scene, s.content_hash, view, camera, settings);
+  auto write = [this, image, attributes = std::move(attributes), key]() mutable {
+    {
+      const auto timer = stages_.time("reference write (cache)");
+      const std::string path = reference_cache_path(key);
+      if (!fs::exists(path)) {
+        const OIIO::ImageBuf written = reference_to_image(*image, false);
+        add_cache_attributes(attributes, key, written);
+        write_exr(path, written, attributes);
+      }
+    }
+    std::lock_guard<std::recursive_mutex> lock(mutex_);
+    pending_.erase(key);
+  };
+  std::function<void(std::function<void()>)> writer;
+  {
+    std::lock_guard<std::recursive_mutex> lock(mutex_);
+    if (!BackgroundLane::on_lane_thread()) writer = writer_;
+    if (writer) pending_[key] = image;
+  }
+  if (writer)
+    writer(std::move(write));
+  else
+    write();
+}
+
+ReferenceImage ReferenceStore::frame_reference(const SceneData& s, const View& view,
+                                               const Camera& camera, const GBuffer& g,
+                                               const ReferenceSettings& settings,
+                                               const std::vector<AoDefinition>& companions) {
+  const std::string key = reference_cache_key(s.content_hash, camera, settings);
+  {
+    std::lock_guard<std::recursive_mutex> lock(mutex_);
+    const auto it = recent_.find(key);
+    if (it != recent_.end()) {
+      it->second.used = ++recent_tick_;
+      return it->second.image;
+    }
+  }
+  ReferenceImage image = reference_image(s, view, camera, g, settings, companions);
+  Recent kept;
+  kept.image.width = image.width;
+  kept.image.height = image.height;
+  kept.image.ao = image.ao;
+  kept.image.stderr_ao = image.stderr_ao;
+  kept.image.coverage = image.coverage;
+  const size_t bytes = 3 * image.ao.size() * sizeof(float);
+  constexpr size_t kRecentBytes = size_t{1} << 30;
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
+  kept.used = ++recent_tick_;
+  if (!recent_.emplace(key, std::move(kept)).second) return image;
+  recent_bytes_ += bytes;
+  while (recent_bytes_ > kRecentBytes && recent_.size() > 1) {
+    auto oldest = recent_.begin();
+    for (auto it = recent_.begin(); it != recent_.end(); ++it)
+      if (it->second.used < oldest->second.used) oldest = it;
+    recent_bytes_ -= 3 * oldest->second.image.ao.size() * sizeof(float);
+    recent_.erase(oldest);
+  }
+  return image;
 }
 
 ReferenceImage ReferenceStore::reference_image(const SceneData& s, const View& view,
@@ -190,6 +258,9 @@ ReferenceImage ReferenceStore::reference_image(const SceneData& s, const View& v
       untaken_.erase(it);
       return image;
     }
+    // Handed to the writer and not on disk yet (taken from untaken_ already).
+    const auto pending = pending_.find(reference_cache_key(s.content_hash, camera, settings));
+    if (pending != pending_.end()) return as_read_back(*pending->second);
   }
   if (!disk_cache_) return trace_references(s, view, camera, g, settings, companions);
   const std::string cache_key = reference_cache_key(s.content_hash, camera, settings);

@@ -5,7 +5,9 @@
 // background lane reads.
 #pragma once
 
+#include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -62,6 +64,21 @@ class ReferenceStore {
   // The reference of a view's still frame at a size, kept in memory for the session.
   const ReferenceImage& reference(const std::string& scene, const View& view, int width, int height,
                                   const AoDefinition& definition);
+  // A sequence frame's reference_image(), served from memory when another point asked for it
+  // before (the points of one sequence ask for the same frames' references; a cold default run
+  // read 9.4 s of them back from the disk cache, issue 42). What is kept is what a sequence frame
+  // is scored on (AO, its standard error, A: the same scores), least recently used out first past
+  // about 1 GiB.
+  ReferenceImage frame_reference(const SceneData& s, const View& view, const Camera& camera,
+                                 const GBuffer& g, const ReferenceSettings& settings,
+                                 const std::vector<AoDefinition>& companions = {});
+  // Where the cache entries of traced companions are written: `post` runs a job later (the
+  // runners' background lane, whose pause guards the timed frames); empty, or on a lane's own
+  // thread, they are written at once. Until written, an entry is served from memory.
+  void set_writer(std::function<void(std::function<void()>)> post) {
+    std::lock_guard<std::recursive_mutex> lock(mutex_);
+    writer_ = std::move(post);
+  }
   // reference() traced now when it is neither in memory nor in the disk cache (the runner's
   // thread computes; scoring on the background lane then only reads).
   void compute_missing(const std::string& scene, const View& view, int w, int h,
@@ -83,6 +100,21 @@ class ReferenceStore {
   // (with a disk cache too: a cold run does not read what it has just traced).
   std::map<std::string, ReferenceImage> untaken_;
   std::map<const ReferenceImage*, flip::ReferenceSide> flip_references_;
+  std::function<void(std::function<void()>)> writer_;
+  // Companions handed to writer_ and not on disk yet, as traced, by cache key.
+  std::map<std::string, std::shared_ptr<const ReferenceImage>> pending_;
+  // frame_reference()'s memory, by cache key.
+  struct Recent {
+    ReferenceImage image;
+    uint64_t used = 0;
+  };
+  std::map<std::string, Recent> recent_;
+  size_t recent_bytes_ = 0;
+  uint64_t recent_tick_ = 0;
+  // Writes a traced companion's cache entry, now or through writer_.
+  void write_companion(const SceneData& s, const View& view, const Camera& camera,
+                       const ReferenceSettings& settings, const std::string& key,
+                       ReferenceImage traced);
   // Traces `settings`' reference with those companions of its weighting not yet in the disk cache,
   // writes the companions' entries and returns the asked one.
   ReferenceImage trace_references(const SceneData& s, const View& view, const Camera& camera,

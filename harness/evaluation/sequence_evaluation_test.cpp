@@ -10,6 +10,7 @@
 
 #include "base/testing/test_temp_dir.h"
 #include "estimators/registry.h"
+#include "harness/evaluation/background_lane.h"
 #include "harness/evaluation/evaluation.h"
 
 namespace aoeval {
@@ -17,7 +18,8 @@ namespace {
 
 // A box on a floor seen from above at 64x48 for 8 frames, nothing moving: about half the covered
 // pixels have 0 < AO < 1 (the floor around the box, the box's sides), where the flicker lives.
-std::string static_sequence_scene() {
+// `sequence`: the view's sequence object.
+std::string sequence_scene(const std::string& sequence = R"({"frames": 8})") {
   const auto dir = testutil::test_temp_dir("sequence_eval");
   const std::string path = (dir / "still.json").string();
   std::ofstream(path) << R"({"objects": [
@@ -25,8 +27,12 @@ std::string static_sequence_scene() {
       {"name": "box", "generator": "box", "params": {"size": [0.6, 0.6, 0.6]},
        "transform": {"translate": [0, 0.3, 0]}}],
     "views": [{"name": "still", "eye": [0.9, 1.4, 1.3], "target": [0, 0.1, 0], "fov_y_deg": 50,
-               "width": 64, "height": 48, "sequence": {"frames": 8}}]})";
+               "width": 64, "height": 48, "sequence": )"
+                      << sequence << "}]}";
   return path;
+}
+std::string static_sequence_scene() {
+  return sequence_scene();
 }
 
 ResultRow run(EvaluationSession& session, const std::string& scene, const std::string& estimator,
@@ -160,6 +166,71 @@ TEST(SequenceEvaluation, ColdSessionScoresWhatAWarmOneReads) {
     EXPECT_EQ(a.bent_stderr, b.bent_stderr);
     EXPECT_EQ(a.coverage, b.coverage);
     EXPECT_EQ(a.spp, b.spp);
+  }
+  unsetenv("AOEVAL_CACHE");
+}
+
+// Two points of one moving sequence in a cold session whose background work runs on a lane, as
+// the runners run it (issue 42): the frames but the last scored there in order, the companions'
+// cache entries written there, the second point served its references from memory. Every row and
+// frame row equals, bit for bit, what a session doing all of it at once gives, and what the lane
+// wrote is what a warm session reads: it traces nothing.
+TEST(SequenceEvaluation, ALaneScoresAndWritesWhatTheRunnersThreadDoes) {
+  const auto dir = testutil::test_temp_dir("sequence_eval_lane");
+  const std::string scene = sequence_scene(
+      R"({"frames": 6, "camera": [{"frame": 5, "eye": [1.3, 1.2, 0.8], "target": [0, 0.1, 0]}]})");
+  const nlohmann::json bounded = {{"rays", 4}, {"dmax", 0.5}, {"falloff", "linear"}};
+  auto request = [&](const std::string& estimator, const nlohmann::json& overrides) {
+    EvaluationRequest req;
+    req.estimator = &find_estimator(estimator);
+    req.overrides = overrides;
+    req.scene = scene;
+    req.view = "still";
+    return req;
+  };
+  const std::vector<EvaluationRequest> points = {request("raytraced", bounded),
+                                                 request("constant", nlohmann::json::object())};
+  struct Scored {
+    std::vector<std::string> rows, frames;
+  };
+  auto score_all = [&](const std::string& cache, bool lane_on) {
+    setenv("AOEVAL_CACHE", cache.c_str(), 1);
+    EvaluationSession session(ReferenceSpec{}, TimingSpec{0, 1}, true);
+    for (const EvaluationRequest& req : points) session.plan_references(req);
+    Scored out;
+    {
+      BackgroundLane lane;
+      if (lane_on)
+        session.set_background([&lane](std::function<void()> job) { lane.post(std::move(job)); });
+      for (const EvaluationRequest& req : points) {
+        auto m = std::make_shared<Measurement>(session.measure(req));
+        lane.post([&, m] {
+          const ResultRow row = session.score(*m);
+          out.rows.push_back(row.metrics.dump() + row.true_metrics.dump());
+          for (nlohmann::json f : m->frames) {
+            f.erase("time_ms");  // the one column that differs between runs
+            out.frames.push_back(f.dump());
+          }
+        });
+      }
+      lane.drain();
+      session.set_background(nullptr);
+    }
+    EXPECT_EQ(session.reference_counts().traces, 6u) << "one pass a frame for both points";
+    return out;
+  };
+  const Scored at_once = score_all((dir / "cache_a").string(), false);
+  const Scored on_lane = score_all((dir / "cache_b").string(), true);
+  ASSERT_EQ(on_lane.frames.size(), 12u);
+  EXPECT_EQ(on_lane.rows, at_once.rows);
+  EXPECT_EQ(on_lane.frames, at_once.frames);
+  // Each point alone in a warm session reads every reference from what the lane wrote.
+  setenv("AOEVAL_CACHE", (dir / "cache_b").c_str(), 1);
+  for (size_t i = 0; i < points.size(); ++i) {
+    EvaluationSession warm(ReferenceSpec{}, TimingSpec{0, 1}, true);
+    const ResultRow row = warm.evaluate(points[i]);
+    EXPECT_EQ(warm.reference_counts().traces, 0u);
+    EXPECT_EQ(row.metrics.dump() + row.true_metrics.dump(), on_lane.rows.at(i)) << i;
   }
   unsetenv("AOEVAL_CACHE");
 }

@@ -304,6 +304,7 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
             lane.resume();
             if (guard_workers) plot_workers.thaw();
           });
+      session.set_background([&lane](std::function<void()> job) { lane.post(std::move(job)); });
       if (!load_ms.count(sp.point.scene)) {
         const auto t0 = std::chrono::steady_clock::now();
         session.scene(sp.point.scene);
@@ -337,7 +338,10 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
       const auto timer = result.stages.time(StageTimes::kBackgroundLeftAtEnd);
       lane.drain();
     }
-    for (auto& [key, session] : sessions) session->set_timed_frames_guard(nullptr, nullptr);
+    for (auto& [key, session] : sessions) {
+      session->set_timed_frames_guard(nullptr, nullptr);
+      session->set_background(nullptr);
+    }
   }
   {
     const auto timer = result.stages.time("results CSV + JSON");

@@ -151,6 +151,7 @@ int run_sweep(const SweepOptions& o, std::string* out_dir, std::string* page) {
     // session pauses the lane during every timed frame loop (background_lane.h).
     BackgroundLane lane;
     session.set_timed_frames_guard([&lane] { lane.pause(); }, [&lane] { lane.resume(); });
+    session.set_background([&lane](std::function<void()> job) { lane.post(std::move(job)); });
     for (const SweepPoint* p : pending) {
       if (interrupts->interrupted()) break;
       auto measured = std::make_shared<Measurement>(session.measure(evaluation_request(*p)));
@@ -196,6 +197,7 @@ int run_sweep(const SweepOptions& o, std::string* out_dir, std::string* page) {
     const auto timer = runner_stages.time(StageTimes::kBackgroundLeftAtEnd);
     lane.drain();
     session.set_timed_frames_guard(nullptr, nullptr);
+    session.set_background(nullptr);
   }
   interrupts.reset();  // the handler it replaced is back
   // The breakdown of this invocation (a resumed sweep reports the part it ran), on stderr and in
