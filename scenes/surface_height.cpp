@@ -20,13 +20,17 @@ void SurfaceHeight::cell_range(double lo, double hi, double origin, double cell,
   last = std::clamp(static_cast<int>(std::floor((hi - origin) / cell)), 0, n - 1);
 }
 
-SurfaceHeight::SurfaceHeight(const TriangleMesh& mesh) {
+SurfaceHeight::SurfaceHeight(const TriangleMesh& mesh, const std::optional<Footprint>& within) {
   std::vector<glm::dvec2> lo, hi;  // the kept triangles' (x, z) boxes
   for (const auto& t : mesh.triangles) {
     const glm::dvec3 a(mesh.positions[t.x]), b(mesh.positions[t.y]), c(mesh.positions[t.z]);
     const glm::dvec3 e1 = b - a, e2 = c - a;
     const double den = cross2(e1, e2);
     if (den == 0.0) continue;  // edge-on from above
+    if (within &&
+        (std::max({a.x, b.x, c.x}) < within->x0 || std::min({a.x, b.x, c.x}) > within->x1 ||
+         std::max({a.z, b.z, c.z}) < within->z0 || std::min({a.z, b.z, c.z}) > within->z1))
+      continue;  // wholly outside the footprint asked for
     triangles_.push_back(
         {a.x, a.z, a.y, e2.z / den, -e2.x / den, -e1.z / den, e1.x / den, e1.y, e2.y});
     glm::dvec3 n = glm::normalize(glm::cross(e1, e2));
@@ -47,10 +51,19 @@ SurfaceHeight::SurfaceHeight(const TriangleMesh& mesh) {
   cell_x_ = w / nx_;
   cell_z_ = d / nz_;
   std::vector<uint32_t> count(static_cast<size_t>(nx_) * nz_ + 1, 0);
+  // A box whose far side lies on a cell boundary is not listed in the cell beyond it: a query
+  // there takes the cell's own triangles, one of which holds the shared edge (edges count as
+  // covered). A regular height field's triangles then sit in the cells of their own grid cell
+  // alone (2 candidates a query instead of up to 8; the query was 15 % of a forest-10k frame, 14 %
+  // after this).
+  auto span = [](double from, double to, double origin, double cell, int n, int& first, int& last) {
+    first = std::clamp(static_cast<int>(std::floor((from - origin) / cell)), 0, n - 1);
+    last = std::clamp(static_cast<int>(std::ceil((to - origin) / cell)) - 1, first, n - 1);
+  };
   auto visit = [&](size_t i, auto&& f) {
     int i0, i1, j0, j1;
-    cell_range(lo[i].x, hi[i].x, x0_, cell_x_, nx_, i0, i1);
-    cell_range(lo[i].y, hi[i].y, z0_, cell_z_, nz_, j0, j1);
+    span(lo[i].x, hi[i].x, x0_, cell_x_, nx_, i0, i1);
+    span(lo[i].y, hi[i].y, z0_, cell_z_, nz_, j0, j1);
     for (int j = j0; j <= j1; ++j)
       for (int k = i0; k <= i1; ++k) f(static_cast<size_t>(j) * nx_ + k);
   };

@@ -20,7 +20,14 @@ class SurfaceHeight {
  public:
   // Indexes the mesh's triangles (world space) by their (x, z) footprints in a uniform grid of
   // about one triangle per cell. Triangles seen edge-on from above (vertical walls) are skipped.
-  explicit SurfaceHeight(const TriangleMesh& mesh);
+  // With `within`, only the triangles whose footprint meets that rectangle are kept: a query
+  // inside it gives the same answer (Terrain.AFootprintsQueryAnswersAsTheWholeSurfaces), and a
+  // grass field's prepare indexes its 16 x 16 m, not the whole 430 m terrain, every frame.
+  struct Footprint {
+    double x0, x1, z0, z1;
+  };
+  explicit SurfaceHeight(const TriangleMesh& mesh,
+                         const std::optional<Footprint>& within = std::nullopt);
 
   // The highest triangle over (x, z) and its height there, interpolated on the triangle
   // (barycentric weights in double, so a point of the triangle's own plane comes back to within

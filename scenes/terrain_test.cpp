@@ -86,6 +86,38 @@ TEST(Terrain, NoiseStaysWithinItsAmplitudeAndRepeatsItsBits) {
   EXPECT_GT(hi - lo, 1.5);  // it is not flat: three octaves over four features span most of it
 }
 
+// The query kept to a footprint (what a grass field asks for) answers as the whole surface's inside
+// it, bit for bit, with fewer triangles; and each triangle of a regular grid is listed only in the
+// cells of its own grid cell, so a query over a cell boundary still finds the edge's height.
+TEST(Terrain, AFootprintsQueryAnswersAsTheWholeSurfaces) {
+  const GeneratedGeometry g = terrain({{"size", {60, 60}},
+                                       {"resolution", 64},
+                                       {"amplitude", 3},
+                                       {"feature_length", 30},
+                                       {"octaves", 3}},
+                                      5);
+  const SurfaceHeight whole(g.mesh);
+  const SurfaceHeight::Footprint box{-7.3, 9.1, 2.2, 17.9};
+  const SurfaceHeight part(g.mesh, box);
+  int compared = 0;
+  for (int i = 0; i <= 200; ++i)
+    for (int k = 0; k <= 200; ++k) {
+      const double x = box.x0 + (box.x1 - box.x0) * i / 200.0;
+      const double z = box.z0 + (box.z1 - box.z0) * k / 200.0;
+      const auto a = whole.at(x, z), b = part.at(x, z);
+      ASSERT_TRUE(a && b) << x << " " << z;
+      EXPECT_EQ(a->y, b->y) << x << " " << z;
+      ++compared;
+    }
+  EXPECT_EQ(compared, 201 * 201);
+  // Every vertex, on four cells' boundaries, is found, at its own height.
+  for (const glm::vec3& p : g.mesh.positions) {
+    const auto a = whole.at(p.x, p.z);
+    ASSERT_TRUE(a) << p.x << " " << p.z;
+    EXPECT_NEAR(a->y, p.y, 1e-5);
+  }
+}
+
 TEST(Terrain, BadParametersAreOneClearLine) {
   EXPECT_NE(terrain_error({{"resolution", 0}}).find("resolution"), std::string::npos);
   EXPECT_NE(terrain_error({{"amplitude", -1}}).find("amplitude"), std::string::npos);

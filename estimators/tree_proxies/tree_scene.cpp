@@ -196,7 +196,9 @@ const std::vector<TreeEnvelope>& TreeScene::prepare(const Scene& scene,
     if (!o.on.empty()) {  // on a terrain: heights from the ground under the pixel and the root
       const auto g = std::find_if(scene.objects.begin(), scene.objects.end(),
                                   [&](const SceneObject& s) { return s.name == o.on; });
-      if (g != scene.objects.end()) f.ground = std::make_shared<SurfaceHeight>(g->mesh);
+      if (g != scene.objects.end())
+        f.ground = std::make_shared<SurfaceHeight>(
+            g->mesh, SurfaceHeight::Footprint{b.lower.x, b.upper.x, b.lower.z, b.upper.z});
       if (const auto h = grass_blade_height(o)) f.height = *h;
     }
     if (options.blade_height > 0.0) f.height = static_cast<float>(options.blade_height);
