@@ -372,7 +372,11 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
       const double tau = s.antilag * std::sqrt(fvar) + s.antilag_min;
       if (d > tau) {
         len *= (tau / d) * (tau / d);
-        h += (f - hbar) * (1.0 - tau / d);
+        // The shift moves the history by the window mean's change, which a pixel at an edge of
+        // that window need not share: a history at 1 beside neighbours that brightened would
+        // leave [0, 1]. The stage's values are AO (every estimator through it writes [0, 1]), so
+        // the shifted history is kept there; it only moves closer to any truth.
+        h = std::clamp(h + (f - hbar) * (1.0 - tau / d), 0.0, 1.0);
       }
     }
     // Neighbourhood clamp of the history (step 5).
