@@ -306,7 +306,7 @@ SceneObject load_object(JsonReader reader, const fs::path& scene_dir) {
   if (reader.has("instances")) obj.instances = read_instances(reader, obj.mesh.bounds());
   if (reader.has("on")) {
     obj.on = reader.string("on");
-    if (obj.instances.empty() &&
+    if (!reader.has("instances") &&
         !(obj.role == Role::grass && obj.source.starts_with("generator grass ")))
       reader.fail("on",
                   "only instanced objects and grass fields of the grass generator stand on "
@@ -435,8 +435,13 @@ Scene load_scene_file(const std::string& path) {
   });
   for (const auto& e : errors)  // report the first failing object, in file order
     if (e) std::rethrow_exception(e);
-  for (auto& objects : loaded)
-    for (auto& o : objects) scene.objects.push_back(std::move(o));
+  // An object placed by "instances" whose placer gave it no spot (a share of a small count: the
+  // spots go to the shares by a seeded hash) has no copy: it is left out, not drawn once as a
+  // plain object at its own transform.
+  for (size_t i = 0; i < loaded.size(); ++i)
+    for (auto& o : loaded[i])
+      if (!(object_readers[i].has("instances") && o.instances.empty()))
+        scene.objects.push_back(std::move(o));
   for (size_t i = 0; i < scene.objects.size(); ++i)
     for (size_t j = 0; j < i; ++j)
       if (scene.objects[i].name == scene.objects[j].name)

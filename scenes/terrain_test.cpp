@@ -118,6 +118,26 @@ TEST(Terrain, AFootprintsQueryAnswersAsTheWholeSurfaces) {
   }
 }
 
+// A placer's share that gets no spot (one tree over four prototypes, as `bench scale --counts 1`
+// asks) leaves its object out: no copy, not one plain copy at the object's own transform, and no
+// refusal of its "on".
+TEST(Terrain, AShareWithNoSpotLeavesItsObjectOut) {
+  const std::string path = (testutil::test_temp_dir("terrain") / "one-tree.json").string();
+  std::string objects = R"({"name": "ground", "generator": "terrain", "role": "ground",
+      "params": {"size": [40, 40], "resolution": 16, "amplitude": 1, "feature_length": 20}})";
+  for (int k = 0; k < 4; ++k)
+    objects += R"(, {"name": "t)" + std::to_string(k) +
+               R"(", "generator": "sphere", "on": "ground", "instances": {"placer": "jittered-grid",
+      "seed": 3, "count": 1, "center": [0, 0, 0], "size": [20, 20], "share": [)" +
+               std::to_string(k) + R"(, 4]}})";
+  std::ofstream(path)
+      << R"({"objects": [)" + objects +
+             R"(], "views": [{"name": "v", "eye": [0, 5, 30], "target": [0, 0, 0]}]})";
+  const Scene s = load_scene_file(path);
+  ASSERT_EQ(s.objects.size(), 2u);  // the terrain and the one share that got the spot
+  EXPECT_EQ(s.objects[1].instances.size(), 1u);
+}
+
 TEST(Terrain, BadParametersAreOneClearLine) {
   EXPECT_NE(terrain_error({{"resolution", 0}}).find("resolution"), std::string::npos);
   EXPECT_NE(terrain_error({{"amplitude", -1}}).find("amplitude"), std::string::npos);
