@@ -44,6 +44,16 @@ TemporalSettings no_clamp(double alpha_min, int history_limit) {
   return s;
 }
 
+// no_clamp(0, 32) with the anti-lag on over 5x5 windows.
+TemporalSettings with_antilag(double antilag, double antilag_min, int frames) {
+  TemporalSettings s = no_clamp(0.0, 32);
+  s.antilag = antilag;
+  s.antilag_min = antilag_min;
+  s.antilag_radius = 2;
+  s.antilag_frames = frames;
+  return s;
+}
+
 // Frame 0 shows v, every later frame c: the error value - c after frame k is (v - c) times the
 // product of (1 - alpha_j), j = 1..k. Three regimes of alpha_j = max(alpha_min, 1/(L_j + 1)):
 // the running mean (alpha_min = 0, long limit): error (v - c) / (k + 1); the fixed-alpha regime
@@ -255,10 +265,7 @@ TEST(TemporalStage, ACatmullRomHistoryStaysSharpUnderSubPixelMotion) {
 // within 1.25 x that without it.
 TEST(TemporalStage, AntiLagShortensAHistoryWhoseTruthMoved) {
   const GBuffer g = flat(12, 10);
-  TemporalSettings s = no_clamp(0.0, 32);
-  s.antilag = 3.0;
-  s.antilag_min = 0.02;
-  s.antilag_radius = 2;
+  const TemporalSettings s = with_antilag(3.0, 0.02, 1);
   TemporalAccumulator fast(s), slow(no_clamp(0.0, 32));
   for (int k = 0; k < 21; ++k) {
     fast.accumulate(g, std::vector<float>(g.pixel_count(), 1.0f));
@@ -301,11 +308,7 @@ TEST(TemporalStage, AntiLagShortensAHistoryWhoseTruthMoved) {
 TEST(TemporalStage, AFastHistoryDetectsASmallerChangeThanOneFrame) {
   const GBuffer g = flat(48, 40);
   auto run = [&](double antilag, int frames, double* before) {
-    TemporalSettings s = no_clamp(0.0, 32);
-    s.antilag = antilag;
-    s.antilag_min = 0.0;
-    s.antilag_radius = 2;
-    s.antilag_frames = frames;
+    const TemporalSettings s = with_antilag(antilag, 0.0, frames);
     TemporalAccumulator stage(s);
     SplitMix64 rng(5);
     double truth = 0.5;
@@ -346,11 +349,7 @@ TEST(TemporalStage, AFastHistoryDetectsASmallerChangeThanOneFrame) {
 // dragon/walk with gtao's tuned defaults, which the harness refuses); it must stay an AO value.
 TEST(TemporalStage, TheAntiLagShiftKeepsTheHistoryAnAoValue) {
   const GBuffer g = flat(48, 40);
-  TemporalSettings s = no_clamp(0.0, 32);
-  s.antilag = 1.6;
-  s.antilag_min = 0.08;
-  s.antilag_radius = 2;
-  s.antilag_frames = 2;
+  const TemporalSettings s = with_antilag(1.6, 0.08, 2);
   TemporalAccumulator stage(s);
   float highest = 0.0f;
   for (int k = 0; k < 24; ++k) {
