@@ -12,13 +12,13 @@ double cross2(const glm::dvec3& u, const glm::dvec3& v) {
   return u.x * v.z - u.z * v.x;
 }
 
-}  // namespace
-
-void SurfaceHeight::cell_range(double lo, double hi, double origin, double cell, int n, int& first,
-                               int& last) const {
-  first = std::clamp(static_cast<int>(std::floor((lo - origin) / cell)), 0, n - 1);
-  last = std::clamp(static_cast<int>(std::floor((hi - origin) / cell)), 0, n - 1);
+// The cell of v along one axis, clamped to the grid (a point on the far edge is in the last cell),
+// in double before the cast: a query far off the grid would overflow int.
+int cell_of(double v, double origin, double cell, int n) {
+  return static_cast<int>(std::clamp(std::floor((v - origin) / cell), 0.0, n - 1.0));
 }
+
+}  // namespace
 
 SurfaceHeight::SurfaceHeight(const TriangleMesh& mesh, const std::optional<Footprint>& within) {
   std::vector<glm::dvec2> lo, hi;  // the kept triangles' (x, z) boxes
@@ -27,16 +27,17 @@ SurfaceHeight::SurfaceHeight(const TriangleMesh& mesh, const std::optional<Footp
     const glm::dvec3 e1 = b - a, e2 = c - a;
     const double den = cross2(e1, e2);
     if (den == 0.0) continue;  // edge-on from above
-    if (within &&
-        (std::max({a.x, b.x, c.x}) < within->x0 || std::min({a.x, b.x, c.x}) > within->x1 ||
-         std::max({a.z, b.z, c.z}) < within->z0 || std::min({a.z, b.z, c.z}) > within->z1))
+    const glm::dvec2 box_lo(std::min({a.x, b.x, c.x}), std::min({a.z, b.z, c.z}));
+    const glm::dvec2 box_hi(std::max({a.x, b.x, c.x}), std::max({a.z, b.z, c.z}));
+    if (within && (box_hi.x < within->x0 || box_lo.x > within->x1 || box_hi.y < within->z0 ||
+                   box_lo.y > within->z1))
       continue;  // wholly outside the footprint asked for
     triangles_.push_back(
         {a.x, a.z, a.y, e2.z / den, -e2.x / den, -e1.z / den, e1.x / den, e1.y, e2.y});
     glm::dvec3 n = glm::normalize(glm::cross(e1, e2));
     normals_.emplace_back(n.y < 0.0 ? -n : n);
-    lo.emplace_back(std::min({a.x, b.x, c.x}), std::min({a.z, b.z, c.z}));
-    hi.emplace_back(std::max({a.x, b.x, c.x}), std::max({a.z, b.z, c.z}));
+    lo.push_back(box_lo);
+    hi.push_back(box_hi);
   }
   if (triangles_.empty()) return;
   glm::dvec2 all_lo = lo[0], all_hi = hi[0];
@@ -57,7 +58,7 @@ SurfaceHeight::SurfaceHeight(const TriangleMesh& mesh, const std::optional<Footp
   // alone (2 candidates a query instead of up to 8; the query was 15 % of a forest-10k frame, 14 %
   // after this).
   auto span = [](double from, double to, double origin, double cell, int n, int& first, int& last) {
-    first = std::clamp(static_cast<int>(std::floor((from - origin) / cell)), 0, n - 1);
+    first = cell_of(from, origin, cell, n);
     last = std::clamp(static_cast<int>(std::ceil((to - origin) / cell)) - 1, first, n - 1);
   };
   auto visit = [&](size_t i, auto&& f) {
@@ -77,10 +78,8 @@ SurfaceHeight::SurfaceHeight(const TriangleMesh& mesh, const std::optional<Footp
 
 std::optional<SurfacePoint> SurfaceHeight::at(double x, double z) const {
   if (triangles_.empty() || !std::isfinite(x) || !std::isfinite(z)) return std::nullopt;
-  int i, i1, j, j1;
-  cell_range(x, x, x0_, cell_x_, nx_, i, i1);
-  cell_range(z, z, z0_, cell_z_, nz_, j, j1);
-  const size_t cell = static_cast<size_t>(j) * nx_ + i;
+  const size_t cell = static_cast<size_t>(cell_of(z, z0_, cell_z_, nz_)) * nx_ +
+                      static_cast<size_t>(cell_of(x, x0_, cell_x_, nx_));
   constexpr double kEdge = 1e-9;  // barycentric slack: a point on a shared edge is covered
   double best_y = -INFINITY;
   uint32_t best = UINT32_MAX;

@@ -45,8 +45,6 @@ class SurfaceHeight {
   std::vector<uint32_t> start_, items_;
   double x0_ = 0.0, z0_ = 0.0, cell_x_ = 1.0, cell_z_ = 1.0;
   int nx_ = 1, nz_ = 1;
-  void cell_range(double lo, double hi, double origin, double cell, int n, int& first,
-                  int& last) const;
 };
 
 }  // namespace aoeval
