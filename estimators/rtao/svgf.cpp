@@ -52,6 +52,22 @@ Span covered_span(const float* cov, int w) {
   return {lo, hi};
 }
 
+// The runs of a row whose covered pixels have a history shorter than `frames` (the variance's
+// spatial estimate), in order; runs less than kRunGap pixels apart are joined (a loop's start
+// costs more than a few pixels).
+constexpr int kRunGap = 32;
+std::vector<Span> short_runs(const float* cov, const float* len, float frames, int w) {
+  std::vector<Span> runs;
+  for (int i = 0; i < w; ++i) {
+    if (!(cov[i] > 0.5f && len[i] < frames)) continue;
+    if (!runs.empty() && i - runs.back().hi < kRunGap)
+      runs.back().hi = i + 1;
+    else
+      runs.push_back({i, i + 1});
+  }
+  return runs;
+}
+
 // The 24 offsets of the 5x5 kernel in 12 mirror pairs (kx, ky) ~ (-kx, -ky), which share eq. 3's
 // denominator: the index of (kx, ky)'s pair.
 constexpr int kMirrorOffsets = 12;
@@ -128,20 +144,20 @@ std::vector<float> svgf_variance(const SvgfGuide& g, const std::vector<float>& m
     std::vector<double> sw(w), s1(w), s2(w);
     for (int j = j0; j < j1; ++j) {
       const ptrdiff_t row = static_cast<ptrdiff_t>(j) * w;
-      bool spatial = false;
-      for (int i = 0; i < w; ++i) spatial |= gr.cov[row + i] > 0.5f && len[row + i] < frames;
-      if (spatial) {
-        // §4.2: the bilateral estimate (7x7 at the paper's radius 3), depth and normal weights
-        // only, the taps in row order; the centre's weight is exp(0) = 1.
-        std::fill(sw.begin(), sw.end(), 0.0);
-        std::fill(s1.begin(), s1.end(), 0.0);
-        std::fill(s2.begin(), s2.end(), 0.0);
+      // §4.2: the bilateral estimate (7x7 at the paper's radius 3), depth and normal weights
+      // only, the taps in row order, over the runs of the row whose history is short (the other
+      // pixels read their own moments); the centre's weight is exp(0) = 1. A pixel's sums do not
+      // depend on the run it is in: the same bits as over the whole row.
+      for (const Span run : short_runs(gr.cov + row, len + row, frames, w)) {
+        std::fill(sw.begin() + run.lo, sw.begin() + run.hi, 0.0);
+        std::fill(s1.begin() + run.lo, s1.begin() + run.hi, 0.0);
+        std::fill(s2.begin() + run.lo, s2.begin() + run.hi, 0.0);
         for (int dy = -rad; dy <= rad; ++dy) {
           if (j + dy < 0 || j + dy >= g.height) continue;
           for (int dx = -rad; dx <= rad; ++dx) {
             const ptrdiff_t shift = static_cast<ptrdiff_t>(dy) * w + dx;
             if (shift == 0) {  // the centre: weight exp(0) = 1
-              for (int i = 0; i < w; ++i) {
+              for (int i = run.lo; i < run.hi; ++i) {
                 sw[i] += 1.0;
                 s1[i] += m1[row + i];
                 s2[i] += m2[row + i];
@@ -150,8 +166,10 @@ std::vector<float> svgf_variance(const SvgfGuide& g, const std::vector<float>& m
             }
             const TapGeometry geometry{static_cast<float>(dx), static_cast<float>(dy), sigma_z,
                                        sigma_n};
-            taps.variance(gr, row, shift, geometry, m1, m2, {sw.data(), s1.data(), s2.data()},
-                          first_inside(dx), end_inside(w, dx));
+            const int i0 = run.begin(first_inside(dx)), i1 = run.end(end_inside(w, dx));
+            if (i0 < i1)
+              taps.variance(gr, row, shift, geometry, m1, m2, {sw.data(), s1.data(), s2.data()}, i0,
+                            i1);
           }
         }
       }

@@ -280,6 +280,26 @@ TEST(Svgf, TheRowLoopsGiveThePixelLoopsBits) {
   }
 }
 
+// The variance's spatial estimate runs over the short histories of a row only: single pixels at
+// both ends of a row (two runs, 35 pixels apart), a run across the middle, and rows with none
+// give the pixel loops' bits.
+TEST(Svgf, TheVarianceOfScatteredShortHistoriesIsThePixelLoopsBits) {
+  const GBuffer g = scene();
+  const SvgfGuide guide = svgf_guide(g);
+  Signal x = signal(g);
+  for (int j = 0; j < g.height; ++j)
+    for (int i = 0; i < g.width; ++i) {
+      const size_t p = g.index(i, j);
+      if (x.length[p] == 0.0f) continue;
+      const bool ends = j % 3 == 0 && (i == 1 || i == g.width - 1);
+      const bool middle = j % 5 == 1 && i > 14 && i < 22;
+      x.length[p] = ends || middle ? 2.0f : 8.0f;
+    }
+  const SvgfSettings s = settings();
+  EXPECT_EQ(svgf_variance(guide, x.moment1, x.moment2, x.length, s),
+            reference_variance(guide, x, s, fast_exp, fast_log));
+}
+
 TEST(Svgf, OneThreadGivesTheBitsOfMany) {
   const GBuffer g = scene();
   const Signal x = signal(g);
