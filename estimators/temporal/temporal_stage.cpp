@@ -151,6 +151,7 @@ void TemporalAccumulator::reset() {
   prev_fast_.clear();
   prev_fast_var_.clear();
   prev_fast_length_.clear();
+  prev_spread_.clear();
 }
 
 void TemporalAccumulator::replace_history(const std::vector<float>& history) {
@@ -161,76 +162,80 @@ void TemporalAccumulator::replace_history(const std::vector<float>& history) {
 
 namespace {
 
-// Window statistics over the covered pixels of every (2 r + 1)^2 window, population, in double:
-// per row, the sums of each column over the window's rows, then of those over the window's columns
-// (2 (2 r + 1) additions a pixel, not (2 r + 1)^2), in a fixed order whatever the threads.
-// `use(p, n, mean, var)` is called for every covered pixel p (n >= 1: p itself is covered).
+// Window statistics over the covered pixels of every (2 r + 1)^2 window, population, in double.
+// Running sums: down a chunk of kChunkRows rows, each column's sums over the window's rows gain
+// the row that enters and lose the row that leaves; along a row, the window's sums gain the
+// column that enters and lose the one that leaves (a few additions a pixel, not 2 (2 r + 1)).
+// Every chunk starts afresh at fixed rows, so the order of the sums is the same whatever the
+// threads. `use(p, n, mean, var)` is called for every covered pixel p (n >= 1: p is covered).
+constexpr int kChunkRows = 16;
 template <class Use>
 void window_stats(const std::vector<float>& x, const std::vector<uint8_t>& covered, int w, int h,
                   int r, const Use& use) {
-  tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+  const int chunks = (h + kChunkRows - 1) / kChunkRows;
+  tbb::parallel_for(tbb::blocked_range<int>(0, chunks), [&](const tbb::blocked_range<int>& range) {
     std::vector<double> cn(w), c1(w), c2(w);
-    for (int j = rows.begin(); j < rows.end(); ++j) {
+    double* __restrict sn = cn.data(), * __restrict s1 = c1.data(), * __restrict s2 = c2.data();
+    // Adds row b to the column sums (sign +1) or takes it away (-1): a vectorised loop.
+    const auto add_row = [&](int b, double sign) {
+      const uint8_t* __restrict cov = covered.data() + static_cast<size_t>(b) * w;
+      const float* __restrict xb = x.data() + static_cast<size_t>(b) * w;
+      for (int a = 0; a < w; ++a) {
+        const double v = cov[a] ? xb[a] : 0.0;
+        sn[a] += cov[a] ? sign : 0.0;
+        s1[a] += sign * v;
+        s2[a] += sign * (v * v);
+      }
+    };
+    for (int chunk = range.begin(); chunk < range.end(); ++chunk) {
+      const int j0 = chunk * kChunkRows, j1 = std::min(h, j0 + kChunkRows);
       std::fill(cn.begin(), cn.end(), 0.0);
       std::fill(c1.begin(), c1.end(), 0.0);
       std::fill(c2.begin(), c2.end(), 0.0);
-      double* __restrict sn = cn.data(), * __restrict s1 = c1.data(), * __restrict s2 = c2.data();
-      for (int b = std::max(0, j - r); b <= std::min(h - 1, j + r); ++b) {
-        const uint8_t* __restrict cov = covered.data() + static_cast<size_t>(b) * w;
-        const float* __restrict xb = x.data() + static_cast<size_t>(b) * w;
-        for (int a = 0; a < w; ++a) {  // a vectorised loop over the row
-          const double v = cov[a] ? xb[a] : 0.0;
-          sn[a] += cov[a] ? 1.0 : 0.0;
-          s1[a] += v;
-          s2[a] += v * v;
+      for (int b = std::max(0, j0 - r); b <= std::min(h - 1, j0 + r); ++b) add_row(b, 1.0);
+      for (int j = j0; j < j1; ++j) {
+        if (j > j0) {
+          if (j + r < h) add_row(j + r, 1.0);
+          if (j - r - 1 >= 0) add_row(j - r - 1, -1.0);
         }
-      }
-      for (int i = 0; i < w; ++i) {
-        const size_t p = static_cast<size_t>(j) * w + i;
-        if (!covered[p]) continue;
         double n = 0.0, sum = 0.0, sum2 = 0.0;
-        for (int a = std::max(0, i - r); a <= std::min(w - 1, i + r); ++a) {
-          n += cn[a];
-          sum += c1[a];
-          sum2 += c2[a];
+        for (int a = 0; a <= std::min(w - 1, r - 1); ++a) n += cn[a], sum += c1[a], sum2 += c2[a];
+        const uint8_t* cov = covered.data() + static_cast<size_t>(j) * w;
+        for (int i = 0; i < w; ++i) {
+          if (i + r < w) n += cn[i + r], sum += c1[i + r], sum2 += c2[i + r];
+          if (i - r - 1 >= 0) n -= cn[i - r - 1], sum -= c1[i - r - 1], sum2 -= c2[i - r - 1];
+          if (!cov[i]) continue;
+          const double mean = sum / n;
+          use(static_cast<size_t>(j) * w + i, n, mean, std::max(0.0, sum2 / n - mean * mean));
         }
-        const double mean = sum / n;
-        use(p, n, mean, std::max(0.0, sum2 / n - mean * mean));
       }
     }
   });
 }
 
-// The clamp range of every covered pixel (lo, hi: written there only): mean +- max(gamma sigma,
-// sigma_min) of the current frame's raw values over the covered pixels of its (2 r + 1)^2 window.
-void clamp_ranges(const std::vector<float>& x, const std::vector<uint8_t>& covered, int w, int h,
-                  const TemporalSettings& s, std::vector<double>& lo, std::vector<double>& hi) {
-  lo.resize(x.size());
-  hi.resize(x.size());
-  window_stats(x, covered, w, h, s.clamp_radius, [&](size_t p, double, double mean, double var) {
-    const double half = std::max(s.gamma * std::sqrt(var), s.clamp_sigma_min);
-    lo[p] = mean - half;
-    hi[p] = mean + half;
-  });
+// The clamp range of a covered pixel p: mean +- max(gamma sigma, sigma_min) of the current frame's
+// raw values over the covered pixels of its (2 clamp_radius + 1)^2 window.
+void clamp_range(const TemporalSettings& s, size_t p, double mean, double var,
+                 std::vector<double>& lo, std::vector<double>& hi) {
+  const double half = std::max(s.gamma * std::sqrt(var), s.clamp_sigma_min);
+  lo[p] = mean - half;
+  hi[p] = mean + half;
 }
 
 // The anti-lag's window means and variances (float), with n[p] the covered count (0: none).
 struct BoxStats {
   std::vector<float> mean, var, n;
+  void resize(size_t size) {  // every element is 0 until a covered pixel's statistics are set
+    mean.assign(size, 0.0f);
+    var.assign(size, 0.0f);
+    n.assign(size, 0.0f);
+  }
+  void set(size_t p, double count, double m, double v) {
+    mean[p] = static_cast<float>(m);
+    var[p] = static_cast<float>(v);
+    n[p] = static_cast<float>(count);
+  }
 };
-BoxStats box_stats(const std::vector<float>& x, const std::vector<uint8_t>& covered, int w, int h,
-                   int r) {
-  BoxStats b;
-  b.mean.assign(x.size(), 0.0f);
-  b.var.assign(x.size(), 0.0f);
-  b.n.assign(x.size(), 0.0f);
-  window_stats(x, covered, w, h, r, [&](size_t p, double n, double mean, double var) {
-    b.mean[p] = static_cast<float>(mean);
-    b.var[p] = static_cast<float>(var);
-    b.n[p] = static_cast<float>(n);
-  });
-  return b;
-}
 
 // The Catmull-Rom weights of the four taps at offsets -1, 0, 1, 2 from the texel at or left of a
 // position t in [0, 1) past it (Keys 1981 with a = -1/2): they sum to 1, and t = 0 gives (0, 1, 0,
@@ -300,13 +305,41 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
   std::vector<uint8_t>& covered = covered_;
   covered.resize(n);
   for (size_t p = 0; p < n; ++p) covered[p] = g.covered(p);
-  if (s.clamp && history)
-    clamp_ranges(current, covered, g.width, g.height, s, clamp_lo_, clamp_hi_);
+  // The current frame's window statistics: the clamp's ranges and the anti-lag's window means,
+  // from one pass where both take the same window (rtao's defaults).
+  const bool clamp = s.clamp && history;
   BoxStats box;
-  if (s.antilag > 0.0) box = box_stats(current, covered, g.width, g.height, s.antilag_radius);
-  const bool antilag = s.antilag > 0.0 && prev_box_.size() == n;
-  std::vector<float> fast, fast_var, fast_length;
+  if (clamp) {
+    clamp_lo_.resize(n);
+    clamp_hi_.resize(n);
+  }
   if (s.antilag > 0.0) {
+    box.resize(n);
+    spread_.resize(n);  // every pixel is written below
+  }
+  if (clamp && s.antilag > 0.0 && s.clamp_radius == s.antilag_radius) {
+    window_stats(current, covered, g.width, g.height, s.clamp_radius,
+                 [&](size_t p, double count, double mean, double var) {
+                   clamp_range(s, p, mean, var, clamp_lo_, clamp_hi_);
+                   box.set(p, count, mean, var);
+                 });
+  } else {
+    if (clamp)
+      window_stats(current, covered, g.width, g.height, s.clamp_radius,
+                   [&](size_t p, double, double mean, double var) {
+                     clamp_range(s, p, mean, var, clamp_lo_, clamp_hi_);
+                   });
+    if (s.antilag > 0.0)
+      window_stats(
+          current, covered, g.width, g.height, s.antilag_radius,
+          [&](size_t p, double count, double mean, double var) { box.set(p, count, mean, var); });
+  }
+  const bool antilag = s.antilag > 0.0 && prev_box_.size() == n;
+  // The fast history is kept only when it is longer than one frame (antilag_frames = 1: f is this
+  // frame's window mean, its variance the window's sigma^2 / n).
+  const bool fast_history = s.antilag > 0.0 && s.antilag_frames > 1;
+  std::vector<float> fast, fast_var, fast_length;
+  if (fast_history) {
     fast.assign(n, 0.0f);
     fast_var.assign(n, 0.0f);
     fast_length.assign(n, 0.0f);
@@ -315,6 +348,7 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
     const size_t p = g.index(i, j);
     if (!covered[p]) {
       value_[p] = moment1_[p] = moment2_[p] = length_[p] = 0.0f;
+      if (s.antilag > 0.0) spread_[p] = 0.0f;
       reset_[p] = 0;
       return;
     }
@@ -326,7 +360,8 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
       moment2_[p] = static_cast<float>(x * x);
       length_[p] = 1.0f;
       reset_[p] = 1;
-      if (s.antilag > 0.0) {  // the fast history starts with this frame's window mean
+      if (s.antilag > 0.0) spread_[p] = 1.0f;  // the first moment is one frame's value
+      if (fast_history) {  // the fast history starts with this frame's window mean
         fast[p] = box.mean[p];
         fast_var[p] = box.var[p] / box.n[p];
         fast_length[p] = 1.0f;
@@ -360,16 +395,24 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
       h = sharp;
     // Anti-lag (step 5b): the fast history of the window mean against the raw history's at q.
     if (antilag) {
-      const double hbar = read(prev_box_), flen = read(prev_fast_length_);
-      double f = read(prev_fast_), fvar = read(prev_fast_var_);
-      const double a = std::max(1.0 / (flen + 1.0), 1.0 / s.antilag_frames);
-      f = a * box.mean[p] + (1.0 - a) * f;
-      fvar = a * a * box.var[p] / box.n[p] + (1.0 - a) * (1.0 - a) * fvar;
-      fast[p] = static_cast<float>(f);
-      fast_var[p] = static_cast<float>(fvar);
-      fast_length[p] = static_cast<float>(std::min(flen + 1.0, double(s.antilag_frames)));
+      const double hbar = read(prev_box_);
+      const double one_frame = box.var[p] / box.n[p];  // the variance of one frame's window mean
+      double f = box.mean[p], fvar = one_frame;
+      if (fast_history) {
+        const double flen = read(prev_fast_length_);
+        const double a = std::max(1.0 / (flen + 1.0), 1.0 / s.antilag_frames);
+        f = a * box.mean[p] + (1.0 - a) * read(prev_fast_);
+        fvar = a * a * one_frame + (1.0 - a) * (1.0 - a) * read(prev_fast_var_);
+        fast[p] = static_cast<float>(f);
+        fast_var[p] = static_cast<float>(fvar);
+        fast_length[p] = static_cast<float>(std::min(flen + 1.0, double(s.antilag_frames)));
+      }
+      // The difference of two noisy means: hbar is the window mean of the first moments, whose
+      // variance is one frame's times their spread read at q (1 / L for a running mean of L
+      // frames, alpha / (2 - alpha) at a fixed blend factor).
       const double d = std::abs(f - hbar);
-      const double tau = s.antilag * std::sqrt(fvar) + s.antilag_min;
+      const double tau =
+          s.antilag * std::sqrt(fvar + one_frame * read(prev_spread_)) + s.antilag_min;
       if (d > tau) {
         len *= (tau / d) * (tau / d);
         // The shift moves the history by the window mean's change, which a pixel at an edge of
@@ -384,6 +427,9 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
     // The exponential history with its minimum blend factor (step 4).
     const double alpha = std::max(s.alpha_min, 1.0 / (len + 1.0));
     value_[p] = static_cast<float>(alpha * x + (1.0 - alpha) * h);
+    if (s.antilag > 0.0)  // the first moment's spread, Var m1 / Var x (independent frames)
+      spread_[p] = static_cast<float>(alpha * alpha + (1.0 - alpha) * (1.0 - alpha) *
+                                                          (antilag ? read(prev_spread_) : 1.0));
     moment1_[p] = static_cast<float>(alpha * x + (1.0 - alpha) * m1);
     moment2_[p] = static_cast<float>(alpha * x * x + (1.0 - alpha) * m2);
     length_[p] = static_cast<float>(std::min(len + 1.0, static_cast<double>(s.history_limit)));
@@ -391,12 +437,18 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
   pending_ = true;  // value_, moment1_, moment2_ and length_ become frame k - 1's at the next frame
   prev_object_ = g.object_id;
   prev_covered_.swap(covered_);
-  prev_box_.clear();
-  if (s.antilag > 0.0)
-    prev_box_ = box_stats(moment1_, prev_covered_, g.width, g.height, s.antilag_radius).mean;
+  if (s.antilag > 0.0) {  // read at covered texels only: the others are left as they were
+    prev_box_.resize(n);
+    window_stats(
+        moment1_, prev_covered_, g.width, g.height, s.antilag_radius,
+        [&](size_t p, double, double mean, double) { prev_box_[p] = static_cast<float>(mean); });
+  } else {
+    prev_box_.clear();
+  }
   prev_fast_ = std::move(fast);
   prev_fast_var_ = std::move(fast_var);
   prev_fast_length_ = std::move(fast_length);
+  prev_spread_.swap(spread_);
 }
 
 }  // namespace aoeval

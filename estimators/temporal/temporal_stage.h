@@ -44,8 +44,14 @@
 //     makes f this frame's window mean. f is compared with the same window's mean of the slow
 //     history's raw first moment (frame k - 1) read at q, hbar. Both are equally low-passed, so
 //     the spatial structure cancels and what is left is the change of the truth plus noise, the
-//     fast history's noise sqrt(antilag_frames) times smaller than one frame's. With tau = antilag
-//     sqrt(Var f) + antilag_min, a difference d = |f - hbar| > tau (a shadow that moved under a
+//     fast history's noise sqrt(antilag_frames) times smaller than one frame's. hbar is noisy too:
+//     its variance is one frame's sigma^2 / n times the first moment's spread s read at q, kept
+//     per pixel as s = alpha^2 + (1 - alpha)^2 s(q) (1 at a reset; 1 / L for a running mean of L
+//     frames, alpha / (2 - alpha) at a fixed blend factor; independent frames). So the test
+//     compares the change with what the noise of both could give alone (a young history is as
+//     noisy as this frame: without the s term a still view's noise tripped 6.8 % of bunny's
+//     pixels at frame 1). With tau = antilag sqrt(Var f + s sigma^2 / n) + antilag_min, a
+//     difference d = |f - hbar| > tau (a shadow that moved under a
 //     surface still in view) clamps the history's low-pass to the denoised window mean, h += (f -
 //     hbar)(1 - tau / d), so hbar moves to f +- tau while h keeps its detail, and scales the
 //     history length read at q by (tau / d)^2 (the rest fades faster): the history follows within
@@ -152,6 +158,8 @@ class TemporalAccumulator {
   std::vector<float> prev_box_;  // the window means of frame k - 1's raw first moment (anti-lag)
   // Anti-lag's fast history of the window mean, its variance and its length (frame k - 1).
   std::vector<float> prev_fast_, prev_fast_var_, prev_fast_length_;
+  // The spread of the first moment, Var m1 / Var x (anti-lag): this frame's and frame k - 1's.
+  std::vector<float> spread_, prev_spread_;
 };
 
 }  // namespace aoeval

@@ -296,6 +296,31 @@ TEST(TemporalStage, AntiLagShortensAHistoryWhoseTruthMoved) {
   EXPECT_LT(std::sqrt(e_guarded), 1.25 * std::sqrt(e_free));
 }
 
+// Anti-lag fires on change, not on noise: over a still truth with noise (uniform, sigma 0.2 a
+// pixel, 5x5 windows: a window mean's standard error e = 0.04), the history's window mean hbar
+// after frame 0 is as noisy as this frame's, so f - hbar has a standard error of sqrt(2) e. With
+// the threshold antilag = 2 in that unit (antilag_min 0) noise alone trips it at about the normal
+// tail's rate, 2 (1 - Phi(2)) = 4.6 % (a little more: sigma is estimated from 25 pixels); a
+// threshold on this frame's error alone, 2 e = 1.41 sqrt(2) e, trips 2 (1 - Phi(1.41)) = 16 %.
+// Frame 1's trips are the pixels whose history length is below 2. 128 x 96 pixels are about 490
+// independent windows: the share's standard error is about 0.01.
+TEST(TemporalStage, AntiLagTripsOnNoiseAtTheRateItsThresholdSays) {
+  const GBuffer g = flat(128, 96);
+  TemporalAccumulator stage(with_antilag(2.0, 0.0, 1));
+  SplitMix64 rng(21);
+  for (int k = 0; k < 2; ++k) {
+    std::vector<float> x(g.pixel_count());
+    for (float& v : x) v = 0.5f + 0.2f * (2.0f * rng.uniform_float() - 1.0f) * std::sqrt(3.0f);
+    stage.accumulate(g, x);
+  }
+  size_t tripped = 0;
+  for (float len : stage.history_length()) tripped += len < 1.999f ? 1 : 0;
+  const double share = static_cast<double>(tripped) / g.pixel_count();
+  std::printf("a still view's frame 1: anti-lag tripped on %.2f %% of pixels\n", 100.0 * share);
+  EXPECT_GT(share, 0.02);  // it is a test, not off
+  EXPECT_LT(share, 0.09);
+}
+
 // Anti-lag's fast history (antilag_frames): a still, noisy view (uniform noise of sigma 0.2 a
 // pixel around the truth, 5x5 windows, so one frame's window mean has a standard error of 0.04)
 // whose truth steps from 0.5 to 0.4 after 24 frames. Without anti-lag the 32-frame running mean
