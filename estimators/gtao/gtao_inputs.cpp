@@ -43,7 +43,10 @@ const char* const kGtaoDefinitionDoc =
 // Five trials within 3 % of the best were run there; the default is the best that keeps both
 // still views within 3 %: 0.2034 (lag 0.157 -> 0.115 on roll, 0.173 -> 0.142 on walk, 0.156 ->
 // 0.157 on orbit at 128x96), bunny/still 0.0447 -> 0.0458, tree-ground/still 0.1059 -> 0.1059,
-// the figure settled from frame 2.
+// the figure settled from frame 2. antilag 1.6 -> 1.4 when the anti-lag's test took in the
+// history's own noise (issue 43, h43h; the threshold is in a larger unit): the tune's objective at
+// the default is 0.2034 as before (1.6: 0.2039), the 320x240 lag 0.1379 -> 0.1380 (roll), 0.1469
+// -> 0.1469 (walk), bunny/still 0.04588 -> 0.04583, tree-ground/still 0.10591 -> 0.10591.
 TemporalDefaults gtao_temporal_defaults() {
   return {.history_limit = 24,
           .alpha_min = 0.0,
@@ -51,7 +54,7 @@ TemporalDefaults gtao_temporal_defaults() {
           .gamma = 1.0,
           .clamp_sigma_min = 0.1,
           .clamp_radius = 1,
-          .antilag = 1.6,
+          .antilag = 1.4,
           .antilag_min = 0.08,
           .antilag_radius = 1,
           .antilag_frames = 2};
