@@ -40,6 +40,24 @@ void bench_rtao(const RtaoBenchOptions& o) {
   size_t covered = 0;
   for (size_t k = 0; k < g.pixel_count(); ++k) covered += g.covered(k) ? 1 : 0;
 
+  // rtao's histories over the steady frames (a static camera: without the anti-lag frame k's is
+  // min(k + 1, history_limit) everywhere): covered pixels counted shorter by more than half a
+  // frame, and shorter than variance_frames (where the variance pass takes its spatial estimate).
+  const bool rtao = e.name == "rtao";
+  double shortened = 0.0, below_variance = 0.0, counted = 0.0;
+  auto count_histories = [&](const EstimateResult& r, int k) {
+    const auto it = r.extra_channels.find("history_length");
+    if (!rtao || k == 0 || it == r.extra_channels.end()) return;
+    const double full = std::min<double>(k + 1, params.integer("history_limit"));
+    const double frames = static_cast<double>(params.integer("variance_frames"));
+    for (size_t p = 0; p < g.pixel_count(); ++p) {
+      if (!g.covered(p)) continue;
+      shortened += it->second[p] < full - 0.5 ? 1.0 : 0.0;
+      below_variance += it->second[p] < frames ? 1.0 : 0.0;
+      counted += 1.0;
+    }
+  };
+
   // One sequence: per frame, its wall time around run() and its passes.
   auto sequence = [&](std::vector<double>& totals, std::vector<PassTimes>& passes) {
     std::unique_ptr<Estimator> est = e.create(params);
@@ -52,6 +70,7 @@ void bench_rtao(const RtaoBenchOptions& o) {
       const EstimateResult r = est->run(context);
       totals.push_back(ms_since(t0));
       passes.push_back(r.pass_ms);
+      count_histories(r, k);
     }
   };
   for (int i = 0; i < o.warmup; ++i) {
@@ -76,7 +95,6 @@ void bench_rtao(const RtaoBenchOptions& o) {
 
   // rtao's passes in pipeline order, then whatever else the estimator reports (gtao's).
   std::vector<std::string> order;
-  const bool rtao = e.name == "rtao";
   if (rtao) {
     order = {"rays_ms", "temporal_ms", "variance_ms"};
     const int iterations = static_cast<int>(params.integer("atrous_iterations"));
@@ -119,6 +137,12 @@ void bench_rtao(const RtaoBenchOptions& o) {
        << format_number("%.2f", denoiser_ms / rays_ms) << " x the rays' "
        << format_number("%.2f", rays_ms) << " ms\n";
     csv << "denoiser,," << denoiser_ms << '\n';
+    if (counted > 0.0)
+      md << "- histories over the steady frames: "
+         << format_number("%.3f", 100.0 * shortened / counted)
+         << " % of covered pixels shorter than the frames allow (the anti-lag), "
+         << format_number("%.3f", 100.0 * below_variance / counted)
+         << " % below variance_frames (the variance's spatial estimate)\n";
   }
   std::printf("%s", md.str().c_str());
 
