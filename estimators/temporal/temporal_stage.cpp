@@ -373,7 +373,18 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
     const float object = g.object_id[p];
     const auto valid = [&](int t) { return prev_covered_[t] != 0 && prev_object_[t] == object; };
     const double qx = i + 0.5 - mx, qy = j + 0.5 - my;
-    const BilinearTaps taps = bilinear_taps(qx, qy, g.width, g.height, valid);
+    // No motion (a static camera, the pixels that hold still): the one tap p of weight 1, what
+    // bilinear_taps gives at a whole-pixel position, without its four candidates.
+    BilinearTaps taps;
+    if (mx == 0.0 && my == 0.0) {
+      if (valid(static_cast<int>(p))) {
+        taps.index[0] = static_cast<int>(p);
+        taps.weight[0] = taps.total = 1.0;
+        taps.taps = 1;
+      }
+    } else {
+      taps = bilinear_taps(qx, qy, g.width, g.height, valid);
+    }
     if (taps.taps == 0) return start_afresh();
     // The bilinear read of one of frame k - 1's buffers over the valid taps (weights renormalised
     // once, for every buffer read).
