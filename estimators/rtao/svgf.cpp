@@ -208,6 +208,7 @@ void atrous_iteration(const SvgfGuide& g, int step, const SvgfSettings& s,
   float *out_c = value.data(), *out_var = variance.data();
   const SvgfTaps& taps = svgf_taps(simd_isa(), s.sigma_n);
   for_each_row_tile(h, [&](int j0, int j1) {
+    const FlushDenormals flush;  // the same arithmetic on every thread (svgf_math.h)
     // A row's sums, eq. 5's reciprocals and eq. 3's per mirror offset, read and written over the
     // row's covered span only (not cleared beyond it).
     const std::unique_ptr<float[]> buffer(new float[(4 + kMirrorOffsets) * static_cast<size_t>(w)]);

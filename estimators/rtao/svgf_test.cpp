@@ -346,6 +346,28 @@ TEST(Svgf, EveryInstructionSetGivesTheBaselineBits) {
 // sigma_n = 128), so each pass's weighted mean moves by about 1e-6 of the spread of its taps; five
 // passes compound that to a few 1e-6. The bound, 1e-5, is a few times what this scene shows, far
 // below a 1-ray pixel's noise (0.5).
+// A weight below what a float's square can hold is flushed, as every thread of the a-trous pass
+// flushes denormals (svgf_math.h: they cost a microcode assist per operation). A flat 9 x 9 plane,
+// every value 0 but 7e-9 two pixels right of the centre, every variance 0 but that pixel's 1: the
+// centre's luminance denominator is about 1e-10 (its 3x3 variance is 0), so that tap's weight is
+// about 1e-20, and its square times the variance a denormal float. Flushed, the centre's variance
+// is 0; unflushed it was 6.7e-41.
+TEST(Svgf, AWeightTooSmallToSquareAddsNothing) {
+  GBuffer g;
+  g.width = g.height = 9;
+  g.coverage.assign(g.pixel_count(), 1.0f);
+  g.depth.assign(g.pixel_count(), 1.0f);
+  g.normal.assign(g.pixel_count(), glm::vec3(0, 0, 1));
+  const SvgfGuide guide = svgf_guide(g);
+  std::vector<float> value(g.pixel_count(), 0.0f), variance(g.pixel_count(), 0.0f);
+  value[g.index(6, 4)] = 7e-9f;
+  variance[g.index(6, 4)] = 1.0f;
+  atrous_iteration(guide, 1, settings(), value, variance);
+  EXPECT_EQ(variance[g.index(4, 4)], 0.0f);
+  EXPECT_EQ(value[g.index(4, 4)], 0.0f);
+  EXPECT_GT(variance[g.index(6, 4)], 0.0f);  // the pixel itself keeps its own
+}
+
 TEST(Svgf, WithinABoundOfLibm) {
   const GBuffer g = scene();
   const SvgfGuide guide = svgf_guide(g);
