@@ -1,6 +1,9 @@
 #include "estimators/vulkan/vk_pipelines.h"
 
+#include <cstdint>
 #include <map>
+#include <memory>
+#include <sstream>
 
 namespace aoeval::vk {
 
@@ -48,10 +51,13 @@ struct ModuleGuard {
 // ---------------------------------------------------------------------------------------------
 // PipelineBase
 
-PipelineBase::PipelineBase(Context& context, const std::vector<VkDescriptorType>& bindings,
-                           uint32_t push_constant_bytes, const std::string& name)
-    : context_(context), name_(name), bindings_(bindings), push_bytes_(push_constant_bytes) {
-  VkDevice device = context.device();
+namespace {
+
+// The sampler (when a binding is a combined image sampler), set layout and pipeline layout of
+// `bindings` and one push-constant range; nothing is left created when it throws.
+void make_layouts(VkDevice device, const std::vector<VkDescriptorType>& bindings,
+                  uint32_t push_constant_bytes, const std::string& name, VkSampler& sampler,
+                  VkDescriptorSetLayout& set_layout, VkPipelineLayout& layout) {
   std::vector<VkDescriptorSetLayoutBinding> entries;
   bool needs_sampler = false;
   for (size_t i = 0; i < bindings.size(); ++i) {
@@ -69,33 +75,77 @@ PipelineBase::PipelineBase(Context& context, const std::vector<VkDescriptorType>
       s.magFilter = s.minFilter = VK_FILTER_LINEAR;
       s.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
       s.addressModeU = s.addressModeV = s.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-      check(vkCreateSampler(device, &s, nullptr, &sampler_), "vkCreateSampler");
+      check(vkCreateSampler(device, &s, nullptr, &sampler), "vkCreateSampler");
     }
     auto set = make_info<VkDescriptorSetLayoutCreateInfo>(
         VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
     set.bindingCount = static_cast<uint32_t>(entries.size());
     set.pBindings = entries.data();
-    check(vkCreateDescriptorSetLayout(device, &set, nullptr, &set_layout_),
+    check(vkCreateDescriptorSetLayout(device, &set, nullptr, &set_layout),
           (name + ": vkCreateDescriptorSetLayout").c_str());
     VkPushConstantRange range{VK_SHADER_STAGE_ALL, 0, push_constant_bytes};
-    auto layout =
+    auto info =
         make_info<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
-    layout.setLayoutCount = 1;
-    layout.pSetLayouts = &set_layout_;
-    layout.pushConstantRangeCount = push_constant_bytes > 0 ? 1 : 0;
-    layout.pPushConstantRanges = &range;
-    check(vkCreatePipelineLayout(device, &layout, nullptr, &layout_),
+    info.setLayoutCount = 1;
+    info.pSetLayouts = &set_layout;
+    info.pushConstantRangeCount = push_constant_bytes > 0 ? 1 : 0;
+    info.pPushConstantRanges = &range;
+    check(vkCreatePipelineLayout(device, &info, nullptr, &layout),
           (name + ": vkCreatePipelineLayout").c_str());
   } catch (...) {
-    if (set_layout_) vkDestroyDescriptorSetLayout(device, set_layout_, nullptr);
-    if (sampler_) vkDestroySampler(device, sampler_, nullptr);
+    if (set_layout) vkDestroyDescriptorSetLayout(device, set_layout, nullptr);
+    if (sampler) vkDestroySampler(device, sampler, nullptr);
+    set_layout = VK_NULL_HANDLE;
+    sampler = VK_NULL_HANDLE;
     throw;
   }
+}
+
+// A compute pipeline's handles as the context keeps them (ComputePipeline's shared_).
+struct CompiledCompute {
+  VkDevice device = VK_NULL_HANDLE;
+  VkSampler sampler = VK_NULL_HANDLE;
+  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  CompiledCompute() = default;
+  CompiledCompute(const CompiledCompute&) = delete;
+  CompiledCompute& operator=(const CompiledCompute&) = delete;
+  ~CompiledCompute() {
+    if (pipeline) vkDestroyPipeline(device, pipeline, nullptr);
+    if (layout) vkDestroyPipelineLayout(device, layout, nullptr);
+    if (set_layout) vkDestroyDescriptorSetLayout(device, set_layout, nullptr);
+    if (sampler) vkDestroySampler(device, sampler, nullptr);
+  }
+};
+
+// What makes two compute pipelines the same: the code (embedded, so its address), the bindings,
+// the push-constant size and the specialisation constants.
+std::string compute_key(const SpirvCode& code, const std::vector<VkDescriptorType>& bindings,
+                        uint32_t push_constant_bytes, const std::vector<SpecConstant>& spec) {
+  std::ostringstream key;
+  key << "compute " << reinterpret_cast<uintptr_t>(code.words) << ' ' << code.bytes << " push "
+      << push_constant_bytes << " bindings";
+  for (VkDescriptorType t : bindings) key << ' ' << static_cast<int>(t);
+  key << " spec";
+  for (const SpecConstant& c : spec) key << ' ' << c.id << '=' << c.bits;
+  return key.str();
+}
+
+}  // namespace
+
+PipelineBase::PipelineBase(Context& context, const std::vector<VkDescriptorType>& bindings,
+                           uint32_t push_constant_bytes, const std::string& name, bool own_layouts)
+    : context_(context), name_(name), bindings_(bindings), push_bytes_(push_constant_bytes) {
+  if (own_layouts)
+    make_layouts(context.device(), bindings, push_constant_bytes, name, sampler_, set_layout_,
+                 layout_);
 }
 
 PipelineBase::~PipelineBase() {
   VkDevice device = context_.device();
   for (VkDescriptorPool pool : pools_) vkDestroyDescriptorPool(device, pool, nullptr);
+  if (shared_) return;
   if (pipeline_) vkDestroyPipeline(device, pipeline_, nullptr);
   if (layout_) vkDestroyPipelineLayout(device, layout_, nullptr);
   if (set_layout_) vkDestroyDescriptorSetLayout(device, set_layout_, nullptr);
@@ -171,24 +221,35 @@ ComputePipeline::ComputePipeline(Context& context, const std::string& name, Spir
                                  const std::vector<VkDescriptorType>& bindings,
                                  uint32_t push_constant_bytes,
                                  const std::vector<SpecConstant>& spec_constants)
-    : PipelineBase(context, bindings, push_constant_bytes, name) {
-  VkDevice device = context.device();
-  ModuleGuard module{device, make_module(device, spirv, name_)};
-  std::vector<VkSpecializationMapEntry> entries;
-  std::vector<uint32_t> data;
-  const VkSpecializationInfo spec = spec_info(spec_constants, entries, data);
-  auto info =
-      make_info<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
-  info.stage = make_info<VkPipelineShaderStageCreateInfo>(
-      VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
-  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  info.stage.module = module.module;
-  info.stage.pName = "main";
-  info.stage.pSpecializationInfo = &spec;
-  info.layout = layout_;
-  check(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_),
-        (name_ + ": vkCreateComputePipelines").c_str());
-  context.throw_if_validation_errors();
+    : PipelineBase(context, bindings, push_constant_bytes, name, false) {
+  shared_ = context.kept(compute_key(spirv, bindings, push_constant_bytes, spec_constants), [&] {
+    auto compiled = std::make_shared<CompiledCompute>();
+    VkDevice device = compiled->device = context.device();
+    make_layouts(device, bindings, push_constant_bytes, name_, compiled->sampler,
+                 compiled->set_layout, compiled->layout);
+    ModuleGuard module{device, make_module(device, spirv, name_)};
+    std::vector<VkSpecializationMapEntry> entries;
+    std::vector<uint32_t> data;
+    const VkSpecializationInfo spec = spec_info(spec_constants, entries, data);
+    auto info =
+        make_info<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
+    info.stage = make_info<VkPipelineShaderStageCreateInfo>(
+        VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
+    info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    info.stage.module = module.module;
+    info.stage.pName = "main";
+    info.stage.pSpecializationInfo = &spec;
+    info.layout = compiled->layout;
+    check(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &compiled->pipeline),
+          (name_ + ": vkCreateComputePipelines").c_str());
+    context.throw_if_validation_errors();
+    return std::shared_ptr<void>(std::move(compiled));
+  });
+  const auto& compiled = *static_cast<const CompiledCompute*>(shared_.get());
+  sampler_ = compiled.sampler;
+  set_layout_ = compiled.set_layout;
+  layout_ = compiled.layout;
+  pipeline_ = compiled.pipeline;
 }
 
 void ComputePipeline::dispatch(VkCommandBuffer cmd, VkDescriptorSet set, const void* push_data,

@@ -81,6 +81,40 @@ TEST(VulkanLayer, ComputeRoundTripWithPushAndSpecConstants) {
   EXPECT_TRUE(vk->validation_errors().empty());
 }
 
+// Issue 42: pipelines of the same code share one compile (Context::kept()), a different
+// specialisation constant is its own pipeline, and a shared one outlives the first user.
+TEST(VulkanLayer, PipelinesOfTheSameCodeShareOneCompile) {
+  REQUIRE_CONTEXT(vk);
+  const int w = 9, h = 5;
+  const uint32_t count = 16;
+  std::vector<float> in(count, 2.0f);
+  Buffer input(*vk, count * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  Buffer output(*vk, count * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  Image2D image(*vk, w, h, VK_FORMAT_R32_SFLOAT);
+  input.upload(in);
+  auto make = [&](std::vector<SpecConstant> spec) {
+    return std::make_unique<ComputePipeline>(*vk, "roundtrip", vk_test_roundtrip_comp_spv,
+                                             kRoundtripBindings, sizeof(RoundtripPush), spec);
+  };
+  auto first = make({});
+  auto second = make({});
+  auto other = make({spec_float(0, 3.25f)});
+  EXPECT_EQ(first->handle(), second->handle());
+  EXPECT_EQ(first->layout(), second->layout());
+  EXPECT_NE(first->handle(), other->handle());
+  first.reset();  // the shared pipeline stays the context's
+  for (const auto& [pipeline, offset] : {std::pair{second.get(), 0.5f}, {other.get(), 3.25f}}) {
+    VkDescriptorSet set = pipeline->make_set({input, output, image});
+    const RoundtripPush push{0.25f, count};
+    vk->submit([&](VkCommandBuffer cmd) {
+      pipeline->dispatch(cmd, set, push, group_count(w, 8), group_count(h, 8));
+    });
+    const auto out = output.download<float>();
+    for (uint32_t i = 0; i < count; ++i) ASSERT_EQ(out[i], 0.5f + offset) << i;
+  }
+  EXPECT_TRUE(vk->validation_errors().empty());
+}
+
 TEST(VulkanLayer, ImageUploadDownloadRoundTrip) {
   REQUIRE_CONTEXT(vk);
   for (VkFormat format :
