@@ -264,11 +264,11 @@ void ComputePipeline::dispatch(VkCommandBuffer cmd, VkDescriptorSet set, const v
 // ---------------------------------------------------------------------------------------------
 // GraphicsPipeline
 
-GraphicsPipeline::GraphicsPipeline(Context& context, const GraphicsDesc& desc)
-    : PipelineBase(context, desc.bindings, desc.push_constant_bytes, desc.name) {
-  VkDevice device = context.device();
-  // Render pass: colour attachments stay in GENERAL (the layer's one layout), cleared and stored;
-  // depth is cleared and discarded.
+namespace {
+
+// The render pass of `desc`: colour attachments stay in GENERAL (the layer's one layout), cleared
+// and stored; depth is cleared and discarded.
+VkRenderPass make_render_pass(VkDevice device, const GraphicsDesc& desc, const std::string& name) {
   std::vector<VkAttachmentDescription> attachments;
   std::vector<VkAttachmentReference> color_refs;
   for (VkFormat f : desc.color_formats) {
@@ -306,21 +306,17 @@ GraphicsPipeline::GraphicsPipeline(Context& context, const GraphicsDesc& desc)
   rp.pAttachments = attachments.data();
   rp.subpassCount = 1;
   rp.pSubpasses = &subpass;
-  check(vkCreateRenderPass(device, &rp, nullptr, &render_pass_),
-        (name_ + ": vkCreateRenderPass").c_str());
-  try {
-    create_pipeline(desc);
-  } catch (...) {
-    vkDestroyRenderPass(device, render_pass_, nullptr);  // ~GraphicsPipeline will not run
-    throw;
-  }
+  VkRenderPass render_pass = VK_NULL_HANDLE;
+  check(vkCreateRenderPass(device, &rp, nullptr, &render_pass),
+        (name + ": vkCreateRenderPass").c_str());
+  return render_pass;
 }
 
-void GraphicsPipeline::create_pipeline(const GraphicsDesc& desc) {
-  VkDevice device = context_.device();
-
-  ModuleGuard vertex{device, make_module(device, desc.vertex, name_ + " (vertex)")};
-  ModuleGuard fragment{device, make_module(device, desc.fragment, name_ + " (fragment)")};
+VkPipeline make_graphics_pipeline(VkDevice device, const GraphicsDesc& desc,
+                                  const std::string& name, VkPipelineLayout layout,
+                                  VkRenderPass render_pass) {
+  ModuleGuard vertex{device, make_module(device, desc.vertex, name + " (vertex)")};
+  ModuleGuard fragment{device, make_module(device, desc.fragment, name + " (fragment)")};
   std::vector<VkSpecializationMapEntry> entries;
   std::vector<uint32_t> data;
   const VkSpecializationInfo spec = spec_info(desc.spec_constants, entries, data);
@@ -386,17 +382,60 @@ void GraphicsPipeline::create_pipeline(const GraphicsDesc& desc) {
   info.pDepthStencilState = &depth_state;
   info.pColorBlendState = &blend;
   info.pDynamicState = &dynamic;
-  info.layout = layout_;
-  info.renderPass = render_pass_;
+  info.layout = layout;
+  info.renderPass = render_pass;
   info.subpass = 0;
-  check(vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_),
-        (name_ + ": vkCreateGraphicsPipelines").c_str());
-  context_.throw_if_validation_errors();
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  check(vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline),
+        (name + ": vkCreateGraphicsPipelines").c_str());
+  return pipeline;
 }
 
-GraphicsPipeline::~GraphicsPipeline() {
-  if (render_pass_) vkDestroyRenderPass(context_.device(), render_pass_, nullptr);
+// A graphics pipeline's handles as the context keeps them (GraphicsPipeline's shared_).
+struct CompiledGraphics : CompiledCompute {
+  VkRenderPass render_pass = VK_NULL_HANDLE;
+  ~CompiledGraphics() {
+    if (pipeline) vkDestroyPipeline(device, pipeline, nullptr);
+    pipeline = VK_NULL_HANDLE;
+    if (render_pass) vkDestroyRenderPass(device, render_pass, nullptr);
+  }
+};
+
+std::string graphics_key(const GraphicsDesc& d) {
+  std::ostringstream key;
+  key << "graphics " << compute_key(d.vertex, d.bindings, d.push_constant_bytes, d.spec_constants)
+      << " fragment " << reinterpret_cast<uintptr_t>(d.fragment.words) << ' ' << d.fragment.bytes
+      << " depth " << static_cast<int>(d.depth_format) << ' ' << static_cast<int>(d.depth_compare)
+      << " colours";
+  for (VkFormat f : d.color_formats) key << ' ' << static_cast<int>(f);
+  return key.str();
 }
+
+}  // namespace
+
+GraphicsPipeline::GraphicsPipeline(Context& context, const GraphicsDesc& desc)
+    : PipelineBase(context, desc.bindings, desc.push_constant_bytes, desc.name, false) {
+  // Compiled once per context, as ComputePipeline's are.
+  shared_ = context.kept(graphics_key(desc), [&] {
+    auto compiled = std::make_shared<CompiledGraphics>();
+    VkDevice device = compiled->device = context.device();
+    make_layouts(device, desc.bindings, desc.push_constant_bytes, name_, compiled->sampler,
+                 compiled->set_layout, compiled->layout);
+    compiled->render_pass = make_render_pass(device, desc, name_);
+    compiled->pipeline =
+        make_graphics_pipeline(device, desc, name_, compiled->layout, compiled->render_pass);
+    context.throw_if_validation_errors();
+    return std::shared_ptr<void>(std::move(compiled));
+  });
+  const auto& compiled = *static_cast<const CompiledGraphics*>(shared_.get());
+  sampler_ = compiled.sampler;
+  set_layout_ = compiled.set_layout;
+  layout_ = compiled.layout;
+  pipeline_ = compiled.pipeline;
+  render_pass_ = compiled.render_pass;
+}
+
+GraphicsPipeline::~GraphicsPipeline() = default;
 
 // ---------------------------------------------------------------------------------------------
 // Framebuffer

@@ -157,13 +157,13 @@ struct GraphicsDesc {
 
 class GraphicsPipeline : public PipelineBase {
  public:
+  // Compiled once per context for the same description, as ComputePipeline is.
   GraphicsPipeline(Context& context, const GraphicsDesc& desc);
   ~GraphicsPipeline() override;
   VkRenderPass render_pass() const { return render_pass_; }
 
  private:
-  void create_pipeline(const GraphicsDesc& desc);
-  VkRenderPass render_pass_ = VK_NULL_HANDLE;
+  VkRenderPass render_pass_ = VK_NULL_HANDLE;  // the shared pipeline's
 };
 
 // A framebuffer of `colors` (in the pipeline's colour order) and `depth`, all the same size.

@@ -20,6 +20,8 @@
 #include "estimators/vulkan/vk_context.h"
 #include "estimators/vulkan/vk_pipelines.h"
 #include "estimators/vulkan/vk_resources.h"
+#include "raster_gbuffer_frag_spv.h"
+#include "raster_gbuffer_vert_spv.h"
 #include "scenes/corpus.h"
 #include "scenes/embree_scene.h"
 #include "scenes/gbuffer.h"
@@ -102,6 +104,23 @@ TEST(VulkanLayer, PipelinesOfTheSameCodeShareOneCompile) {
   EXPECT_EQ(first->handle(), second->handle());
   EXPECT_EQ(first->layout(), second->layout());
   EXPECT_NE(first->handle(), other->handle());
+  // Graphics pipelines alike: the render pass is shared with the pipeline.
+  GraphicsDesc desc;
+  desc.name = "shared raster";
+  desc.vertex = raster_gbuffer_vert_spv;
+  desc.fragment = raster_gbuffer_frag_spv;
+  desc.bindings = {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                   VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+  desc.push_constant_bytes = 72;  // raster_gbuffer.cpp's RasterPush
+  desc.color_formats = {VK_FORMAT_R32_SFLOAT,          VK_FORMAT_R32_SFLOAT,
+                        VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT,
+                        VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32_SFLOAT};
+  GraphicsPipeline raster_a(*vk, desc), raster_b(*vk, desc);
+  desc.depth_compare = VK_COMPARE_OP_LESS;
+  GraphicsPipeline raster_other(*vk, desc);
+  EXPECT_EQ(raster_a.handle(), raster_b.handle());
+  EXPECT_EQ(raster_a.render_pass(), raster_b.render_pass());
+  EXPECT_NE(raster_a.handle(), raster_other.handle());
   first.reset();  // the shared pipeline stays the context's
   for (const auto& [pipeline, offset] : {std::pair{second.get(), 0.5f}, {other.get(), 3.25f}}) {
     VkDescriptorSet set = pipeline->make_set({input, output, image});
