@@ -111,6 +111,13 @@ struct CompiledCompute {
   CompiledCompute() = default;
   CompiledCompute(const CompiledCompute&) = delete;
   CompiledCompute& operator=(const CompiledCompute&) = delete;
+  // Lends its handles to a pipeline's members (PipelineBase's, which then do not destroy them).
+  void lend(VkSampler& s, VkDescriptorSetLayout& sl, VkPipelineLayout& l, VkPipeline& p) const {
+    s = sampler;
+    sl = set_layout;
+    l = layout;
+    p = pipeline;
+  }
   ~CompiledCompute() {
     if (pipeline) vkDestroyPipeline(device, pipeline, nullptr);
     if (layout) vkDestroyPipelineLayout(device, layout, nullptr);
@@ -118,6 +125,18 @@ struct CompiledCompute {
     if (sampler) vkDestroySampler(device, sampler, nullptr);
   }
 };
+
+// A compiled pipeline's start: its device, sampler and layouts.
+template <class Compiled>
+std::shared_ptr<Compiled> with_layouts(VkDevice device,
+                                       const std::vector<VkDescriptorType>& bindings,
+                                       uint32_t push_constant_bytes, const std::string& name) {
+  auto compiled = std::make_shared<Compiled>();
+  compiled->device = device;
+  make_layouts(device, bindings, push_constant_bytes, name, compiled->sampler, compiled->set_layout,
+               compiled->layout);
+  return compiled;
+}
 
 // What makes two compute pipelines the same: the code (embedded, so its address), the bindings,
 // the push-constant size and the specialisation constants.
@@ -223,10 +242,8 @@ ComputePipeline::ComputePipeline(Context& context, const std::string& name, Spir
                                  const std::vector<SpecConstant>& spec_constants)
     : PipelineBase(context, bindings, push_constant_bytes, name, false) {
   shared_ = context.kept(compute_key(spirv, bindings, push_constant_bytes, spec_constants), [&] {
-    auto compiled = std::make_shared<CompiledCompute>();
-    VkDevice device = compiled->device = context.device();
-    make_layouts(device, bindings, push_constant_bytes, name_, compiled->sampler,
-                 compiled->set_layout, compiled->layout);
+    VkDevice device = context.device();
+    auto compiled = with_layouts<CompiledCompute>(device, bindings, push_constant_bytes, name_);
     ModuleGuard module{device, make_module(device, spirv, name_)};
     std::vector<VkSpecializationMapEntry> entries;
     std::vector<uint32_t> data;
@@ -245,11 +262,8 @@ ComputePipeline::ComputePipeline(Context& context, const std::string& name, Spir
     context.throw_if_validation_errors();
     return std::shared_ptr<void>(std::move(compiled));
   });
-  const auto& compiled = *static_cast<const CompiledCompute*>(shared_.get());
-  sampler_ = compiled.sampler;
-  set_layout_ = compiled.set_layout;
-  layout_ = compiled.layout;
-  pipeline_ = compiled.pipeline;
+  static_cast<const CompiledCompute*>(shared_.get())
+      ->lend(sampler_, set_layout_, layout_, pipeline_);
 }
 
 void ComputePipeline::dispatch(VkCommandBuffer cmd, VkDescriptorSet set, const void* push_data,
@@ -417,10 +431,9 @@ GraphicsPipeline::GraphicsPipeline(Context& context, const GraphicsDesc& desc)
     : PipelineBase(context, desc.bindings, desc.push_constant_bytes, desc.name, false) {
   // Compiled once per context, as ComputePipeline's are.
   shared_ = context.kept(graphics_key(desc), [&] {
-    auto compiled = std::make_shared<CompiledGraphics>();
-    VkDevice device = compiled->device = context.device();
-    make_layouts(device, desc.bindings, desc.push_constant_bytes, name_, compiled->sampler,
-                 compiled->set_layout, compiled->layout);
+    VkDevice device = context.device();
+    auto compiled =
+        with_layouts<CompiledGraphics>(device, desc.bindings, desc.push_constant_bytes, name_);
     compiled->render_pass = make_render_pass(device, desc, name_);
     compiled->pipeline =
         make_graphics_pipeline(device, desc, name_, compiled->layout, compiled->render_pass);
@@ -428,10 +441,7 @@ GraphicsPipeline::GraphicsPipeline(Context& context, const GraphicsDesc& desc)
     return std::shared_ptr<void>(std::move(compiled));
   });
   const auto& compiled = *static_cast<const CompiledGraphics*>(shared_.get());
-  sampler_ = compiled.sampler;
-  set_layout_ = compiled.set_layout;
-  layout_ = compiled.layout;
-  pipeline_ = compiled.pipeline;
+  compiled.lend(sampler_, set_layout_, layout_, pipeline_);
   render_pass_ = compiled.render_pass;
 }
 
