@@ -138,13 +138,22 @@ std::shared_ptr<Compiled> with_layouts(VkDevice device,
   return compiled;
 }
 
-// What makes two compute pipelines the same: the code (embedded, so its address), the bindings,
-// the push-constant size and the specialisation constants.
+// The SPIR-V words themselves, not their address: a plug-in's code lives in a vector that a later
+// plug-in's may reuse.
+void put_code(std::ostringstream& key, const SpirvCode& code) {
+  key << code.bytes << ':';
+  if (code.words)
+    key.write(reinterpret_cast<const char*>(code.words), static_cast<std::streamsize>(code.bytes));
+}
+
+// What makes two compute pipelines the same: the code, the bindings, the push-constant size and
+// the specialisation constants.
 std::string compute_key(const SpirvCode& code, const std::vector<VkDescriptorType>& bindings,
                         uint32_t push_constant_bytes, const std::vector<SpecConstant>& spec) {
   std::ostringstream key;
-  key << "compute " << reinterpret_cast<uintptr_t>(code.words) << ' ' << code.bytes << " push "
-      << push_constant_bytes << " bindings";
+  key << "compute ";
+  put_code(key, code);
+  key << " push " << push_constant_bytes << " bindings";
   for (VkDescriptorType t : bindings) key << ' ' << static_cast<int>(t);
   key << " spec";
   for (const SpecConstant& c : spec) key << ' ' << c.id << '=' << c.bits;
@@ -418,8 +427,9 @@ struct CompiledGraphics : CompiledCompute {
 std::string graphics_key(const GraphicsDesc& d) {
   std::ostringstream key;
   key << "graphics " << compute_key(d.vertex, d.bindings, d.push_constant_bytes, d.spec_constants)
-      << " fragment " << reinterpret_cast<uintptr_t>(d.fragment.words) << ' ' << d.fragment.bytes
-      << " depth " << static_cast<int>(d.depth_format) << ' ' << static_cast<int>(d.depth_compare)
+      << " fragment ";
+  put_code(key, d.fragment);
+  key << " depth " << static_cast<int>(d.depth_format) << ' ' << static_cast<int>(d.depth_compare)
       << " colours";
   for (VkFormat f : d.color_formats) key << ' ' << static_cast<int>(f);
   return key.str();

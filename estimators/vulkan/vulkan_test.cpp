@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <iterator>
 
 #include "estimators/estimator.h"
 #include "estimators/vulkan/raster_gbuffer.h"
@@ -104,6 +105,16 @@ TEST(VulkanLayer, PipelinesOfTheSameCodeShareOneCompile) {
   EXPECT_EQ(first->handle(), second->handle());
   EXPECT_EQ(first->layout(), second->layout());
   EXPECT_NE(first->handle(), other->handle());
+  // Keyed by the words, not their address: a plug-in's SPIR-V lives in a vector whose memory a
+  // later plug-in's code may reuse.
+  const std::vector<uint32_t> copy(std::begin(vk_test_roundtrip_comp_spv),
+                                   std::end(vk_test_roundtrip_comp_spv));
+  SpirvCode copied;
+  copied.words = copy.data();
+  copied.bytes = copy.size() * sizeof(uint32_t);
+  ComputePipeline from_copy(*vk, "roundtrip copy", copied, kRoundtripBindings,
+                            sizeof(RoundtripPush));
+  EXPECT_EQ(from_copy.handle(), first->handle());
   // Graphics pipelines alike: the render pass is shared with the pipeline.
   GraphicsDesc desc;
   desc.name = "shared raster";
