@@ -334,6 +334,7 @@ std::unique_ptr<Context> Context::create(const ContextOptions& options, std::str
 Context::~Context() {
   if (device_) {
     vkDeviceWaitIdle(device_);
+    kept_.clear();
     if (pool_) vkDestroyCommandPool(device_, pool_, nullptr);
     vkDestroyDevice(device_, nullptr);
   }
@@ -343,6 +344,14 @@ Context::~Context() {
     if (destroy) destroy(instance_, messenger_, nullptr);
   }
   if (instance_) vkDestroyInstance(instance_, nullptr);
+}
+
+std::shared_ptr<void> Context::kept(const std::string& key,
+                                    const std::function<std::shared_ptr<void>()>& make) {
+  std::lock_guard<std::mutex> lock(kept_mutex_);
+  std::shared_ptr<void>& object = kept_[key];
+  if (!object) object = make();
+  return object;
 }
 
 std::string Context::device_description() const {

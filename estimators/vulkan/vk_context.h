@@ -19,6 +19,7 @@
 #include <vulkan/vulkan.h>
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -91,6 +92,12 @@ class Context {
   // when the validation layer reported errors meanwhile.
   void submit(const std::function<void(VkCommandBuffer)>& record);
 
+  // An object kept for the context's lifetime under `key`, made by `make` on first use and
+  // released before the device is destroyed (ComputePipeline's compiled pipelines, shared by every
+  // pipeline made from the same code: issue 42). Thread-safe.
+  std::shared_ptr<void> kept(const std::string& key,
+                             const std::function<std::shared_ptr<void>()>& make);
+
   // Validation errors seen so far (and not yet thrown), and the throw that reports them.
   std::vector<std::string> validation_errors() const;
   void throw_if_validation_errors();
@@ -118,6 +125,8 @@ class Context {
   mutable std::recursive_mutex submit_mutex_;  // recursive: recording may create images
   mutable std::mutex messages_mutex_;
   std::vector<std::string> validation_errors_;
+  std::mutex kept_mutex_;
+  std::map<std::string, std::shared_ptr<void>> kept_;
 };
 
 // The devices the loader sees, "0: llvmpipe (...) [cpu]" one per entry; empty with `reason` set

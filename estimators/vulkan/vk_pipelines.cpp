@@ -1,6 +1,9 @@
 #include "estimators/vulkan/vk_pipelines.h"
 
+#include <cstdint>
 #include <map>
+#include <memory>
+#include <sstream>
 
 namespace aoeval::vk {
 
@@ -48,10 +51,13 @@ struct ModuleGuard {
 // ---------------------------------------------------------------------------------------------
 // PipelineBase
 
-PipelineBase::PipelineBase(Context& context, const std::vector<VkDescriptorType>& bindings,
-                           uint32_t push_constant_bytes, const std::string& name)
-    : context_(context), name_(name), bindings_(bindings), push_bytes_(push_constant_bytes) {
-  VkDevice device = context.device();
+namespace {
+
+// The sampler (when a binding is a combined image sampler), set layout and pipeline layout of
+// `bindings` and one push-constant range; nothing is left created when it throws.
+void make_layouts(VkDevice device, const std::vector<VkDescriptorType>& bindings,
+                  uint32_t push_constant_bytes, const std::string& name, VkSampler& sampler,
+                  VkDescriptorSetLayout& set_layout, VkPipelineLayout& layout) {
   std::vector<VkDescriptorSetLayoutBinding> entries;
   bool needs_sampler = false;
   for (size_t i = 0; i < bindings.size(); ++i) {
@@ -69,33 +75,105 @@ PipelineBase::PipelineBase(Context& context, const std::vector<VkDescriptorType>
       s.magFilter = s.minFilter = VK_FILTER_LINEAR;
       s.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
       s.addressModeU = s.addressModeV = s.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-      check(vkCreateSampler(device, &s, nullptr, &sampler_), "vkCreateSampler");
+      check(vkCreateSampler(device, &s, nullptr, &sampler), "vkCreateSampler");
     }
     auto set = make_info<VkDescriptorSetLayoutCreateInfo>(
         VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
     set.bindingCount = static_cast<uint32_t>(entries.size());
     set.pBindings = entries.data();
-    check(vkCreateDescriptorSetLayout(device, &set, nullptr, &set_layout_),
+    check(vkCreateDescriptorSetLayout(device, &set, nullptr, &set_layout),
           (name + ": vkCreateDescriptorSetLayout").c_str());
     VkPushConstantRange range{VK_SHADER_STAGE_ALL, 0, push_constant_bytes};
-    auto layout =
+    auto info =
         make_info<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
-    layout.setLayoutCount = 1;
-    layout.pSetLayouts = &set_layout_;
-    layout.pushConstantRangeCount = push_constant_bytes > 0 ? 1 : 0;
-    layout.pPushConstantRanges = &range;
-    check(vkCreatePipelineLayout(device, &layout, nullptr, &layout_),
+    info.setLayoutCount = 1;
+    info.pSetLayouts = &set_layout;
+    info.pushConstantRangeCount = push_constant_bytes > 0 ? 1 : 0;
+    info.pPushConstantRanges = &range;
+    check(vkCreatePipelineLayout(device, &info, nullptr, &layout),
           (name + ": vkCreatePipelineLayout").c_str());
   } catch (...) {
-    if (set_layout_) vkDestroyDescriptorSetLayout(device, set_layout_, nullptr);
-    if (sampler_) vkDestroySampler(device, sampler_, nullptr);
+    if (set_layout) vkDestroyDescriptorSetLayout(device, set_layout, nullptr);
+    if (sampler) vkDestroySampler(device, sampler, nullptr);
+    set_layout = VK_NULL_HANDLE;
+    sampler = VK_NULL_HANDLE;
     throw;
   }
+}
+
+// A compute pipeline's handles as the context keeps them (ComputePipeline's shared_).
+struct CompiledCompute {
+  VkDevice device = VK_NULL_HANDLE;
+  VkSampler sampler = VK_NULL_HANDLE;
+  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  CompiledCompute() = default;
+  CompiledCompute(const CompiledCompute&) = delete;
+  CompiledCompute& operator=(const CompiledCompute&) = delete;
+  // Lends its handles to a pipeline's members (PipelineBase's, which then do not destroy them).
+  void lend(VkSampler& s, VkDescriptorSetLayout& sl, VkPipelineLayout& l, VkPipeline& p) const {
+    s = sampler;
+    sl = set_layout;
+    l = layout;
+    p = pipeline;
+  }
+  ~CompiledCompute() {
+    if (pipeline) vkDestroyPipeline(device, pipeline, nullptr);
+    if (layout) vkDestroyPipelineLayout(device, layout, nullptr);
+    if (set_layout) vkDestroyDescriptorSetLayout(device, set_layout, nullptr);
+    if (sampler) vkDestroySampler(device, sampler, nullptr);
+  }
+};
+
+// A compiled pipeline's start: its device, sampler and layouts.
+template <class Compiled>
+std::shared_ptr<Compiled> with_layouts(VkDevice device,
+                                       const std::vector<VkDescriptorType>& bindings,
+                                       uint32_t push_constant_bytes, const std::string& name) {
+  auto compiled = std::make_shared<Compiled>();
+  compiled->device = device;
+  make_layouts(device, bindings, push_constant_bytes, name, compiled->sampler, compiled->set_layout,
+               compiled->layout);
+  return compiled;
+}
+
+// The SPIR-V words themselves, not their address: a plug-in's code lives in a vector that a later
+// plug-in's may reuse.
+void put_code(std::ostringstream& key, const SpirvCode& code) {
+  key << code.bytes << ':';
+  if (code.words)
+    key.write(reinterpret_cast<const char*>(code.words), static_cast<std::streamsize>(code.bytes));
+}
+
+// What makes two compute pipelines the same: the code, the bindings, the push-constant size and
+// the specialisation constants.
+std::string compute_key(const SpirvCode& code, const std::vector<VkDescriptorType>& bindings,
+                        uint32_t push_constant_bytes, const std::vector<SpecConstant>& spec) {
+  std::ostringstream key;
+  key << "compute ";
+  put_code(key, code);
+  key << " push " << push_constant_bytes << " bindings";
+  for (VkDescriptorType t : bindings) key << ' ' << static_cast<int>(t);
+  key << " spec";
+  for (const SpecConstant& c : spec) key << ' ' << c.id << '=' << c.bits;
+  return key.str();
+}
+
+}  // namespace
+
+PipelineBase::PipelineBase(Context& context, const std::vector<VkDescriptorType>& bindings,
+                           uint32_t push_constant_bytes, const std::string& name, bool own_layouts)
+    : context_(context), name_(name), bindings_(bindings), push_bytes_(push_constant_bytes) {
+  if (own_layouts)
+    make_layouts(context.device(), bindings, push_constant_bytes, name, sampler_, set_layout_,
+                 layout_);
 }
 
 PipelineBase::~PipelineBase() {
   VkDevice device = context_.device();
   for (VkDescriptorPool pool : pools_) vkDestroyDescriptorPool(device, pool, nullptr);
+  if (shared_) return;
   if (pipeline_) vkDestroyPipeline(device, pipeline_, nullptr);
   if (layout_) vkDestroyPipelineLayout(device, layout_, nullptr);
   if (set_layout_) vkDestroyDescriptorSetLayout(device, set_layout_, nullptr);
@@ -171,24 +249,30 @@ ComputePipeline::ComputePipeline(Context& context, const std::string& name, Spir
                                  const std::vector<VkDescriptorType>& bindings,
                                  uint32_t push_constant_bytes,
                                  const std::vector<SpecConstant>& spec_constants)
-    : PipelineBase(context, bindings, push_constant_bytes, name) {
-  VkDevice device = context.device();
-  ModuleGuard module{device, make_module(device, spirv, name_)};
-  std::vector<VkSpecializationMapEntry> entries;
-  std::vector<uint32_t> data;
-  const VkSpecializationInfo spec = spec_info(spec_constants, entries, data);
-  auto info =
-      make_info<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
-  info.stage = make_info<VkPipelineShaderStageCreateInfo>(
-      VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
-  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  info.stage.module = module.module;
-  info.stage.pName = "main";
-  info.stage.pSpecializationInfo = &spec;
-  info.layout = layout_;
-  check(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_),
-        (name_ + ": vkCreateComputePipelines").c_str());
-  context.throw_if_validation_errors();
+    : PipelineBase(context, bindings, push_constant_bytes, name, false) {
+  shared_ = context.kept(compute_key(spirv, bindings, push_constant_bytes, spec_constants), [&] {
+    VkDevice device = context.device();
+    auto compiled = with_layouts<CompiledCompute>(device, bindings, push_constant_bytes, name_);
+    ModuleGuard module{device, make_module(device, spirv, name_)};
+    std::vector<VkSpecializationMapEntry> entries;
+    std::vector<uint32_t> data;
+    const VkSpecializationInfo spec = spec_info(spec_constants, entries, data);
+    auto info =
+        make_info<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
+    info.stage = make_info<VkPipelineShaderStageCreateInfo>(
+        VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
+    info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    info.stage.module = module.module;
+    info.stage.pName = "main";
+    info.stage.pSpecializationInfo = &spec;
+    info.layout = compiled->layout;
+    check(vkCreateComputePipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &compiled->pipeline),
+          (name_ + ": vkCreateComputePipelines").c_str());
+    context.throw_if_validation_errors();
+    return std::shared_ptr<void>(std::move(compiled));
+  });
+  static_cast<const CompiledCompute*>(shared_.get())
+      ->lend(sampler_, set_layout_, layout_, pipeline_);
 }
 
 void ComputePipeline::dispatch(VkCommandBuffer cmd, VkDescriptorSet set, const void* push_data,
@@ -203,11 +287,11 @@ void ComputePipeline::dispatch(VkCommandBuffer cmd, VkDescriptorSet set, const v
 // ---------------------------------------------------------------------------------------------
 // GraphicsPipeline
 
-GraphicsPipeline::GraphicsPipeline(Context& context, const GraphicsDesc& desc)
-    : PipelineBase(context, desc.bindings, desc.push_constant_bytes, desc.name) {
-  VkDevice device = context.device();
-  // Render pass: colour attachments stay in GENERAL (the layer's one layout), cleared and stored;
-  // depth is cleared and discarded.
+namespace {
+
+// The render pass of `desc`: colour attachments stay in GENERAL (the layer's one layout), cleared
+// and stored; depth is cleared and discarded.
+VkRenderPass make_render_pass(VkDevice device, const GraphicsDesc& desc, const std::string& name) {
   std::vector<VkAttachmentDescription> attachments;
   std::vector<VkAttachmentReference> color_refs;
   for (VkFormat f : desc.color_formats) {
@@ -245,21 +329,17 @@ GraphicsPipeline::GraphicsPipeline(Context& context, const GraphicsDesc& desc)
   rp.pAttachments = attachments.data();
   rp.subpassCount = 1;
   rp.pSubpasses = &subpass;
-  check(vkCreateRenderPass(device, &rp, nullptr, &render_pass_),
-        (name_ + ": vkCreateRenderPass").c_str());
-  try {
-    create_pipeline(desc);
-  } catch (...) {
-    vkDestroyRenderPass(device, render_pass_, nullptr);  // ~GraphicsPipeline will not run
-    throw;
-  }
+  VkRenderPass render_pass = VK_NULL_HANDLE;
+  check(vkCreateRenderPass(device, &rp, nullptr, &render_pass),
+        (name + ": vkCreateRenderPass").c_str());
+  return render_pass;
 }
 
-void GraphicsPipeline::create_pipeline(const GraphicsDesc& desc) {
-  VkDevice device = context_.device();
-
-  ModuleGuard vertex{device, make_module(device, desc.vertex, name_ + " (vertex)")};
-  ModuleGuard fragment{device, make_module(device, desc.fragment, name_ + " (fragment)")};
+VkPipeline make_graphics_pipeline(VkDevice device, const GraphicsDesc& desc,
+                                  const std::string& name, VkPipelineLayout layout,
+                                  VkRenderPass render_pass) {
+  ModuleGuard vertex{device, make_module(device, desc.vertex, name + " (vertex)")};
+  ModuleGuard fragment{device, make_module(device, desc.fragment, name + " (fragment)")};
   std::vector<VkSpecializationMapEntry> entries;
   std::vector<uint32_t> data;
   const VkSpecializationInfo spec = spec_info(desc.spec_constants, entries, data);
@@ -325,17 +405,57 @@ void GraphicsPipeline::create_pipeline(const GraphicsDesc& desc) {
   info.pDepthStencilState = &depth_state;
   info.pColorBlendState = &blend;
   info.pDynamicState = &dynamic;
-  info.layout = layout_;
-  info.renderPass = render_pass_;
+  info.layout = layout;
+  info.renderPass = render_pass;
   info.subpass = 0;
-  check(vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_),
-        (name_ + ": vkCreateGraphicsPipelines").c_str());
-  context_.throw_if_validation_errors();
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  check(vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline),
+        (name + ": vkCreateGraphicsPipelines").c_str());
+  return pipeline;
 }
 
-GraphicsPipeline::~GraphicsPipeline() {
-  if (render_pass_) vkDestroyRenderPass(context_.device(), render_pass_, nullptr);
+// A graphics pipeline's handles as the context keeps them (GraphicsPipeline's shared_).
+struct CompiledGraphics : CompiledCompute {
+  VkRenderPass render_pass = VK_NULL_HANDLE;
+  ~CompiledGraphics() {
+    if (pipeline) vkDestroyPipeline(device, pipeline, nullptr);
+    pipeline = VK_NULL_HANDLE;
+    if (render_pass) vkDestroyRenderPass(device, render_pass, nullptr);
+  }
+};
+
+std::string graphics_key(const GraphicsDesc& d) {
+  std::ostringstream key;
+  key << "graphics " << compute_key(d.vertex, d.bindings, d.push_constant_bytes, d.spec_constants)
+      << " fragment ";
+  put_code(key, d.fragment);
+  key << " depth " << static_cast<int>(d.depth_format) << ' ' << static_cast<int>(d.depth_compare)
+      << " colours";
+  for (VkFormat f : d.color_formats) key << ' ' << static_cast<int>(f);
+  return key.str();
 }
+
+}  // namespace
+
+GraphicsPipeline::GraphicsPipeline(Context& context, const GraphicsDesc& desc)
+    : PipelineBase(context, desc.bindings, desc.push_constant_bytes, desc.name, false) {
+  // Compiled once per context, as ComputePipeline's are.
+  shared_ = context.kept(graphics_key(desc), [&] {
+    VkDevice device = context.device();
+    auto compiled =
+        with_layouts<CompiledGraphics>(device, desc.bindings, desc.push_constant_bytes, name_);
+    compiled->render_pass = make_render_pass(device, desc, name_);
+    compiled->pipeline =
+        make_graphics_pipeline(device, desc, name_, compiled->layout, compiled->render_pass);
+    context.throw_if_validation_errors();
+    return std::shared_ptr<void>(std::move(compiled));
+  });
+  const auto& compiled = *static_cast<const CompiledGraphics*>(shared_.get());
+  compiled.lend(sampler_, set_layout_, layout_, pipeline_);
+  render_pass_ = compiled.render_pass;
+}
+
+GraphicsPipeline::~GraphicsPipeline() = default;
 
 // ---------------------------------------------------------------------------------------------
 // Framebuffer

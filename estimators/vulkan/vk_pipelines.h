@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -89,8 +90,9 @@ class PipelineBase {
   void push(VkCommandBuffer cmd, const void* data, size_t bytes) const;
 
  protected:
+  // `own_layouts` false: the subclass sets the handles from shared_ (ComputePipeline).
   PipelineBase(Context& context, const std::vector<VkDescriptorType>& bindings,
-               uint32_t push_constant_bytes, const std::string& name);
+               uint32_t push_constant_bytes, const std::string& name, bool own_layouts = true);
   Context& context_;
   std::string name_;
   std::vector<VkDescriptorType> bindings_;
@@ -100,12 +102,18 @@ class PipelineBase {
   VkPipeline pipeline_ = VK_NULL_HANDLE;
   VkSampler sampler_ = VK_NULL_HANDLE;   // linear, clamp to edge, for combined image samplers
   std::vector<VkDescriptorPool> pools_;  // one small pool per made set
+  // When set, the sampler, layouts and pipeline belong to it (a compiled pipeline the context
+  // keeps, shared by every pipeline made from the same code); only the pools are this one's.
+  std::shared_ptr<void> shared_;
 };
 
 class ComputePipeline : public PipelineBase {
  public:
   // `name` is for error messages; `spirv` has entry point "main"; binding i of set 0 has type
-  // bindings[i]; push constants are one range of `push_constant_bytes` at offset 0.
+  // bindings[i]; push constants are one range of `push_constant_bytes` at offset 0. Compiled once
+  // per context for the same code, bindings, push-constant size and specialisation constants
+  // (Context::kept()): the driver's compile (LLVM on lavapipe) is paid by the first pipeline, not
+  // again by every estimator instance, e.g. one for each frame of a sequence (issue 42).
   ComputePipeline(Context& context, const std::string& name, SpirvCode spirv,
                   const std::vector<VkDescriptorType>& bindings, uint32_t push_constant_bytes = 0,
                   const std::vector<SpecConstant>& spec_constants = {});
@@ -149,13 +157,13 @@ struct GraphicsDesc {
 
 class GraphicsPipeline : public PipelineBase {
  public:
+  // Compiled once per context for the same description, as ComputePipeline is.
   GraphicsPipeline(Context& context, const GraphicsDesc& desc);
   ~GraphicsPipeline() override;
   VkRenderPass render_pass() const { return render_pass_; }
 
  private:
-  void create_pipeline(const GraphicsDesc& desc);
-  VkRenderPass render_pass_ = VK_NULL_HANDLE;
+  VkRenderPass render_pass_ = VK_NULL_HANDLE;  // the shared pipeline's
 };
 
 // A framebuffer of `colors` (in the pipeline's colour order) and `depth`, all the same size.

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <iterator>
 
 #include "estimators/estimator.h"
 #include "estimators/vulkan/raster_gbuffer.h"
@@ -20,6 +21,8 @@
 #include "estimators/vulkan/vk_context.h"
 #include "estimators/vulkan/vk_pipelines.h"
 #include "estimators/vulkan/vk_resources.h"
+#include "raster_gbuffer_frag_spv.h"
+#include "raster_gbuffer_vert_spv.h"
 #include "scenes/corpus.h"
 #include "scenes/embree_scene.h"
 #include "scenes/gbuffer.h"
@@ -77,6 +80,67 @@ TEST(VulkanLayer, ComputeRoundTripWithPushAndSpecConstants) {
       for (int x = 0; x < w; ++x)
         ASSERT_EQ(texels[y * w + x], 0.25f * static_cast<float>(x + 1000 * y) + offset)
             << x << "," << y;
+  }
+  EXPECT_TRUE(vk->validation_errors().empty());
+}
+
+// Issue 42: pipelines of the same code share one compile (Context::kept()), a different
+// specialisation constant is its own pipeline, and a shared one outlives the first user.
+TEST(VulkanLayer, PipelinesOfTheSameCodeShareOneCompile) {
+  REQUIRE_CONTEXT(vk);
+  const int w = 9, h = 5;
+  const uint32_t count = 16;
+  std::vector<float> in(count, 2.0f);
+  Buffer input(*vk, count * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  Buffer output(*vk, count * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  Image2D image(*vk, w, h, VK_FORMAT_R32_SFLOAT);
+  input.upload(in);
+  auto make = [&](std::vector<SpecConstant> spec) {
+    return std::make_unique<ComputePipeline>(*vk, "roundtrip", vk_test_roundtrip_comp_spv,
+                                             kRoundtripBindings, sizeof(RoundtripPush), spec);
+  };
+  auto first = make({});
+  auto second = make({});
+  auto other = make({spec_float(0, 3.25f)});
+  EXPECT_EQ(first->handle(), second->handle());
+  EXPECT_EQ(first->layout(), second->layout());
+  EXPECT_NE(first->handle(), other->handle());
+  // Keyed by the words, not their address: a plug-in's SPIR-V lives in a vector whose memory a
+  // later plug-in's code may reuse.
+  const std::vector<uint32_t> copy(std::begin(vk_test_roundtrip_comp_spv),
+                                   std::end(vk_test_roundtrip_comp_spv));
+  SpirvCode copied;
+  copied.words = copy.data();
+  copied.bytes = copy.size() * sizeof(uint32_t);
+  ComputePipeline from_copy(*vk, "roundtrip copy", copied, kRoundtripBindings,
+                            sizeof(RoundtripPush));
+  EXPECT_EQ(from_copy.handle(), first->handle());
+  // Graphics pipelines alike: the render pass is shared with the pipeline.
+  GraphicsDesc desc;
+  desc.name = "shared raster";
+  desc.vertex = raster_gbuffer_vert_spv;
+  desc.fragment = raster_gbuffer_frag_spv;
+  desc.bindings = {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                   VK_DESCRIPTOR_TYPE_STORAGE_BUFFER};
+  desc.push_constant_bytes = 72;  // raster_gbuffer.cpp's RasterPush
+  desc.color_formats = {VK_FORMAT_R32_SFLOAT,          VK_FORMAT_R32_SFLOAT,
+                        VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32G32B32A32_SFLOAT,
+                        VK_FORMAT_R32G32B32A32_SFLOAT, VK_FORMAT_R32_SFLOAT};
+  GraphicsPipeline raster_a(*vk, desc), raster_b(*vk, desc);
+  desc.depth_compare = VK_COMPARE_OP_LESS;
+  GraphicsPipeline raster_other(*vk, desc);
+  EXPECT_EQ(raster_a.handle(), raster_b.handle());
+  EXPECT_EQ(raster_a.render_pass(), raster_b.render_pass());
+  EXPECT_NE(raster_a.handle(), raster_other.handle());
+  first.reset();  // the shared pipeline stays the context's
+  for (const auto& [pipeline, offset] : {std::pair{second.get(), 0.5f}, {other.get(), 3.25f}}) {
+    VkDescriptorSet set = pipeline->make_set({input, output, image});
+    const RoundtripPush push{0.25f, count};
+    vk->submit([&](VkCommandBuffer cmd) {
+      pipeline->dispatch(cmd, set, push, group_count(w, 8), group_count(h, 8));
+    });
+    const auto out = output.download<float>();
+    for (uint32_t i = 0; i < count; ++i) ASSERT_EQ(out[i], 0.5f + offset) << i;
   }
   EXPECT_TRUE(vk->validation_errors().empty());
 }

@@ -109,9 +109,8 @@ void EvaluationSession::run_frames(Measurement& m, bool seed_per_frame) {
 
   std::vector<double> times, prepare_times;
   std::map<std::string, std::vector<double>> passes;
-  std::unique_ptr<Estimator> kept;        // keeps_state: the one instance
-  std::shared_ptr<const GBuffer> prev_g;  // a sequence's frame k - 1
-  SequenceFrame prev_f;
+  std::unique_ptr<Estimator> kept;               // keeps_state: the one instance
+  std::shared_ptr<const PosedFrame> prev_frame;  // a sequence's frame k - 1
   const std::vector<int> keep = sequence ? kept_sequence_frames(frames) : std::vector<int>{};
   // A sequence frame's references (truth: when it is not the matched one), shared with the frames'
   // scoring, and the frame they were traced for.
@@ -120,21 +119,15 @@ void EvaluationSession::run_frames(Measurement& m, bool seed_per_frame) {
   size_t next_kept = 0;
   EstimateResult result;
   for (int k = 0; k < frames; ++k) {
-    // The frame's scene and G-buffer: a still's are the caches'; a sequence's frames are posed one
-    // at a time, so that a long sequence holds two frames' geometry at most.
-    const SequenceFrame f = sequence ? sequence_frame(base.scene, view, k) : SequenceFrame{};
-    std::unique_ptr<SceneData> posed;
-    if (sequence && f.moves_objects) posed = scenes_.posed(base, f);
-    const SceneData& s = posed ? *posed : base;
+    // The frame's scene and G-buffer: a still's are the caches'; a sequence frame's are posed and
+    // rendered once for every point of the view (SceneCache::posed_frame()).
+    std::shared_ptr<const PosedFrame> posed_frame;
+    if (sequence) posed_frame = scenes_.posed_frame(m.scene, view, k, w, h, prev_frame.get());
+    const SceneData& s = posed_frame && posed_frame->posed ? *posed_frame->posed : base;
     const Camera camera =
-        sequence ? frame_camera(f, w, h) : scenes_.gbuffer(m.scene, view, w, h).camera;
-    std::shared_ptr<GBuffer> frame_g;
-    if (sequence) {
-      const auto timer = stages_.time("G-buffer");
-      frame_g = std::make_shared<GBuffer>(render_gbuffer(*s.embree, camera));
-      add_motion(*frame_g, k > 0 ? prev_g.get() : nullptr, f.motion,
-                 k > 0 ? prev_f.motion : f.motion);
-    }
+        sequence ? posed_frame->camera : scenes_.gbuffer(m.scene, view, w, h).camera;
+    const std::shared_ptr<const GBuffer> frame_g =
+        sequence ? posed_frame->gbuffer : std::shared_ptr<const GBuffer>();
     const GBuffer& g = sequence ? *frame_g : scenes_.gbuffer(m.scene, view, w, h);
     const FrameInfo info{.index = k,
                          .count = frames,
@@ -228,7 +221,7 @@ void EvaluationSession::run_frames(Measurement& m, bool seed_per_frame) {
                        .estimate = &result,
                        .time_ms = times.back(),
                        .ref_repeats_previous = repeats,
-                       .prev_jitter = k > 0 ? prev_g->camera.jitter : glm::vec2(0.0f),
+                       .prev_jitter = k > 0 ? prev_frame->gbuffer->camera.jitter : glm::vec2(0.0f),
                        .last = k == frames - 1};
     if (frame.last) {  // left to score(), with what it needs
       SequenceScoring& state = *m.sequence;
@@ -240,7 +233,7 @@ void EvaluationSession::run_frames(Measurement& m, bool seed_per_frame) {
     }
     // Scored in frame order, on the background lane when the runner gives one (set_background):
     // the job shares the frame's G-buffer and references and owns its estimate.
-    auto score_job = [this, state = m.sequence, gbuffer = std::shared_ptr<const GBuffer>(frame_g),
+    auto score_job = [this, state = m.sequence, gbuffer = frame_g,
                       estimate = std::make_shared<const EstimateResult>(std::move(result)),
                       matched_ref = matched, truth_ref = truth_owned, frame]() mutable {
       frame.gbuffer = gbuffer.get();
@@ -253,8 +246,7 @@ void EvaluationSession::run_frames(Measurement& m, bool seed_per_frame) {
       background_(std::move(score_job));
     else
       score_job();
-    prev_g = std::move(frame_g);
-    prev_f = f;
+    prev_frame = std::move(posed_frame);
   }
   // Scored at once, the frames but the last are the measurement's already; on a background lane
   // they are when score() has run.

@@ -28,11 +28,65 @@ const SceneData& SceneCache::scene(const std::string& name) {
   return stored;
 }
 
-std::unique_ptr<SceneData> SceneCache::posed(const SceneData& base, const SequenceFrame& frame) {
-  const auto timer = stages_.time("scene load + BVH");
-  auto data = std::make_unique<SceneData>();
-  build(*data, posed_scene(base.scene, frame));
-  return data;
+std::shared_ptr<const PosedFrame> SceneCache::posed_frame(const std::string& name, const View& view,
+                                                          int k, int w, int h,
+                                                          const PosedFrame* prev) {
+  const std::string key = view_key(name, view, w, h);
+  const SceneData* base = nullptr;
+  {
+    std::lock_guard<std::recursive_mutex> lock(mutex_);
+    auto it = frames_.find(key);
+    if (it != frames_.end()) {
+      it->second.used = ++frame_tick_;
+      const auto found = it->second.frames.find(k);
+      if (found != it->second.frames.end()) return found->second;
+    }
+    base = &scene(name);
+  }
+  // Built without the lock (only the runner's thread builds frames; the lane reads gbuffer()).
+  auto built = std::make_shared<PosedFrame>();
+  built->frame = sequence_frame(base->scene, view, k);
+  if (built->frame.moves_objects) {
+    const auto timer = stages_.time("scene load + BVH");
+    auto posed = std::make_shared<SceneData>();
+    build(*posed, posed_scene(base->scene, built->frame));
+    // Embree's buffers and BVH, and about 64 bytes a triangle for the scene's own arrays.
+    built->bytes +=
+        static_cast<size_t>(posed->embree->memory_bytes()) + posed->scene.triangle_count() * 64;
+    built->posed = std::move(posed);
+  }
+  built->camera = frame_camera(built->frame, w, h);
+  {
+    const auto timer = stages_.time("G-buffer");
+    auto g = std::make_shared<GBuffer>(
+        render_gbuffer(built->posed ? *built->posed->embree : *base->embree, built->camera));
+    add_motion(*g, prev ? prev->gbuffer.get() : nullptr, built->frame.motion,
+               prev ? prev->frame.motion : built->frame.motion);
+    built->bytes += g->pixel_count() * sizeof(float) * 15;  // A, Z, P, N, Ng, id, motion, disocc.
+    built->gbuffer = std::move(g);
+  }
+  std::shared_ptr<const PosedFrame> frame = std::move(built);
+  keep_frame(key, k, frame);
+  return frame;
+}
+
+void SceneCache::keep_frame(const std::string& key, int k,
+                            std::shared_ptr<const PosedFrame> frame) {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
+  // Other views' frames out, least recently used first, until this one fits.
+  while (frame_bytes_ + frame->bytes > kFrameBytes) {
+    auto oldest = frames_.end();
+    for (auto it = frames_.begin(); it != frames_.end(); ++it)
+      if (it->first != key && (oldest == frames_.end() || it->second.used < oldest->second.used))
+        oldest = it;
+    if (oldest == frames_.end()) return;  // only this view's frames are kept: not kept
+    for (const auto& [index, kept] : oldest->second.frames) frame_bytes_ -= kept->bytes;
+    frames_.erase(oldest);
+  }
+  ViewFrames& view = frames_[key];
+  view.used = ++frame_tick_;
+  frame_bytes_ += frame->bytes;
+  view.frames[k] = std::move(frame);
 }
 
 const SceneData& SceneCache::frame_scene(const std::string& name, const View& view, int frame) {
