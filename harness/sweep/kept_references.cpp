@@ -4,8 +4,10 @@
 #include <OpenImageIO/imagebufalgo.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 #include "base/text_files.h"
@@ -68,17 +70,49 @@ bool holds_only_float16_values(const OIIO::ImageBuf& image) {
   return true;
 }
 
+bool dwab_keeps_bits(const std::vector<std::string>& names) {
+  for (const std::string& name : names) {
+    std::string last = name.substr(name.rfind('.') == std::string::npos ? 0 : name.rfind('.') + 1);
+    std::transform(last.begin(), last.end(), last.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+    for (const char* lossy : {"R", "G", "B", "Y", "BY", "RY"})
+      if (last == lossy) return false;
+  }
+  return true;
+}
+
+const char* lossless_compression(const OIIO::ImageBuf& image, const char* otherwise) {
+  return dwab_keeps_bits(image.spec().channelnames) ? "dwab" : otherwise;
+}
+
 void write_half_precision_exr(const std::string& path, const OIIO::ImageBuf& image,
                               const Attributes& attributes) {
   const OIIO::ImageBuf rounded = at_half_precision(image);
-  write_exr(path, rounded, attributes, holds_only_float16_values(rounded) ? "pxr24" : "zip");
+  write_exr(path, rounded, attributes,
+            lossless_compression(rounded, holds_only_float16_values(rounded) ? "pxr24" : "zip"));
+}
+
+float at_pxr24_precision(float v) {
+  uint32_t bits;
+  std::memcpy(&bits, &v, sizeof bits);
+  const uint32_t sign = bits & 0x80000000u, e = bits & 0x7f800000u, m = bits & 0x007fffffu;
+  uint32_t i;  // the 24-bit word, as OpenEXR's floatToFloat24 makes it
+  if (e == 0x7f800000u) {
+    i = (e >> 8) | (m >> 8) | (m && !(m >> 8) ? 1u : 0u);  // infinity; a NaN stays one
+  } else {
+    i = ((e | m) + (m & 0x80u)) >> 8;      // nearest, ties away from zero
+    if (i >= 0x7f8000u) i = (e | m) >> 8;  // rounding would overflow: truncated
+  }
+  const uint32_t out = sign | (i << 8);
+  float f;
+  std::memcpy(&f, &out, sizeof f);
+  return f;
 }
 
 void compact_estimate_extras(const std::string& path) {
   const OIIO::ImageBuf image = read_image(path);
   const auto& names = image.spec().channelnames;
   const auto exact = [](const std::string& n) { return n == "AO" || n == "A" || n == "AO_stderr"; };
-  if (std::all_of(names.begin(), names.end(), exact)) return;
   const OIIO::ImageBuf rounded = at_half_precision(image);
   OIIO::ImageBuf out;
   out.copy(image, OIIO::TypeDesc::FLOAT);
@@ -87,7 +121,7 @@ void compact_estimate_extras(const std::string& path) {
   for (OIIO::ImageBuf::Iterator<float> it(out); !it.done(); ++it, ++from)
     for (int c = 0; c < channels; ++c)
       if (!exact(names[c])) it[c] = from[c];
-  write_exr(path, out, {}, "zip");
+  write_exr(path, out, {}, "pxr24");
 }
 
 void KeptReferences::copy(const std::string& from, const std::string& rel, bool frame) {
