@@ -25,11 +25,18 @@ const std::vector<std::string>& gbuffer_viewer_channels();
 // How the viewer's data holds the EXRs' floats (issue 42: the default suite's float32 data as
 // base64 text was 695 MB). compact: each plane byte-shuffled and deflated (zlib), the viewer
 // inflating it with the browser's DecompressionStream; a plane whose values all lie within
-// +-kViewerHalfRange as float16 (AO, its stderr, normals: probe values within 4.9e-4 of the EXR's
-// floats, 1e-3 promised), any other (depth) as float32, exact. exact: every plane float32 (the
-// EXRs' floats, bit for bit; `--viewer-exact`).
+// +-kViewerHalfRange as float16 (AO, normals: probe values within 4.9e-4 of the EXR's floats,
+// 1e-3 promised; relative precision kept, for the exposure control), or, for a plane shown only
+// through a linear colour map (viewer_fixed_point_channel: AO_stderr, flicker, lag), as int16
+// fixed point in steps of 1/kViewerFixedScale (within 1.22e-4: a float16 stderr's low mantissa
+// bits are noise that deflates badly; the default suite's reference stderr planes 1.7x smaller);
+// any other plane (depth, a NaN) as float32, exact; a plane or mask that repeats the frame before
+// (a static camera's references) as that frame's index. exact: every plane float32 (the EXRs'
+// floats, bit for bit; `--viewer-exact`).
 enum class ViewerData { compact, exact };
 inline constexpr float kViewerHalfRange = 2.0f;
+inline constexpr int kViewerFixedScale = 4096;
+bool viewer_fixed_point_channel(const std::string& channel);
 // The encoding the page writers use: compact unless the command asked for `--viewer-exact`
 // (set once, before any page is written: the pages' writers, deep in reports/, do not each carry
 // it).

@@ -150,7 +150,7 @@ TEST(Viewer, DataScriptsHoldTheExrFloatsExactly) {
   exact({"ref.exr"}, reference_viewer_channels());
   EXPECT_EQ(read_file(dir / rel).substr(0, prefix.size()), prefix);
   write_viewer_data(dir.string(), {"ref.exr"}, reference_viewer_channels());
-  EXPECT_EQ(read_file(dir / rel).substr(0, 32), "// aoeval viewer data: compact\n(");
+  EXPECT_EQ(read_file(dir / rel).substr(0, 34), "// aoeval viewer data: compact 2\n(");
   // Two frames of different sizes, and a file without coverage, are input errors.
   OIIO::ImageSpec small(2, 2, 2, OIIO::TypeDesc::FLOAT);
   small.channelnames = {"AO", "A"};
@@ -215,16 +215,19 @@ TEST(Viewer, CompactDataIsWithinOneThousandthAndSmaller) {
   const auto record = nlohmann::json::parse(js.substr(eq + 2, js.size() - eq - 4));
   EXPECT_EQ(record["encoding"], "shuffled-deflate");
   EXPECT_EQ(record["kinds"]["AO"][0], "h");
-  EXPECT_EQ(record["kinds"]["AO_stderr"][0], "h");
+  EXPECT_EQ(record["kinds"]["AO_stderr"][0], "q");
   EXPECT_EQ(record["kinds"]["Z"][0], "f");
   for (const auto& [name, want] : {std::pair{"AO", ao}, std::pair{"AO_stderr", sd}}) {
     const auto u = inflate(unbase64(record["channels"][name][0].get<std::string>()), 2u * n);
+    const bool fixed = std::string(name) == "AO_stderr";
     double worst = 0.0;
     for (int k = 0; k < n; ++k) {
       const auto bits = static_cast<uint16_t>(u[k] | u[n + k] << 8);
-      worst = std::max(worst, std::fabs(double(half_to_float(bits)) - want[k]));
+      const double got = fixed ? static_cast<int16_t>(bits) / double(kViewerFixedScale)
+                               : double(half_to_float(bits));
+      worst = std::max(worst, std::fabs(got - want[k]));
     }
-    EXPECT_LE(worst, 4.9e-4) << name;
+    EXPECT_LE(worst, fixed ? 0.5 / kViewerFixedScale + 1e-9 : 4.9e-4) << name;
   }
   const auto zu = inflate(unbase64(record["channels"]["Z"][0].get<std::string>()), 4u * n);
   for (int k = 0; k < n; ++k) {
@@ -241,6 +244,38 @@ TEST(Viewer, CompactDataIsWithinOneThousandthAndSmaller) {
   write_viewer_data(exact_dir.string(), {"ref.exr"}, {"AO", "AO_stderr", "Z"}, {}, 0.0,
                     ViewerData::exact);
   EXPECT_LT(2 * js.size(), read_file(exact_dir / rel).size());
+}
+
+// Three frames, the second a copy of the first (a static camera's reference): its planes and mask
+// are the first frame's index, the third frame (changed) its own bytes again.
+TEST(Viewer, CompactDataStoresARepeatedFrameOnce) {
+  const fs::path dir = testutil::test_temp_dir("viewer_repeat");
+  const int w = 32, h = 16;
+  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"AO", "AO_stderr", "A"};
+  for (int f = 0; f < 3; ++f) {
+    OIIO::ImageBuf image(spec);
+    for (int k = 0; k < w * h; ++k) {
+      const float px[3] = {0.25f + 0.001f * static_cast<float>(k % 97) + (f == 2 ? 0.1f : 0.0f),
+                           0.01f * static_cast<float>(k % 7) + (f == 2 ? 0.002f : 0.0f),
+                           k % 5 || f < 2 ? 1.0f : 0.0f};
+      image.setpixel(k % w, k / w, px);
+    }
+    write_exr((dir / ("f" + std::to_string(f) + ".exr")).string(), image, {});
+  }
+  const std::string rel = write_viewer_data(dir.string(), {"f0.exr", "f1.exr", "f2.exr"},
+                                            reference_viewer_channels(), {0, 1, 2}, 10.0);
+  const std::string js = read_file(dir / rel);
+  const size_t eq = js.find("]=");
+  const auto record = nlohmann::json::parse(js.substr(eq + 2, js.size() - eq - 4));
+  for (const std::string name : {"AO", "AO_stderr"}) {
+    const auto& planes = record["channels"][name];
+    EXPECT_TRUE(planes[0].is_string()) << name;
+    EXPECT_EQ(planes[1], 0) << name;
+    EXPECT_TRUE(planes[2].is_string()) << name;
+  }
+  EXPECT_EQ(record["mask"][1], 0);
+  EXPECT_TRUE(record["mask"][2].is_string());
 }
 
 // float16 conversion: exact for representable values, round to nearest even between them.

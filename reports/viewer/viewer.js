@@ -10,9 +10,11 @@
 // a viewer loads its scripts only when it is opened, so the page paints as fast as without it.
 // The default data is compact (reports/viewer.h, ViewerData; issue 42): encoding
 // "shuffled-deflate", every plane and mask zlib-deflated, each plane's bytes shuffled (all first
-// bytes, then all second bytes, ...) and, as kinds: {CH: ["h" or "f" per frame]} says, float16
-// (values within 1e-3 of the EXR's) or float32 (exact). load() inflates them all with the
-// browser's DecompressionStream when the viewer opens; `--viewer-exact` writes the plain form.
+// bytes, then all second bytes, ...) and, as kinds: {CH: ["h", "q" or "f" per frame]} says,
+// float16 or int16 fixed point in steps of 1/4096 (values within 1e-3 of the EXR's) or float32
+// (exact); a number in place of a frame's plane or mask: it repeats that earlier frame. load()
+// inflates them all with the browser's DecompressionStream when the viewer opens;
+// `--viewer-exact` writes the plain form.
 //
 // Markup (reports/viewer.cpp writes it): <div class="aoeval-viewer" data-kind="compare|gbuffer|maps"
 // data-a="viewer-data/REF.js" data-b="viewer-data/EST.js" data-labels="reference,estimate">
@@ -59,10 +61,12 @@
     return HALF;
   }
   function unpack(u, kind) {
-    const size = kind === 'h' ? 2 : 4, n = u.length / size, out = new Float32Array(n);
-    if (size === 2) {
+    const size = kind === 'f' ? 4 : 2, n = u.length / size, out = new Float32Array(n);
+    if (kind === 'h') {
       const t = halfTable();
       for (let i = 0; i < n; ++i) out[i] = t[u[i] | (u[n + i] << 8)];
+    } else if (kind === 'q') {  // int16 fixed point, steps of 1/FIXED
+      for (let i = 0; i < n; ++i) out[i] = (((u[i] | (u[n + i] << 8)) << 16) >> 16) / FIXED;
     } else {
       const v = new DataView(new ArrayBuffer(4));
       for (let i = 0; i < n; ++i) {
@@ -72,17 +76,20 @@
     }
     return out;
   }
+  const FIXED = 4096;  // kViewerFixedScale
   async function decodeRecord(rec) {
     if (rec.encoding !== 'shuffled-deflate' || rec._decoded) return rec;
     const jobs = [];
+    // A number in a frame's place: that frame repeats the earlier frame it names (decoded once).
+    const decode = function (list, f, as) {
+      if (typeof list[f] === 'string') jobs.push(inflate(list[f]).then(function (u) { list[f] = as(u); }));
+    };
     for (const ch of Object.keys(rec.channels))
-      rec.channels[ch].forEach(function (b64, f) {
-        jobs.push(inflate(b64).then(function (u) { rec.channels[ch][f] = unpack(u, rec.kinds[ch][f]); }));
-      });
-    rec.mask.forEach(function (b64, f) {
-      jobs.push(inflate(b64).then(function (u) { rec.mask[f] = u; }));
-    });
+      rec.channels[ch].forEach(function (_, f) { decode(rec.channels[ch], f, (u) => unpack(u, rec.kinds[ch][f])); });
+    rec.mask.forEach(function (_, f) { decode(rec.mask, f, (u) => u); });
     await Promise.all(jobs);
+    for (const list of Object.values(rec.channels).concat([rec.mask]))
+      list.forEach(function (v, f) { if (typeof v === 'number') list[f] = list[v]; });
     rec._decoded = true;
     return rec;
   }
