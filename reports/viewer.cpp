@@ -303,6 +303,13 @@ Html viewer_html(const ViewerSpec& spec, const Html& static_html) {
   return h << ">\n<div class=\"av-static\">" << static_html << "</div></div>\n";
 }
 
+Html video_html(const ViewerSpec& spec, double fps, const std::string& manifest) {
+  return Html("<div class=\"aoeval-video\" data-a=\"")
+         << url(spec.a) << "\" data-b=\"" << url(spec.b) << "\" data-fps=\"" << number(fps)
+         << "\" data-manifest=\"" << url(manifest) << "\"><noscript>The video plays from the "
+         << "viewer's data, with JavaScript.</noscript></div>\n";
+}
+
 Html compare_viewer(const std::string& page_dir, const std::string& a_exr, const std::string& b_exr,
                     const std::string& labels, const Html& static_html, ViewerData data) {
   ViewerSpec spec;

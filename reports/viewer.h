@@ -69,6 +69,12 @@ struct ViewerSpec {
 };
 Html viewer_html(const ViewerSpec& spec, const Html& static_html);
 
+// A sequence's video (CONTRACT §10: the estimate beside the reference's, every kept frame at
+// `fps`), which viewer.js draws on a canvas from the viewer's data scripts `spec.a` (reference)
+// and `spec.b` (estimate) when it scrolls into view: the frames are not held twice. `manifest`
+// names the point's sequence.json (the browser test finds the video by it).
+Html video_html(const ViewerSpec& spec, double fps, const std::string& manifest);
+
 // The whole of it for a pair of EXRs (relative to `page_dir`): data scripts, then the element.
 // For pages that show an EXR pair as images (the dashboard's new | baseline | difference).
 Html compare_viewer(const std::string& page_dir, const std::string& a_exr, const std::string& b_exr,

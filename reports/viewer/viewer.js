@@ -448,8 +448,79 @@
     return el._aoevalOpening;
   }
 
+  // A sequence's video (CONTRACT §10: the estimate beside the reference, every kept frame at the
+  // sequence's fps), drawn on a canvas from the viewer's own data (issue 42: an animated PNG held
+  // the same frames a second time, 35 MB of the default report). Markup (reports/viewer.cpp
+  // video_html): <div class="aoeval-video" data-a="REF.js" data-b="EST.js" data-fps="30">. It
+  // loads its data when it first scrolls into view (a folded section's never does until unfolded,
+  // so the page paints as fast), then loops while in view. Grey = sRGB(clamp(AO)), the mosaics'
+  // panels; pixels either image leaves uncovered in the "not compared" grey.
+  // element.aoevalOpen() loads it; element.aoevalVideoFrame(i) shows kept frame i and returns
+  // {width, height, frame} (for tests: the canvas's pixels are then that frame's).
+  const VIDEO_GAP = 4;
+  function Video(el, recs) {
+    const a = recs[0], b = recs[1], w = a.w, h = a.h, frames = a.frames || 1;
+    const numbers = a.frame_numbers || Array.from({ length: frames }, (_, i) => i);
+    const fps = Number(el.dataset.fps) || a.fps || 10;
+    const bar = tag('div', 'av-bar', el), canvas = tag('canvas', 'av-video', el);
+    canvas.width = 2 * w + VIDEO_GAP; canvas.height = h;
+    const ctx = canvas.getContext('2d'), img = ctx.createImageData(canvas.width, h);
+    img.data.fill(31);  // the mosaics' dark canvas (0.12)
+    const playButton = tag('button', 'av-button', bar, 'pause'), label = tag('span', '', bar);
+    playButton.type = 'button';
+    let at = 0, timer = null;
+    function show(i) {
+      const shown = i, d = img.data, ma = plane(a, 'mask', shown), mb = plane(b, 'mask', shown);
+      [plane(a, 'AO', shown), plane(b, 'AO', shown)].forEach(function (v, panel) {
+        for (let y = 0; y < h; ++y)
+          for (let x = 0; x < w; ++x) {
+            const k = y * w + x, o = 4 * (y * canvas.width + x + panel * (w + VIDEO_GAP));
+            const g = ma[k] && mb[k] ? Math.round(srgb(v[k])) : GREY;
+            d[o] = d[o + 1] = d[o + 2] = g; d[o + 3] = 255;
+          }
+      });
+      ctx.putImageData(img, 0, 0);
+      label.textContent = ' reference | estimate, frame ' + numbers[shown] + ' (' + fps + ' frames per second)';
+      return { width: canvas.width, height: h, frame: numbers[shown] };
+    }
+    function play(on) {
+      if (timer) { clearInterval(timer); timer = null; }
+      if (on) timer = setInterval(function () { at = (at + 1) % frames; show(at); }, 1000 / fps);
+      playButton.textContent = on ? 'pause' : 'play';
+    }
+    playButton.addEventListener('click', function () { play(!timer); });
+    show(0);
+    el.aoevalVideoFrame = function (i) { play(false); at = i; return show(i); };
+    el.aoevalVideoFrameCount = frames;
+    return { play: play };
+  }
+  function openVideo(el) {
+    if (!el._aoevalVideo)
+      el._aoevalVideo = Promise.all([el.dataset.a, el.dataset.b].map(load)).then(function (recs) {
+        el.aoevalVideo = Video(el, recs);
+        return el;
+      }, function (err) {
+        tag('p', 'av-error', el, 'video: ' + err.message);
+        throw err;
+      });
+    return el._aoevalVideo;
+  }
+  function initVideos() {
+    const seen = 'IntersectionObserver' in window ? new IntersectionObserver(function (entries) {
+      entries.forEach(function (e) {
+        if (e.isIntersecting) openVideo(e.target).then(function (el) { el.aoevalVideo.play(true); }).catch(function () {});
+        else if (e.target.aoevalVideo) e.target.aoevalVideo.play(false);
+      });
+    }) : null;
+    document.querySelectorAll('.aoeval-video').forEach(function (el) {
+      el.aoevalOpen = function () { return openVideo(el); };
+      if (seen) seen.observe(el);
+    });
+  }
+
   // Every .aoeval-viewer gets an "open viewer" button; a click on its static image opens it too.
   function init() {
+    initVideos();
     document.querySelectorAll('.aoeval-viewer').forEach(function (el) {
       el.aoevalOpen = function () { return open(el); };
       const b = document.createElement('button');
