@@ -36,7 +36,7 @@ void append_little_endian(std::vector<unsigned char>& out, float v) {
 // other one rewrites it.
 std::string data_header(ViewerData data) {
   return data == ViewerData::exact ? "// aoeval viewer data: exact float32\n"
-                                   : "// aoeval viewer data: compact 2\n";
+                                   : "// aoeval viewer data: compact 3\n";
 }
 
 bool starts_with_header(const fs::path& target, const std::string& header) {
@@ -143,6 +143,29 @@ static char plane_kind(const std::string& channel, const float* values, size_t n
   return viewer_fixed_point_channel(channel) ? 'q' : 'h';
 }
 
+// Appends `bytes` to `blob`; returns [offset, length], what the record holds in their place.
+static nlohmann::json append_blob(std::string& blob, const std::vector<unsigned char>& bytes) {
+  const nlohmann::json at = nlohmann::json::array({blob.size(), bytes.size()});
+  blob.append(bytes.begin(), bytes.end());
+  return at;
+}
+
+std::string js_byte_string(const std::string& bytes) {
+  std::string out;
+  out.reserve(bytes.size() + bytes.size() / 32);
+  for (const char c : bytes) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\r') {
+      out += "\\r";
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
 static std::vector<unsigned char> deflate_bytes(const std::vector<unsigned char>& in) {
   uLongf size = compressBound(static_cast<uLong>(in.size()));
   std::vector<unsigned char> out(size);
@@ -211,6 +234,7 @@ std::string write_viewer_data(const std::string& page_dir, const std::vector<std
   int w = 0, h = 0;
   std::map<std::string, std::vector<unsigned char>> last;  // compact: each plane's last bytes
   std::vector<unsigned char> last_mask;
+  std::string blob;  // compact: every deflated plane and mask, one after the other
   for (size_t f = 0; f < exrs.size(); ++f) {
     const std::string path = (fs::path(page_dir) / exrs[f]).string();
     const OIIO::ImageBuf image = read_image(path);
@@ -235,8 +259,7 @@ std::string write_viewer_data(const std::string& page_dir, const std::vector<std
       if (f > 0 && mask == last_mask) {
         masks.push_back(masks.back().is_number() ? masks.back() : nlohmann::json(f - 1));
       } else {
-        const std::vector<unsigned char> z = deflate_bytes(mask);
-        masks.push_back(base64(z.data(), z.size()));
+        masks.push_back(append_blob(blob, deflate_bytes(mask)));
       }
       last_mask = std::move(mask);
     } else {
@@ -255,8 +278,7 @@ std::string write_viewer_data(const std::string& page_dir, const std::vector<std
           const nlohmann::json& before = planes[c].back();
           planes[c].push_back(before.is_number() ? before : nlohmann::json(f - 1));
         } else {
-          const std::vector<unsigned char> z = deflate_bytes(packed);
-          planes[c].push_back(base64(z.data(), z.size()));
+          planes[c].push_back(append_blob(blob, deflate_bytes(packed)));
         }
         kinds[c].push_back(kind_name);
         last[c] = std::move(packed);
@@ -289,8 +311,11 @@ std::string write_viewer_data(const std::string& page_dir, const std::vector<std
   record["source"] = exrs;
   if (!frame_numbers.empty()) record["frame_numbers"] = frame_numbers;
   if (fps > 0.0) record["fps"] = fps;
-  write_text(target.string(), header + "(window.AOEVAL_DATA=window.AOEVAL_DATA||{})[" +
-                                  nlohmann::json(name).dump() + "]=" + record.dump() + ";\n");
+  const std::string key = nlohmann::json(name).dump();
+  std::string script =
+      header + "(window.AOEVAL_DATA=window.AOEVAL_DATA||{})[" + key + "]=" + record.dump() + ";\n";
+  if (compact) script += "window.AOEVAL_DATA[" + key + "].bin=\"" + js_byte_string(blob) + "\";\n";
+  write_text(target.string(), script);
   return rel;
 }
 

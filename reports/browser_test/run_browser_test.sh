@@ -138,18 +138,30 @@ open(path, "w").write(head + json.dumps(record) + ";\n")
 PY
 cp -r suite-b viewer-broken-compact
 /usr/bin/python3 - viewer-broken-compact/viewer-data/runs__*__estimates__raytraced*.js <<'PY'
-import base64, json, sys, zlib
+import json, re, sys, zlib
 import numpy as np
+# The compact script (reports/viewer.h): line 2 the record, line 3 the byte string (js_byte_string)
+# whose [offset, length] parts are the deflated planes.
 path = sys.argv[1]
-text = open(path).read()
-head, record = text[:text.index("]=") + 2], json.loads(text[text.index("]=") + 2:].rstrip().rstrip(";"))
+text = open(path, encoding="latin-1").read()
+head, line2, line3 = text.split("\n", 2)
+key_end = line2.index("]=") + 2
+record = json.loads(line2[key_end:].rstrip(";"))
+start = line3.index('.bin="') + 6
+bin = re.sub(r'\\(.)', lambda m: {"n": "\n", "r": "\r"}.get(m.group(1), m.group(1)),
+             line3[start:line3.rindex('";')]).encode("latin-1")
 assert record["encoding"] == "shuffled-deflate" and record["kinds"]["AO"][0] == "h"
-u = np.frombuffer(zlib.decompress(base64.b64decode(record["channels"]["AO"][0])), np.uint8)
+off, size = record["channels"]["AO"][0]
+u = np.frombuffer(zlib.decompress(bin[off:off + size]), np.uint8)
 n = u.size // 2
 ao = u.reshape(2, n).T.copy().view("<f2").ravel().astype(np.float32) + np.float32(3e-3)
-shuffled = ao.astype("<f2").view(np.uint8).reshape(n, 2).T.copy().tobytes()
-record["channels"]["AO"][0] = base64.b64encode(zlib.compress(shuffled)).decode()
-open(path, "w").write(head + json.dumps(record) + ";\n")
+z = zlib.compress(ao.astype("<f2").view(np.uint8).reshape(n, 2).T.copy().tobytes())
+record["channels"]["AO"][0] = [len(bin), len(z)]
+bin += z
+escaped = bin.decode("latin-1").replace("\\", "\\\\").replace('"', '\\"')
+escaped = escaped.replace("\n", "\\n").replace("\r", "\\r")
+open(path, "w", encoding="latin-1").write(head + "\n" + line2[:key_end] + json.dumps(record) + ";\n" +
+                                          line3[:start] + escaped + '";\n')
 PY
 expect_viewer_check_fails viewer-broken samples-x.json 1e-6 "aoevalProbe estimate differs"
 expect_viewer_check_fails viewer-broken-compact samples.json 1e-3 "aoevalProbe estimate differs"
