@@ -76,8 +76,8 @@ TEST(KeptReferences, CompactFilesReadBackBitForBit) {
     if (beyond) image.setpixel(5, 7, std::vector<float>{1.0f, 1.0e6f + 1.0f, 0.0f}.data());
     const std::string path = dir + (beyond ? "/beyond.exr" : "/half.exr");
     write_half_precision_exr(path, image, {});
-    const OIIO::ImageBuf rounded = at_half_precision(image);
-    EXPECT_EQ(holds_only_float16_values(rounded), !beyond);
+    const OIIO::ImageBuf rounded = at_kept_precision(image);
+    EXPECT_EQ(pxr24_keeps_bits(rounded), !beyond);
     OIIO::ImageBuf back(path);
     ASSERT_TRUE(back.read(0, 0, true, OIIO::TypeDesc::FLOAT));
     EXPECT_EQ(compression_of(path), beyond ? "zip" : "pxr24");
@@ -117,7 +117,6 @@ TEST(KeptReferences, EstimateExtrasRoundedAndAoAtPxr24Precision) {
   ASSERT_TRUE(back.read(0, 0, true, OIIO::TypeDesc::FLOAT));
   EXPECT_EQ(back.spec().get_string_attribute("aoeval:estimator"), "gtao");
   EXPECT_EQ(compression_of(path), "pxr24");
-  const OIIO::ImageBuf rounded = at_half_precision(image);
   int exact_differ = 0, extras_not_rounded = 0, ao_moved = 0;
   double worst_ao = 0.0;
   for (int y = 0; y < 48; ++y)
@@ -125,7 +124,7 @@ TEST(KeptReferences, EstimateExtrasRoundedAndAoAtPxr24Precision) {
       for (int c = 0; c < 6; ++c) {
         const float got = back.getchannel(x, y, 0, c);
         const float original = image.getchannel(x, y, 0, c);
-        const float want = c < 3 ? at_pxr24_precision(original) : rounded.getchannel(x, y, 0, c);
+        const float want = c < 3 ? at_pxr24_precision(original) : at_fixed_step(original, 2048);
         (c < 3 ? exact_differ : extras_not_rounded) += std::memcmp(&got, &want, sizeof got) != 0;
         if (c == 1) {
           worst_ao = std::max(worst_ao, std::fabs(double(got) - original));
@@ -139,6 +138,41 @@ TEST(KeptReferences, EstimateExtrasRoundedAndAoAtPxr24Precision) {
   EXPECT_EQ(at_pxr24_precision(1.0f), 1.0f);
   EXPECT_EQ(at_pxr24_precision(0.0f), 0.0f);
   EXPECT_TRUE(std::isnan(at_pxr24_precision(std::nanf(""))));
+}
+
+// The kept precision, channel by channel: AO_stderr in steps of 1/4096, bent.X/Y/Z of 1/2048, AO
+// at float16; a bent channel with a value beyond +-2 at float16 too.
+TEST(KeptReferences, KeptPrecisionIsFixedPointForStderrAndBentFloat16Otherwise) {
+  OIIO::ImageSpec spec(50, 20, 4, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"AO", "AO_stderr", "bent.X", "bent.Y"};
+  OIIO::ImageBuf image(spec);
+  uint32_t state = 4242;
+  for (OIIO::ImageBuf::Iterator<float> it(image); !it.done(); ++it) {
+    for (int c = 0; c < 4; ++c) {
+      state = state * 1664525u + 1013904223u;
+      it[c] = static_cast<float>(state >> 8) / 16777216.0f * (c == 1 ? 0.06f : 1.0f);
+    }
+  }
+  image.setpixel(3, 3, std::vector<float>{0.5f, 0.01f, 0.2f, 3.0f}.data());  // bent.Y beyond 2
+  const OIIO::ImageBuf kept = at_kept_precision(image), half = at_half_precision(image);
+  double worst[4] = {0, 0, 0, 0};
+  int wrong = 0;
+  for (int y = 0; y < 20; ++y)
+    for (int x = 0; x < 50; ++x)
+      for (int c = 0; c < 4; ++c) {
+        const float v = image.getchannel(x, y, 0, c), got = kept.getchannel(x, y, 0, c);
+        const float want = c == 1   ? at_fixed_step(v, 4096)
+                           : c == 2 ? at_fixed_step(v, 2048)
+                                    : half.getchannel(x, y, 0, c);  // AO; bent.Y (a 3 in it)
+        wrong += std::memcmp(&got, &want, sizeof got) != 0;
+        worst[c] = std::max(worst[c], std::fabs(double(got) - v));
+      }
+  EXPECT_EQ(wrong, 0);
+  EXPECT_LE(worst[1], 0.5 / 4096 + 1e-9);
+  EXPECT_LE(worst[2], 0.5 / 2048 + 1e-9);
+  EXPECT_GT(worst[1], 0.25 / 4096);  // coarser than float16 on [0, 0.06]: it did round
+  EXPECT_TRUE(pxr24_keeps_bits(kept));
+  EXPECT_EQ(kept_fixed_step("AO"), 0);
 }
 
 // Random float32s (not float16-rounded: DWAB must keep any value), in every channel set a run
@@ -187,7 +221,7 @@ TEST(KeptReferences, DwabReadsBackBitForBitForEveryChannelSetWeWriteWithIt) {
     EXPECT_EQ(differing(image, path + ".exr"), std::make_pair(0, std::string("dwab"))) << names[1];
     // The kept frames' writer, on float16-rounded values, chooses it too.
     write_half_precision_exr(path + "-half.exr", image, {});
-    EXPECT_EQ(differing(at_half_precision(image), path + "-half.exr"),
+    EXPECT_EQ(differing(at_kept_precision(image), path + "-half.exr"),
               std::make_pair(0, std::string("dwab")));
   }
   const std::vector<std::string> with_y = {"A", "AO", "AO_stderr", "bent.X", "bent.Y", "bent.Z"};
@@ -196,7 +230,7 @@ TEST(KeptReferences, DwabReadsBackBitForBitForEveryChannelSetWeWriteWithIt) {
   EXPECT_FALSE(dwab_keeps_bits({"obscurance.R"}));
   const OIIO::ImageBuf image = noisy(with_y);
   write_half_precision_exr(dir + "/y.exr", image, {});
-  EXPECT_EQ(differing(at_half_precision(image), dir + "/y.exr"),
+  EXPECT_EQ(differing(at_kept_precision(image), dir + "/y.exr"),
             std::make_pair(0, std::string("pxr24")));
   write_exr(dir + "/y-dwab.exr", image, {}, "dwab");  // what the rule keeps us from
   EXPECT_GT(differing(image, dir + "/y-dwab.exr").first, 0);
