@@ -18,7 +18,6 @@
 #include "drawing/error_maps.h"
 #include "drawing/plot.h"
 #include "harness/results/results_store.h"
-#include "reports/apng.h"
 #include "reports/html.h"
 #include "reports/suite_report_leaderboard.h"
 #include "reports/suite_report_mosaics.h"
@@ -115,40 +114,6 @@ float draw_strip(const fs::path& out, const nlohmann::json& kept, const std::vec
   return scale;
 }
 
-// reference | estimate of every kept frame as an animated PNG at the sequence's fps (reports/
-// apng.h: lossless, so it plays the panels' exact 8-bit greys, in an <img> without a script). It
-// was an animated GIF through OpenImageIO, which garbled it twice: every frame of a GIF or APNG
-// has the first frame's size, but a panel is as wide as its title when the title is the wider
-// ("reference, frame 10" outgrows "reference, frame 0" on a small view), so later frames were
-// read at the wrong width and sheared into diagonal stripes; and its palette kept 27 colours of
-// a frame, moving greys by up to 23 levels. Each frame is now pasted onto one canvas of the
-// largest frame's size.
-void write_video(const fs::path& out, const nlohmann::json& kept, double fps,
-                 const fs::path& video) {
-  std::vector<OIIO::ImageBuf> panels;
-  int width = 0, height = 0;
-  for (const auto& k : kept) {
-    const FramePair f = read_pair(out, k);
-    const int w = f.ref.width, h = f.ref.height;
-    panels.push_back(stack(
-        {ao_image(w, h, f.ref.ao.data(), f.mask, "reference, frame " + std::to_string(f.frame)),
-         ao_image(w, h, f.est.ao.data(), f.mask, "estimate")},
-        true));
-    width = std::max(width, panels.back().spec().width);
-    height = std::max(height, panels.back().spec().height);
-  }
-  std::vector<OIIO::ImageBuf> frames;
-  for (const OIIO::ImageBuf& panel : panels) {
-    OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
-    spec.attribute("oiio:ColorSpace",
-                   "sRGB");  // an sRGB chunk: browsers show the values as they are
-    frames.emplace_back(spec);
-    OIIO::ImageBufAlgo::fill(frames.back(), {kCanvas[0], kCanvas[1], kCanvas[2]});
-    OIIO::ImageBufAlgo::paste(frames.back(), 0, 0, 0, 0, panel);
-  }
-  write_apng(frames, fps, video.string());
-}
-
 // rmse_excess by frame (steady_rmse_excess dashed over the frames it averages) | by frames since
 // disocclusion.
 PlotSpec chart_of(const nlohmann::json& manifest, const ResultRow& row) {
@@ -234,13 +199,14 @@ struct PointDrawing {
   ViewerSpec spec;
 };
 
-// Draws a point's strip and video when older than their sources, and writes its estimate's
-// viewer data (its reference's: reference_data).
+// Draws a point's strip when older than its sources, and writes its estimate's viewer data (its
+// reference's: reference_data), which its video plays too (viewer.h video_html).
 void draw_point(const fs::path& out, PointDrawing& p) {
   if (p.kept.empty()) return;
-  const fs::path strip = out / p.dir / "strip.png", video = out / p.dir / "video.png";
+  const fs::path strip = out / p.dir / "strip.png";
   if (!up_to_date(strip, p.sources)) draw_strip(out, p.kept, p.pick, strip);
-  if (!up_to_date(video, p.sources)) write_video(out, p.kept, p.manifest.value("fps", 0.0), video);
+  std::error_code gone;
+  fs::remove(out / p.dir / "video.png", gone);  // an older aoeval's animated PNG of the same frames
   p.spec.b = write_viewer_data(out.string(), p.ests, estimate_viewer_channels(), p.numbers,
                                p.manifest.value("fps", 0.0));
 }
@@ -337,7 +303,7 @@ Html sequence_sections(const std::string& out_dir, const SuiteReport& report) {
     for (const auto& k : sequence_metric_names()) h << "<td>" << value_of(r.metrics, k) << "</td>";
     h << "</tr></table>\n";
     if (!kept.empty()) {
-      const std::string strip = (dir / "strip.png").string(), video = (dir / "video.png").string();
+      const std::string strip = (dir / "strip.png").string();
       std::string picked;
       for (size_t i : p.pick) picked += (picked.empty() ? "" : ", ") + std::to_string(p.numbers[i]);
       h << "<figure>"
@@ -348,10 +314,10 @@ Html sequence_sections(const std::string& out_dir, const SuiteReport& report) {
         << " (the first, the one with most disoccluded pixels, the last): reference | estimate | "
            "|estimate &minus; reference|, one error scale for the three. The viewer holds all "
         << kept.size() << " kept frames (frame slider, play: , . p).</figcaption></figure>\n"
-        << "<figure><img class=\"video\" src=\"" << url(video) << "\" loading=\"lazy\" alt=\""
-        << attr(r.run_name) << ": video\"><figcaption>Reference | estimate, every kept "
-        << "frame at " << value_of(m, "fps") << " frames per second (animated PNG).</figcaption>"
-        << "</figure>\n";
+        << "<figure>" << video_html(p.spec, m.value("fps", 0.0), manifest_rel)
+        << "<figcaption>Reference | estimate, every kept frame at " << value_of(m, "fps")
+        << " frames per second, drawn from the viewer's data when it comes into view (play / "
+           "pause).</figcaption></figure>\n";
     }
     h << sequence_maps_figure(out_dir, points.back());
     const std::string chart = (dir / "rmse_excess.png").string();

@@ -6,8 +6,9 @@
 // reference EXRs): the §10 keys; a strip of frames (reference | estimate | |error|, one row each
 // for the first frame, the frame with most disoccluded pixels and the last, one error scale for
 // all three) inside the viewer (CONTRACT §11) over every kept frame, with its frame slider and
-// play; a video of the estimate beside the reference (an animated PNG, reports/apng.h: it plays
-// in an <img> without scripts); and rmse_excess by frame and by frames since disocclusion
+// play; a video of the estimate beside the reference (viewer.h video_html: drawn in the page from
+// the viewer's data, not a second copy of the frames); and rmse_excess by frame and by frames
+// since disocclusion
 // (matplotlib); and its flicker and lag maps in the viewer. Internal to reports/suite_report.
 #pragma once
 
@@ -18,7 +19,7 @@
 
 namespace aoeval {
 
-// Draws every sequence point's strip, video and chart into its folder (kept when newer than
+// Draws every sequence point's strip and chart into its folder (kept when newer than
 // their sources) and returns the HTML of the report's "Sequences" part: "" when no ok row of
 // `report` is a sequence point whose entry names its manifest (role "sequence", from the store).
 // InputError naming the file when a manifest or an EXR it names cannot be read.

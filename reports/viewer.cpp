@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
@@ -35,7 +36,7 @@ void append_little_endian(std::vector<unsigned char>& out, float v) {
 // other one rewrites it.
 std::string data_header(ViewerData data) {
   return data == ViewerData::exact ? "// aoeval viewer data: exact float32\n"
-                                   : "// aoeval viewer data: compact\n";
+                                   : "// aoeval viewer data: compact 3\n";
 }
 
 bool starts_with_header(const fs::path& target, const std::string& header) {
@@ -109,16 +110,22 @@ float half_to_float(uint16_t h) {
   return v;
 }
 
-static std::vector<unsigned char> pack_plane(const float* values, size_t n, bool& half) {
-  half = true;
-  // float16 only where it holds every value within 1e-3 (see ViewerData); NaN stays float32.
-  for (size_t k = 0; k < n && half; ++k) half = std::fabs(values[k]) <= kViewerHalfRange;
-  const size_t size = half ? 2 : 4;
+bool viewer_fixed_point_channel(const std::string& channel) {
+  return channel == "AO_stderr" || channel == "flicker" || channel == "lag";
+}
+
+// A plane's bytes, shuffled, as `kind` says: 'f' float32, 'h' float16, 'q' int16 of
+// value x kViewerFixedScale.
+static std::vector<unsigned char> pack_plane(const float* values, size_t n, char kind) {
+  const size_t size = kind == 'f' ? 4 : 2;
   std::vector<unsigned char> shuffled(n * size);
   for (size_t k = 0; k < n; ++k) {
     uint32_t bits;
-    if (half) {
+    if (kind == 'h') {
       bits = float_to_half(values[k]);
+    } else if (kind == 'q') {
+      bits = static_cast<uint16_t>(
+          static_cast<int16_t>(std::lrint(values[k] * static_cast<float>(kViewerFixedScale))));
     } else {
       std::memcpy(&bits, &values[k], sizeof bits);
     }
@@ -126,6 +133,37 @@ static std::vector<unsigned char> pack_plane(const float* values, size_t n, bool
       shuffled[b * n + k] = static_cast<unsigned char>(bits >> (8 * b));
   }
   return shuffled;
+}
+
+// float16 (or fixed point) only where it holds every value within 1e-3 (see ViewerData); NaN and
+// infinities stay float32.
+static char plane_kind(const std::string& channel, const float* values, size_t n) {
+  for (size_t k = 0; k < n; ++k)
+    if (!(std::fabs(values[k]) <= kViewerHalfRange)) return 'f';
+  return viewer_fixed_point_channel(channel) ? 'q' : 'h';
+}
+
+// Appends `bytes` to `blob`; returns [offset, length], what the record holds in their place.
+static nlohmann::json append_blob(std::string& blob, const std::vector<unsigned char>& bytes) {
+  const nlohmann::json at = nlohmann::json::array({blob.size(), bytes.size()});
+  blob.append(bytes.begin(), bytes.end());
+  return at;
+}
+
+std::string js_byte_string(const std::string& bytes) {
+  std::string out;
+  out.reserve(bytes.size() + bytes.size() / 32);
+  for (const char c : bytes) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\r') {
+      out += "\\r";
+    } else {
+      out += c;
+    }
+  }
+  return out;
 }
 
 static std::vector<unsigned char> deflate_bytes(const std::vector<unsigned char>& in) {
@@ -194,6 +232,9 @@ std::string write_viewer_data(const std::string& page_dir, const std::vector<std
   nlohmann::json planes = nlohmann::json::object(), masks = nlohmann::json::array();
   nlohmann::json kinds = nlohmann::json::object();  // compact: "h" (float16) or "f" per plane
   int w = 0, h = 0;
+  std::map<std::string, std::vector<unsigned char>> last;  // compact: each plane's last bytes
+  std::vector<unsigned char> last_mask;
+  std::string blob;  // compact: every deflated plane and mask, one after the other
   for (size_t f = 0; f < exrs.size(); ++f) {
     const std::string path = (fs::path(page_dir) / exrs[f]).string();
     const OIIO::ImageBuf image = read_image(path);
@@ -214,8 +255,13 @@ std::string write_viewer_data(const std::string& page_dir, const std::vector<std
     std::vector<unsigned char> mask(n);
     for (size_t k = 0; k < n; ++k) mask[k] = pixels[k * nc + a] > 0.5f;  // as every reader does
     if (compact) {
-      const std::vector<unsigned char> z = deflate_bytes(mask);
-      masks.push_back(base64(z.data(), z.size()));
+      // A frame that repeats the one before (a static camera's reference): that frame's index.
+      if (f > 0 && mask == last_mask) {
+        masks.push_back(masks.back().is_number() ? masks.back() : nlohmann::json(f - 1));
+      } else {
+        masks.push_back(append_blob(blob, deflate_bytes(mask)));
+      }
+      last_mask = std::move(mask);
     } else {
       masks.push_back(base64(mask.data(), n));
     }
@@ -225,10 +271,17 @@ std::string write_viewer_data(const std::string& page_dir, const std::vector<std
       if (compact) {
         std::vector<float> values(n);
         for (size_t k = 0; k < n; ++k) values[k] = pixels[k * nc + ci];
-        bool half = false;
-        const std::vector<unsigned char> z = deflate_bytes(pack_plane(values.data(), n, half));
-        planes[c].push_back(base64(z.data(), z.size()));
-        kinds[c].push_back(half ? "h" : "f");
+        const char kind = plane_kind(c, values.data(), n);
+        std::vector<unsigned char> packed = pack_plane(values.data(), n, kind);
+        const std::string kind_name(1, kind);
+        if (f > 0 && packed == last[c] && kinds[c].size() == f && kinds[c].back() == kind_name) {
+          const nlohmann::json& before = planes[c].back();
+          planes[c].push_back(before.is_number() ? before : nlohmann::json(f - 1));
+        } else {
+          planes[c].push_back(append_blob(blob, deflate_bytes(packed)));
+        }
+        kinds[c].push_back(kind_name);
+        last[c] = std::move(packed);
         continue;
       }
       std::vector<unsigned char> bytes;
@@ -258,8 +311,11 @@ std::string write_viewer_data(const std::string& page_dir, const std::vector<std
   record["source"] = exrs;
   if (!frame_numbers.empty()) record["frame_numbers"] = frame_numbers;
   if (fps > 0.0) record["fps"] = fps;
-  write_text(target.string(), header + "(window.AOEVAL_DATA=window.AOEVAL_DATA||{})[" +
-                                  nlohmann::json(name).dump() + "]=" + record.dump() + ";\n");
+  const std::string key = nlohmann::json(name).dump();
+  std::string script =
+      header + "(window.AOEVAL_DATA=window.AOEVAL_DATA||{})[" + key + "]=" + record.dump() + ";\n";
+  if (compact) script += "window.AOEVAL_DATA[" + key + "].bin=\"" + js_byte_string(blob) + "\";\n";
+  write_text(target.string(), script);
   return rel;
 }
 
@@ -270,6 +326,13 @@ Html viewer_html(const ViewerSpec& spec, const Html& static_html) {
   if (!spec.b.empty()) h << " data-b=\"" << url(spec.b) << "\"";
   if (spec.kind == "compare") h << " data-labels=\"" << attr(spec.labels) << "\"";
   return h << ">\n<div class=\"av-static\">" << static_html << "</div></div>\n";
+}
+
+Html video_html(const ViewerSpec& spec, double fps, const std::string& manifest) {
+  return Html("<div class=\"aoeval-video\" data-a=\"")
+         << url(spec.a) << "\" data-b=\"" << url(spec.b) << "\" data-fps=\"" << number(fps)
+         << "\" data-manifest=\"" << url(manifest) << "\"><noscript>The video plays from the "
+         << "viewer's data, with JavaScript.</noscript></div>\n";
 }
 
 Html compare_viewer(const std::string& page_dir, const std::string& a_exr, const std::string& b_exr,

@@ -25,11 +25,19 @@ const std::vector<std::string>& gbuffer_viewer_channels();
 // How the viewer's data holds the EXRs' floats (issue 42: the default suite's float32 data as
 // base64 text was 695 MB). compact: each plane byte-shuffled and deflated (zlib), the viewer
 // inflating it with the browser's DecompressionStream; a plane whose values all lie within
-// +-kViewerHalfRange as float16 (AO, its stderr, normals: probe values within 4.9e-4 of the EXR's
-// floats, 1e-3 promised), any other (depth) as float32, exact. exact: every plane float32 (the
-// EXRs' floats, bit for bit; `--viewer-exact`).
+// +-kViewerHalfRange as float16 (AO, normals: probe values within 4.9e-4 of the EXR's floats,
+// 1e-3 promised; relative precision kept, for the exposure control), or, for a plane shown only
+// through a linear colour map (viewer_fixed_point_channel: AO_stderr, flicker, lag), as int16
+// fixed point in steps of 1/kViewerFixedScale (within 1.22e-4: a float16 stderr's low mantissa
+// bits are noise that deflates badly; the default suite's reference stderr planes 1.7x smaller);
+// any other plane (depth, a NaN) as float32, exact; a plane or mask that repeats the frame before
+// (a static camera's references) as that frame's index. The deflated planes and masks lie one
+// after the other in one byte string (js_byte_string), each named by [offset, length]. exact:
+// every plane float32, base64 (the EXRs' floats, bit for bit; `--viewer-exact`).
 enum class ViewerData { compact, exact };
 inline constexpr float kViewerHalfRange = 2.0f;
+inline constexpr int kViewerFixedScale = 4096;
+bool viewer_fixed_point_channel(const std::string& channel);
 // The encoding the page writers use: compact unless the command asked for `--viewer-exact`
 // (set once, before any page is written: the pages' writers, deep in reports/, do not each carry
 // it).
@@ -41,7 +49,7 @@ float half_to_float(uint16_t h);
 
 // Writes <page_dir>/viewer-data/<name>.js holding `channels` (those the files have) and the
 // coverage mask of each frame's EXR (one file per frame; all the same size), encoded as `data`
-// says (base64 of the planes). Rewritten when older than an EXR or written in the other encoding.
+// says. Rewritten when older than an EXR or written in the other encoding.
 // `exrs` are relative to `page_dir`; returns the script's path relative to it. InputError naming
 // the file when an EXR is unreadable, lacks A, or differs in size from frame 0. A sequence's
 // kept frames give `frame_numbers` (the sequence frame of each EXR: the viewer's slider and
@@ -62,11 +70,23 @@ struct ViewerSpec {
 };
 Html viewer_html(const ViewerSpec& spec, const Html& static_html);
 
+// A sequence's video (CONTRACT §10: the estimate beside the reference's, every kept frame at
+// `fps`), which viewer.js draws on a canvas from the viewer's data scripts `spec.a` (reference)
+// and `spec.b` (estimate) when it scrolls into view: the frames are not held twice. `manifest`
+// names the point's sequence.json (the browser test finds the video by it).
+Html video_html(const ViewerSpec& spec, double fps, const std::string& manifest);
+
 // The whole of it for a pair of EXRs (relative to `page_dir`): data scripts, then the element.
 // For pages that show an EXR pair as images (the dashboard's new | baseline | difference).
 Html compare_viewer(const std::string& page_dir, const std::string& a_exr, const std::string& b_exr,
                     const std::string& labels, const Html& static_html,
                     ViewerData data = default_viewer_data());
+
+// `bytes` as the inside of a JavaScript "..." literal in a script the page loads with charset
+// x-user-defined (WHATWG Encoding: byte b < 0x80 is U+00bb, b >= 0x80 is U+F700 + b, so
+// charCodeAt(i) & 255 is the byte): each byte as itself but for ", \, LF and CR, escaped. About
+// 1.02 bytes per byte, against base64's 1.33 (issue 42: the compact viewer data's planes).
+std::string js_byte_string(const std::string& bytes);
 
 // Base64 (RFC 4648, with padding) of `n` bytes.
 std::string base64(const unsigned char* data, size_t n);

@@ -150,7 +150,7 @@ TEST(Viewer, DataScriptsHoldTheExrFloatsExactly) {
   exact({"ref.exr"}, reference_viewer_channels());
   EXPECT_EQ(read_file(dir / rel).substr(0, prefix.size()), prefix);
   write_viewer_data(dir.string(), {"ref.exr"}, reference_viewer_channels());
-  EXPECT_EQ(read_file(dir / rel).substr(0, 32), "// aoeval viewer data: compact\n(");
+  EXPECT_EQ(read_file(dir / rel).substr(0, 34), "// aoeval viewer data: compact 3\n(");
   // Two frames of different sizes, and a file without coverage, are input errors.
   OIIO::ImageSpec small(2, 2, 2, OIIO::TypeDesc::FLOAT);
   small.channelnames = {"AO", "A"};
@@ -175,6 +175,43 @@ TEST(Viewer, DataScriptsHoldTheExrFloatsExactly) {
   EXPECT_NE(pair.find("data-a=\"" + ref_js + "\" data-b=\"" + ref_js + "\""), std::string::npos)
       << pair;
   EXPECT_NE(pair.find("data-labels=\"baseline,new\""), std::string::npos);
+}
+
+// A compact data script: its record (line 2) and its byte string (line 3, js_byte_string
+// undone: what charCodeAt(i) & 255 gives the page).
+struct CompactScript {
+  nlohmann::json record;
+  std::string bin;
+  std::vector<unsigned char> bytes(const nlohmann::json& at) const {
+    const std::string part = bin.substr(at[0].get<size_t>(), at[1].get<size_t>());
+    return {part.begin(), part.end()};
+  }
+};
+CompactScript read_compact(const std::string& js) {
+  CompactScript c;
+  const size_t line2 = js.find('\n') + 1, line3 = js.find('\n', line2) + 1;
+  const size_t eq = js.find("]=", line2);
+  c.record = nlohmann::json::parse(js.substr(eq + 2, line3 - 2 - (eq + 2)));
+  const size_t open = js.find(".bin=\"", line3) + 6, close = js.rfind("\";");
+  for (size_t i = open; i < close; ++i) {
+    if (js[i] != '\\') {
+      c.bin += js[i];
+      continue;
+    }
+    const char e = js[++i];
+    c.bin += e == 'n' ? '\n' : e == 'r' ? '\r' : e;
+  }
+  return c;
+}
+
+TEST(Viewer, ByteStringsHoldEveryByte) {
+  std::string all;
+  for (int b = 0; b < 256; ++b) all += static_cast<char>(b);
+  const std::string js =
+      "// h\nx[\"k\"]={};\nwindow.AOEVAL_DATA[\"k\"].bin=\"" + js_byte_string(all) + "\";\n";
+  EXPECT_EQ(read_compact(js).bin, all);
+  EXPECT_EQ(js_byte_string(all).size(), 256u + 4u);  // ", \\, LF and CR escaped
+  EXPECT_EQ(js_byte_string("a\"b\\\n\r"), "a\\\"b\\\\\\n\\r");
 }
 
 // zlib-inflates a compact plane (the page does it with DecompressionStream('deflate')).
@@ -210,30 +247,32 @@ TEST(Viewer, CompactDataIsWithinOneThousandthAndSmaller) {
   write_exr((dir / "ref.exr").string(), image, {});
   const std::string rel = write_viewer_data(dir.string(), {"ref.exr"}, {"AO", "AO_stderr", "Z"});
   const std::string js = read_file(dir / rel);
-  const size_t eq = js.find("]=");
-  ASSERT_NE(eq, std::string::npos);
-  const auto record = nlohmann::json::parse(js.substr(eq + 2, js.size() - eq - 4));
+  const CompactScript script = read_compact(js);
+  const nlohmann::json& record = script.record;
   EXPECT_EQ(record["encoding"], "shuffled-deflate");
   EXPECT_EQ(record["kinds"]["AO"][0], "h");
-  EXPECT_EQ(record["kinds"]["AO_stderr"][0], "h");
+  EXPECT_EQ(record["kinds"]["AO_stderr"][0], "q");
   EXPECT_EQ(record["kinds"]["Z"][0], "f");
   for (const auto& [name, want] : {std::pair{"AO", ao}, std::pair{"AO_stderr", sd}}) {
-    const auto u = inflate(unbase64(record["channels"][name][0].get<std::string>()), 2u * n);
+    const auto u = inflate(script.bytes(record["channels"][name][0]), 2u * n);
+    const bool fixed = std::string(name) == "AO_stderr";
     double worst = 0.0;
     for (int k = 0; k < n; ++k) {
       const auto bits = static_cast<uint16_t>(u[k] | u[n + k] << 8);
-      worst = std::max(worst, std::fabs(double(half_to_float(bits)) - want[k]));
+      const double got = fixed ? static_cast<int16_t>(bits) / double(kViewerFixedScale)
+                               : double(half_to_float(bits));
+      worst = std::max(worst, std::fabs(got - want[k]));
     }
-    EXPECT_LE(worst, 4.9e-4) << name;
+    EXPECT_LE(worst, fixed ? 0.5 / kViewerFixedScale + 1e-9 : 4.9e-4) << name;
   }
-  const auto zu = inflate(unbase64(record["channels"]["Z"][0].get<std::string>()), 4u * n);
+  const auto zu = inflate(script.bytes(record["channels"]["Z"][0]), 4u * n);
   for (int k = 0; k < n; ++k) {
     uint32_t bits = 0, want_bits;
     for (int b = 0; b < 4; ++b) bits |= uint32_t(zu[b * n + k]) << (8 * b);
     std::memcpy(&want_bits, &z[k], 4);
     ASSERT_EQ(bits, want_bits) << "Z pixel " << k;
   }
-  const auto mask = inflate(unbase64(record["mask"][0].get<std::string>()), n);
+  const auto mask = inflate(script.bytes(record["mask"][0]), n);
   for (int k = 0; k < n; ++k) ASSERT_EQ(mask[k], k % 3 ? 1 : 0) << k;
   // Smaller than the exact form.
   const fs::path exact_dir = testutil::test_temp_dir("viewer_exact");
@@ -241,6 +280,36 @@ TEST(Viewer, CompactDataIsWithinOneThousandthAndSmaller) {
   write_viewer_data(exact_dir.string(), {"ref.exr"}, {"AO", "AO_stderr", "Z"}, {}, 0.0,
                     ViewerData::exact);
   EXPECT_LT(2 * js.size(), read_file(exact_dir / rel).size());
+}
+
+// Three frames, the second a copy of the first (a static camera's reference): its planes and mask
+// are the first frame's index, the third frame (changed) its own bytes again.
+TEST(Viewer, CompactDataStoresARepeatedFrameOnce) {
+  const fs::path dir = testutil::test_temp_dir("viewer_repeat");
+  const int w = 32, h = 16;
+  OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"AO", "AO_stderr", "A"};
+  for (int f = 0; f < 3; ++f) {
+    OIIO::ImageBuf image(spec);
+    for (int k = 0; k < w * h; ++k) {
+      const float px[3] = {0.25f + 0.001f * static_cast<float>(k % 97) + (f == 2 ? 0.1f : 0.0f),
+                           0.01f * static_cast<float>(k % 7) + (f == 2 ? 0.002f : 0.0f),
+                           k % 5 || f < 2 ? 1.0f : 0.0f};
+      image.setpixel(k % w, k / w, px);
+    }
+    write_exr((dir / ("f" + std::to_string(f) + ".exr")).string(), image, {});
+  }
+  const std::string rel = write_viewer_data(dir.string(), {"f0.exr", "f1.exr", "f2.exr"},
+                                            reference_viewer_channels(), {0, 1, 2}, 10.0);
+  const auto record = read_compact(read_file(dir / rel)).record;
+  for (const std::string name : {"AO", "AO_stderr"}) {
+    const auto& planes = record["channels"][name];
+    EXPECT_TRUE(planes[0].is_array()) << name;
+    EXPECT_EQ(planes[1], 0) << name;
+    EXPECT_TRUE(planes[2].is_array()) << name;
+  }
+  EXPECT_EQ(record["mask"][1], 0);
+  EXPECT_TRUE(record["mask"][2].is_array());
 }
 
 // float16 conversion: exact for representable values, round to nearest even between them.

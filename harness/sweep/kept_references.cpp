@@ -4,9 +4,12 @@
 #include <OpenImageIO/imagebufalgo.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <functional>
 
 #include "base/text_files.h"
 #include "harness/results/result_row.h"
@@ -57,29 +60,94 @@ OIIO::ImageBuf at_half_precision(const OIIO::ImageBuf& image) {
   return out;
 }
 
-bool holds_only_float16_values(const OIIO::ImageBuf& image) {
+int kept_fixed_step(const std::string& channel) {
+  if (channel == "AO_stderr") return 4096;
+  if (channel == "bent.X" || channel == "bent.Y" || channel == "bent.Z") return 2048;
+  return 0;
+}
+
+float at_fixed_step(float v, int step) {
+  return static_cast<float>(std::nearbyint(static_cast<double>(v) * step) / step);
+}
+
+// `image` with channel c rounded as `step_of(c's name)` says: to the nearest multiple of 1/step
+// when every value of c is finite and within +-kKeptFixedRange, else (or for step 0) to float16.
+static OIIO::ImageBuf rounded_by_channel(const OIIO::ImageBuf& image,
+                                         const std::function<int(const std::string&)>& step_of) {
+  const OIIO::ImageBuf half_rounded = at_half_precision(image);
+  OIIO::ImageBuf out;
+  out.copy(half_rounded, OIIO::TypeDesc::FLOAT);
+  const int channels = out.nchannels();
+  std::vector<int> steps(channels);
+  for (int c = 0; c < channels; ++c) steps[c] = step_of(image.spec().channelnames[c]);
+  for (OIIO::ImageBuf::ConstIterator<float> it(image); !it.done(); ++it)
+    for (int c = 0; c < channels; ++c)
+      if (!(std::fabs(it[c]) <= kKeptFixedRange)) steps[c] = 0;
+  OIIO::ImageBuf::ConstIterator<float> from(image);
+  for (OIIO::ImageBuf::Iterator<float> it(out); !it.done(); ++it, ++from)
+    for (int c = 0; c < channels; ++c)
+      if (steps[c]) it[c] = at_fixed_step(from[c], steps[c]);
+  return out;
+}
+
+OIIO::ImageBuf at_kept_precision(const OIIO::ImageBuf& image) {
+  return rounded_by_channel(image, kept_fixed_step);
+}
+
+bool pxr24_keeps_bits(const OIIO::ImageBuf& image) {
   const int channels = image.nchannels();
   for (OIIO::ImageBuf::ConstIterator<float> it(image); !it.done(); ++it)
     for (int c = 0; c < channels; ++c) {
-      const float v = it[c];
-      if (!std::isfinite(v) || std::fabs(v) > HALF_MAX || static_cast<float>(half(v)) != v)
-        return false;
+      const float v = it[c], back = at_pxr24_precision(v);
+      if (!std::isfinite(v) || std::memcmp(&v, &back, sizeof v) != 0) return false;
     }
   return true;
 }
 
+bool dwab_keeps_bits(const std::vector<std::string>& names) {
+  for (const std::string& name : names) {
+    std::string last = name.substr(name.rfind('.') == std::string::npos ? 0 : name.rfind('.') + 1);
+    std::transform(last.begin(), last.end(), last.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+    for (const char* lossy : {"R", "G", "B", "Y", "BY", "RY"})
+      if (last == lossy) return false;
+  }
+  return true;
+}
+
+const char* lossless_compression(const OIIO::ImageBuf& image, const char* otherwise) {
+  return dwab_keeps_bits(image.spec().channelnames) ? "dwab" : otherwise;
+}
+
 void write_half_precision_exr(const std::string& path, const OIIO::ImageBuf& image,
                               const Attributes& attributes) {
-  const OIIO::ImageBuf rounded = at_half_precision(image);
-  write_exr(path, rounded, attributes, holds_only_float16_values(rounded) ? "pxr24" : "zip");
+  const OIIO::ImageBuf rounded = at_kept_precision(image);
+  write_exr(path, rounded, attributes,
+            lossless_compression(rounded, pxr24_keeps_bits(rounded) ? "pxr24" : "zip"));
+}
+
+float at_pxr24_precision(float v) {
+  uint32_t bits;
+  std::memcpy(&bits, &v, sizeof bits);
+  const uint32_t sign = bits & 0x80000000u, e = bits & 0x7f800000u, m = bits & 0x007fffffu;
+  uint32_t i;  // the 24-bit word, as OpenEXR's floatToFloat24 makes it
+  if (e == 0x7f800000u) {
+    i = (e >> 8) | (m >> 8) | (m && !(m >> 8) ? 1u : 0u);  // infinity; a NaN stays one
+  } else {
+    i = ((e | m) + (m & 0x80u)) >> 8;      // nearest, ties away from zero
+    if (i >= 0x7f8000u) i = (e | m) >> 8;  // rounding would overflow: truncated
+  }
+  const uint32_t out = sign | (i << 8);
+  float f;
+  std::memcpy(&f, &out, sizeof f);
+  return f;
 }
 
 void compact_estimate_extras(const std::string& path) {
   const OIIO::ImageBuf image = read_image(path);
   const auto& names = image.spec().channelnames;
   const auto exact = [](const std::string& n) { return n == "AO" || n == "A" || n == "AO_stderr"; };
-  if (std::all_of(names.begin(), names.end(), exact)) return;
-  const OIIO::ImageBuf rounded = at_half_precision(image);
+  const OIIO::ImageBuf rounded = rounded_by_channel(image, [](const std::string&) { return 2048; });
   OIIO::ImageBuf out;
   out.copy(image, OIIO::TypeDesc::FLOAT);
   const int channels = out.nchannels();
@@ -87,7 +155,7 @@ void compact_estimate_extras(const std::string& path) {
   for (OIIO::ImageBuf::Iterator<float> it(out); !it.done(); ++it, ++from)
     for (int c = 0; c < channels; ++c)
       if (!exact(names[c])) it[c] = from[c];
-  write_exr(path, out, {}, "zip");
+  write_exr(path, out, {}, "pxr24");
 }
 
 void KeptReferences::copy(const std::string& from, const std::string& rel, bool frame) {
@@ -111,7 +179,7 @@ void KeptReferences::copy(const std::string& from, const std::string& rel, bool 
       // frame estimate carries a bent normal to compare with them.
       if (fewer_channels) image = only_channels(image, {"A", "AO", "AO_stderr"}, from);
       // aoeval:checksum, copied from the cache entry, must describe the written pixels.
-      const OIIO::ImageBuf rounded = at_half_precision(image);
+      const OIIO::ImageBuf rounded = at_kept_precision(image);
       write_half_precision_exr(temp, rounded, {{"aoeval:checksum", image_checksum(rounded)}});
     }
   }

@@ -56,15 +56,31 @@ class KeptReferences {
   std::map<std::string, std::string> kept_from_;  // cache entry -> the file kept from it
 };
 
-// A run's still estimate EXR at `path`, compact (issue 42; not `exact`): AO, A and AO_stderr stay
-// the estimator's float32s bit for bit (the dashboard compares AO pixel by pixel, CONTRACT §12),
-// every other channel (bent.X/Y/Z, obscurance.R/G/B, AO_horizon, ...) is rounded to float16
-// precision (at_half_precision: within 4.9e-4 of the estimator's value for values in [0, 1]),
-// still a 32-bit float EXR (CONTRACT §4), zip: the low mantissa bytes of a rounded channel are
-// zeros. Rewritten atomically, header kept; untouched when it has no other channel. A unit bent
-// normal's direction then moves by at most 0.025 degrees (each component rounded by at most
-// 2.4e-4: sqrt(3) x 2.4e-4 rad); the row's keys are computed before, from the estimator's floats.
+// A run's still estimate EXR at `path`, compact (issue 42; not `exact`): AO, A and AO_stderr are
+// PXR24-compressed, which rounds a float32 to the nearest of 15 mantissa bits (OpenEXR's
+// floatToFloat24: A's 0 and 1 stay exact; AO in [0, 1] moves by at most 2^-17 = 7.7e-6, far
+// inside the dashboard's 1e-4 per pixel for deterministic estimators, CONTRACT §12); every other
+// channel (bent.X/Y/Z, obscurance.R/G/B, AO_horizon, ...) is rounded first, which PXR24 keeps bit
+// for bit: to the nearest multiple of 1/2048 (within 2.44e-4) where every value of the channel is
+// finite and within +-kKeptFixedRange, else to float16 (within 4.9e-4 of values in [0, 1]). Still
+// a 32-bit float EXR (CONTRACT §4). Rewritten atomically, header kept. A unit bent normal's
+// direction moves by at most 0.025 degrees (each component rounded by at most 2.44e-4: sqrt(3) x
+// 2.44e-4 rad); the row's keys are computed before, from the estimator's floats.
 void compact_estimate_extras(const std::string& path);
+// What PXR24 makes of `v` (OpenEXR's floatToFloat24, read back): nearest of 15 mantissa bits,
+// ties away from zero; infinities and NaN stay so. For the tests and the README's bound.
+float at_pxr24_precision(float v);
+
+// True when OpenEXR's DWAB compression stores every channel of `names` bit for bit: it codes a
+// channel lossily (a DCT) only when its name's last part (after the last '.') is R, G, B, Y, BY or
+// RY (its default channel rules), run-length codes A, and deflates any other channel's float32s
+// as they are, over blocks of 256 lines. So DWAB is lossless for AO, AO_stderr, A, flicker and
+// lag, and NOT for bent.Y, N.Y, P.Y or obscurance.R (compared without regard to case, to be safe).
+bool dwab_keeps_bits(const std::vector<std::string>& names);
+// The compression a kept file is written with when it must read back bit for bit: "dwab" where
+// dwab_keeps_bits (the default suite's kept sequence references 27 % smaller than PXR24, the kept
+// frame estimates 12 %, maps.exr 19 %), else `otherwise`.
+const char* lossless_compression(const OIIO::ImageBuf& image, const char* otherwise);
 
 // `image` with every value rounded to the nearest float16 (round to nearest even; a value beyond
 // float16's range is kept as it is), still float32: what the compact kept files hold.
@@ -73,14 +89,26 @@ OIIO::ImageBuf at_half_precision(const OIIO::ImageBuf& image);
 // `image`'s channels `names`, in that order; InputError naming `path` when one is missing.
 OIIO::ImageBuf only_channels(const OIIO::ImageBuf& image, const std::vector<std::string>& names,
                              const std::string& path);
-// True when every value of `image` is a finite float16 value (what at_half_precision gives for an
-// image within float16's range).
-bool holds_only_float16_values(const OIIO::ImageBuf& image);
-// Writes `image` at half precision (at_half_precision) as a 32-bit float EXR, PXR24 compressed when
-// every value is then a finite float16 value: PXR24 keeps 15 of float32's 23 mantissa bits, so it
-// stores float16's 10 exactly (bit for bit), and its 24-bit words deflate far better than zip's
-// 32-bit ones (the default suite's kept references 1.35x smaller, still frames 1.25x). Zip where
-// some value is beyond float16's range or not finite (PXR24 would round it).
+// What a compact kept file holds (issue 42): channel AO_stderr rounded to the nearest multiple of
+// 1/4096 (within 1.22e-4: the viewer's fixed-point stderr, reports/viewer.h, then equals the
+// file's), bent.X/Y/Z to the nearest multiple of 1/2048 (within 2.44e-4, float16's worst step on
+// [0.5, 1], without its extra digits near 0), each only when every value of the channel is finite
+// and within +-kKeptFixedRange; every other channel (and such a channel otherwise) at float16
+// precision (at_half_precision). kept_fixed_step: the step of a channel, 0 for none.
+inline constexpr float kKeptFixedRange = 2.0f;
+int kept_fixed_step(const std::string& channel);
+OIIO::ImageBuf at_kept_precision(const OIIO::ImageBuf& image);
+// `v` at the nearest multiple of 1/step (a float32: exact for |v * step| < 2^24).
+float at_fixed_step(float v, int step);
+// True when PXR24 stores every value of `image` bit for bit (each finite and within 15 mantissa
+// bits: float16 values, multiples of 1/4096 within +-2, ...).
+bool pxr24_keeps_bits(const OIIO::ImageBuf& image);
+// Writes `image` at kept precision (at_kept_precision) as a 32-bit float EXR, read back bit for
+// bit: DWAB where its channels allow (lossless_compression: a kept sequence frame's AO, AO_stderr
+// and A), else PXR24 when it keeps every value (pxr24_keeps_bits): PXR24 keeps 15 of float32's 23
+// mantissa bits, so it stores float16's 10 exactly, and its 24-bit words deflate far better than
+// zip's 32-bit ones (the default suite's kept references 1.35x smaller, still frames 1.25x). Zip
+// where some value is beyond float16's range or not finite (PXR24 would round it).
 void write_half_precision_exr(const std::string& path, const OIIO::ImageBuf& image,
                               const Attributes& attributes);
 

@@ -2,11 +2,13 @@
 // float32, within 2^-11 of it relative (4.9e-4 absolute in [0, 1]), idempotent, and a value
 // beyond float16's range kept as it is; written PXR24 compressed and read back bit for bit (zip
 // when a value is beyond float16's range); and the sweep spec's adaptive timing keys.
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <utility>
 
 #include "base/errors.h"
 #include "base/testing/test_temp_dir.h"
@@ -15,6 +17,13 @@
 
 namespace aoeval {
 namespace {
+
+// The compression `path` was written with, read from its header (an ImageBuf's spec may come from
+// OIIO's shared image cache, which remembers a file written earlier at the same path).
+std::string compression_of(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  return in ? std::string(in->spec().get_string_attribute("compression")) : "unreadable";
+}
 
 TEST(KeptReferences, HalfPrecisionIsWithinFloat16sStepAndIdempotent) {
   OIIO::ImageSpec spec(64, 4, 2, OIIO::TypeDesc::FLOAT);
@@ -52,7 +61,7 @@ TEST(KeptReferences, HalfPrecisionIsWithinFloat16sStepAndIdempotent) {
 // one value beyond float16's range: zip, and that value kept exactly too.
 TEST(KeptReferences, CompactFilesReadBackBitForBit) {
   OIIO::ImageSpec spec(97, 31, 3, OIIO::TypeDesc::FLOAT);
-  spec.channelnames = {"A", "AO", "AO_stderr"};
+  spec.channelnames = {"A", "AO", "bent.Y"};  // a ".Y": not DWAB (its own test below)
   OIIO::ImageBuf image(spec);
   uint32_t state = 12345;
   for (int y = 0; y < 31; ++y)
@@ -67,11 +76,11 @@ TEST(KeptReferences, CompactFilesReadBackBitForBit) {
     if (beyond) image.setpixel(5, 7, std::vector<float>{1.0f, 1.0e6f + 1.0f, 0.0f}.data());
     const std::string path = dir + (beyond ? "/beyond.exr" : "/half.exr");
     write_half_precision_exr(path, image, {});
-    const OIIO::ImageBuf rounded = at_half_precision(image);
-    EXPECT_EQ(holds_only_float16_values(rounded), !beyond);
+    const OIIO::ImageBuf rounded = at_kept_precision(image);
+    EXPECT_EQ(pxr24_keeps_bits(rounded), !beyond);
     OIIO::ImageBuf back(path);
     ASSERT_TRUE(back.read(0, 0, true, OIIO::TypeDesc::FLOAT));
-    EXPECT_EQ(back.spec().get_string_attribute("compression"), beyond ? "zip" : "pxr24");
+    EXPECT_EQ(compression_of(path), beyond ? "zip" : "pxr24");
     int differing = 0;
     for (int y = 0; y < 31; ++y)
       for (int x = 0; x < 97; ++x)
@@ -83,9 +92,9 @@ TEST(KeptReferences, CompactFilesReadBackBitForBit) {
   }
 }
 
-// A run's still estimate: AO, A and AO_stderr bit for bit, the bent normal at float16 precision,
-// the header kept, and a smaller file.
-TEST(KeptReferences, EstimateExtrasRoundedAndAoKeptBitForBit) {
+// A run's still estimate: AO, A and AO_stderr at PXR24's precision (A exact, AO within 2^-17),
+// the bent normal at float16 precision, the header kept, PXR24, and a smaller file.
+TEST(KeptReferences, EstimateExtrasRoundedAndAoAtPxr24Precision) {
   OIIO::ImageSpec spec(64, 48, 6, OIIO::TypeDesc::FLOAT);
   spec.channelnames = {"A", "AO", "AO_stderr", "bent.X", "bent.Y", "bent.Z"};
   OIIO::ImageBuf image(spec);
@@ -107,17 +116,124 @@ TEST(KeptReferences, EstimateExtrasRoundedAndAoKeptBitForBit) {
   OIIO::ImageBuf back(path);
   ASSERT_TRUE(back.read(0, 0, true, OIIO::TypeDesc::FLOAT));
   EXPECT_EQ(back.spec().get_string_attribute("aoeval:estimator"), "gtao");
-  const OIIO::ImageBuf rounded = at_half_precision(image);
-  int exact_differ = 0, extras_not_rounded = 0;
+  EXPECT_EQ(compression_of(path), "pxr24");
+  int exact_differ = 0, extras_not_rounded = 0, ao_moved = 0;
+  double worst_ao = 0.0;
   for (int y = 0; y < 48; ++y)
     for (int x = 0; x < 64; ++x)
       for (int c = 0; c < 6; ++c) {
         const float got = back.getchannel(x, y, 0, c);
-        const float want = (c < 3 ? image : rounded).getchannel(x, y, 0, c);
+        const float original = image.getchannel(x, y, 0, c);
+        const float want = c < 3 ? at_pxr24_precision(original) : at_fixed_step(original, 2048);
         (c < 3 ? exact_differ : extras_not_rounded) += std::memcmp(&got, &want, sizeof got) != 0;
+        if (c == 1) {
+          worst_ao = std::max(worst_ao, std::fabs(double(got) - original));
+          ao_moved += got != original;
+        }
       }
   EXPECT_EQ(exact_differ, 0);
   EXPECT_EQ(extras_not_rounded, 0);
+  EXPECT_GT(ao_moved, 0);                     // PXR24 rounds a full float32
+  EXPECT_LE(worst_ao, std::ldexp(1.0, -17));  // within 7.7e-6 in [0, 1], the README's bound
+  EXPECT_EQ(at_pxr24_precision(1.0f), 1.0f);
+  EXPECT_EQ(at_pxr24_precision(0.0f), 0.0f);
+  EXPECT_TRUE(std::isnan(at_pxr24_precision(std::nanf(""))));
+}
+
+// The kept precision, channel by channel: AO_stderr in steps of 1/4096, bent.X/Y/Z of 1/2048, AO
+// at float16; a bent channel with a value beyond +-2 at float16 too.
+TEST(KeptReferences, KeptPrecisionIsFixedPointForStderrAndBentFloat16Otherwise) {
+  OIIO::ImageSpec spec(50, 20, 4, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"AO", "AO_stderr", "bent.X", "bent.Y"};
+  OIIO::ImageBuf image(spec);
+  uint32_t state = 4242;
+  for (OIIO::ImageBuf::Iterator<float> it(image); !it.done(); ++it) {
+    for (int c = 0; c < 4; ++c) {
+      state = state * 1664525u + 1013904223u;
+      it[c] = static_cast<float>(state >> 8) / 16777216.0f * (c == 1 ? 0.06f : 1.0f);
+    }
+  }
+  image.setpixel(3, 3, std::vector<float>{0.5f, 0.01f, 0.2f, 3.0f}.data());  // bent.Y beyond 2
+  const OIIO::ImageBuf kept = at_kept_precision(image), half = at_half_precision(image);
+  double worst[4] = {0, 0, 0, 0};
+  int wrong = 0;
+  for (int y = 0; y < 20; ++y)
+    for (int x = 0; x < 50; ++x)
+      for (int c = 0; c < 4; ++c) {
+        const float v = image.getchannel(x, y, 0, c), got = kept.getchannel(x, y, 0, c);
+        const float want = c == 1   ? at_fixed_step(v, 4096)
+                           : c == 2 ? at_fixed_step(v, 2048)
+                                    : half.getchannel(x, y, 0, c);  // AO; bent.Y (a 3 in it)
+        wrong += std::memcmp(&got, &want, sizeof got) != 0;
+        worst[c] = std::max(worst[c], std::fabs(double(got) - v));
+      }
+  EXPECT_EQ(wrong, 0);
+  EXPECT_LE(worst[1], 0.5 / 4096 + 1e-9);
+  EXPECT_LE(worst[2], 0.5 / 2048 + 1e-9);
+  EXPECT_GT(worst[1], 0.25 / 4096);  // coarser than float16 on [0, 0.06]: it did round
+  EXPECT_TRUE(pxr24_keeps_bits(kept));
+  EXPECT_EQ(kept_fixed_step("AO"), 0);
+}
+
+// Random float32s (not float16-rounded: DWAB must keep any value), in every channel set a run
+// writes with DWAB: a kept sequence frame's reference (A, AO, AO_stderr) and estimate (A, AO),
+// and maps.exr (flicker, lag, A); each read back bit for bit. A channel set with a ".Y" (a still
+// reference's bent.Y) is not written with it: DWAB codes such a channel lossily, as shown here.
+TEST(KeptReferences, DwabReadsBackBitForBitForEveryChannelSetWeWriteWithIt) {
+  const std::string dir = testutil::test_temp_dir("kept_dwab").string();
+  uint32_t state = 99;
+  const auto next = [&] {
+    state = state * 1664525u + 1013904223u;
+    return static_cast<float>(state >> 8) / 16777216.0f;
+  };
+  const auto noisy = [&](const std::vector<std::string>& names) {
+    OIIO::ImageSpec spec(83, 300, static_cast<int>(names.size()), OIIO::TypeDesc::FLOAT);
+    spec.channelnames = names;
+    OIIO::ImageBuf image(spec);
+    for (OIIO::ImageBuf::Iterator<float> it(image); !it.done(); ++it)
+      for (int c = 0; c < image.nchannels(); ++c)
+        it[c] = names[c] == "A" ? (next() < 0.8f ? 1.0f : 0.0f) : next() * (c == 2 ? 0.05f : 1.0f);
+    return image;
+  };
+  // Values that differ from `a`'s, channel by channel by name (OpenEXR stores channels sorted by
+  // name), and the file's compression.
+  const auto differing = [](const OIIO::ImageBuf& a, const std::string& path) {
+    OIIO::ImageBuf back(path);
+    EXPECT_TRUE(back.read(0, 0, true, OIIO::TypeDesc::FLOAT));
+    int n = 0;
+    for (int c = 0; c < a.nchannels(); ++c) {
+      const int b = channel_index(back, a.spec().channelnames[c], path);
+      for (int y = 0; y < a.spec().height; ++y)
+        for (int x = 0; x < a.spec().width; ++x) {
+          const float u = a.getchannel(x, y, 0, c), v = back.getchannel(x, y, 0, b);
+          n += std::memcmp(&u, &v, sizeof u) != 0;
+        }
+    }
+    return std::make_pair(n, compression_of(path));
+  };
+  int set = 0;
+  for (const std::vector<std::string>& names :
+       {std::vector<std::string>{"A", "AO", "AO_stderr"}, {"A", "AO"}, {"flicker", "lag", "A"}}) {
+    const OIIO::ImageBuf image = noisy(names);
+    ASSERT_TRUE(dwab_keeps_bits(names));
+    const std::string path = dir + "/set" + std::to_string(set++);
+    write_exr(path + ".exr", image, {}, lossless_compression(image, "zip"));
+    EXPECT_EQ(differing(image, path + ".exr"), std::make_pair(0, std::string("dwab"))) << names[1];
+    // The kept frames' writer, on float16-rounded values, chooses it too.
+    write_half_precision_exr(path + "-half.exr", image, {});
+    EXPECT_EQ(differing(at_kept_precision(image), path + "-half.exr"),
+              std::make_pair(0, std::string("dwab")));
+  }
+  const std::vector<std::string> with_y = {"A", "AO", "AO_stderr", "bent.X", "bent.Y", "bent.Z"};
+  EXPECT_FALSE(dwab_keeps_bits(with_y));
+  EXPECT_FALSE(dwab_keeps_bits({"N.y"}));
+  EXPECT_FALSE(dwab_keeps_bits({"obscurance.R"}));
+  const OIIO::ImageBuf image = noisy(with_y);
+  write_half_precision_exr(dir + "/y.exr", image, {});
+  EXPECT_EQ(differing(at_kept_precision(image), dir + "/y.exr"),
+            std::make_pair(0, std::string("pxr24")));
+  write_exr(dir + "/y-dwab.exr", image, {}, "dwab");  // what the rule keeps us from
+  EXPECT_GT(differing(image, dir + "/y-dwab.exr").first, 0);
 }
 
 TEST(KeptReferences, AdaptiveTimingKeysParse) {

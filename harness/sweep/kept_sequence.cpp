@@ -72,7 +72,9 @@ std::vector<KeptImage> keep_sequence(const std::string& out, const std::string& 
   manifest["kept"] = kept;
   if (keep_frames && !m.flicker_map.empty()) {
     const std::string maps = (dir_rel / "maps.exr").string();
-    write_exr((fs::path(out) / maps).string(), maps_image(m), {{"aoeval:run_name", p.name}});
+    const OIIO::ImageBuf image = maps_image(m);
+    write_exr((fs::path(out) / maps).string(), image, {{"aoeval:run_name", p.name}},
+              lossless_compression(image, "zip"));
     manifest["maps"] = maps;
     images.push_back({"maps", maps});
   }

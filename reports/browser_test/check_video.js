@@ -1,14 +1,14 @@
 #!/usr/bin/env node
-// Does each sequence video play as it should? Decodes frames of every video.png in Debian's
-// headless chromium (playwright-core drives it) with the browser's own PNG decoder (APNG) through
-// WebCodecs' ImageDecoder (frame by index: nothing waits for wall-clock time), draws each decoded
-// frame to a canvas and compares its greys with the ones video_frames.py computed from the kept
+// Does each sequence video play as it should? Opens the report page in Debian's headless chromium
+// (playwright-core drives it), loads every video element (.aoeval-video, drawn by viewer.js on a
+// canvas from the viewer's data) through element.aoevalOpen(), shows its first and last kept
+// frames by index (element.aoevalVideoFrame: nothing waits for wall-clock time), reads the
+// canvas's pixels and compares their greys with the ones video_frames.py computed from the kept
 // EXRs: the reference panel and the estimate panel (each found where it matches best in the
 // frame; the estimate right of the reference) must be within MAX 8-bit grey levels (default 2) at
-// every compared pixel. A frame drawn at the wrong width (rows sheared into diagonal stripes), a
-// wrong palette or a missing frame fails.
+// every compared pixel. A missing video, a wrong frame or a missing frame fails.
 //
-// usage: node check_video.js [--max-diff N] VIDEO_FRAMES.json
+// usage: node check_video.js [--max-diff N] VIDEO_FRAMES.json PAGE.html
 'use strict';
 
 const fs = require('fs');
@@ -48,7 +48,7 @@ async function main() {
     maxDiff = Number(argv[1]);
     argv.splice(0, 2);
   }
-  if (argv.length !== 1) throw new Error('usage: check_video.js [--max-diff N] VIDEO_FRAMES.json');
+  if (argv.length !== 2) throw new Error('usage: check_video.js [--max-diff N] VIDEO_FRAMES.json PAGE.html');
   const videos = JSON.parse(fs.readFileSync(argv[0], 'utf8'));
   const browser = await chromium.launch({
     executablePath: CHROMIUM,
@@ -58,35 +58,32 @@ async function main() {
   let failed = 0;
   try {
     const page = await browser.newPage();
-    // ImageDecoder needs a secure context: a file:// page is one (about:blank is not).
-    const blank = path.join(path.dirname(path.resolve(argv[0])), 'check_video_blank.html');
-    fs.writeFileSync(blank, '<!DOCTYPE html><html><body></body></html>\n');
-    await page.goto('file://' + blank, { waitUntil: 'load' });
+    page.on('pageerror', (e) => { console.log(`page error: ${e.message}`); ++failed; });
+    await page.goto('file://' + path.resolve(argv[1]), { waitUntil: 'load' });
     for (const v of videos) {
-      const bytes = fs.readFileSync(v.video).toString('base64');
       const indices = v.check.map((c) => c.index);
-      const decoded = await page.evaluate(async ({ bytes, indices }) => {
-        const data = Uint8Array.from(atob(bytes), (c) => c.charCodeAt(0));
-        const decoder = new ImageDecoder({ data, type: 'image/png' });
-        await decoder.tracks.ready;
-        const out = { frameCount: decoder.tracks.selectedTrack.frameCount, frames: [] };
+      const decoded = await page.evaluate(async ({ manifest, indices }) => {
+        const el = [...document.querySelectorAll('.aoeval-video')].find((e) => e.dataset.manifest === manifest);
+        if (!el) return { missing: true };
+        await el.aoevalOpen();
+        const canvas = el.querySelector('canvas');
+        const out = { frameCount: el.aoevalVideoFrameCount, frames: [] };
         for (const k of indices) {
-          const { image } = await decoder.decode({ frameIndex: k });
-          const canvas = document.createElement('canvas');
-          canvas.width = image.displayWidth;
-          canvas.height = image.displayHeight;
-          const g = canvas.getContext('2d');
-          g.drawImage(image, 0, 0);
-          image.close();
-          const rgba = g.getImageData(0, 0, canvas.width, canvas.height).data;
+          const shown = el.aoevalVideoFrame(k);
+          const rgba = canvas.getContext('2d').getImageData(0, 0, canvas.width, canvas.height).data;
           const grey = [];
           for (let i = 0; i < rgba.length; i += 4) grey.push(rgba[i]);
-          out.frames.push({ width: canvas.width, height: canvas.height, grey });
+          out.frames.push({ width: canvas.width, height: canvas.height, frame: shown.frame, grey });
         }
         return out;
-      }, { bytes, indices });
+      }, { manifest: v.manifest, indices });
+      if (decoded.missing) {
+        console.log(`${v.manifest}: the page has no video of it`);
+        ++failed;
+        continue;
+      }
       if (decoded.frameCount !== v.frames) {
-        console.log(`${v.video}: chromium decodes ${decoded.frameCount} frames, expected ${v.frames}`);
+        console.log(`${v.manifest}: the video holds ${decoded.frameCount} frames, expected ${v.frames}`);
         ++failed;
       }
       v.check.forEach((c, i) => {
@@ -97,11 +94,11 @@ async function main() {
         const est = place(f.grey, f.width, f.height, Buffer.from(c.estimate, 'base64'), mask,
           c.width, c.height, ref.x + c.width);
         const worst = Math.max(ref.diff, est.diff);
-        console.log(`${v.video}: frame ${c.index} (sequence frame ${c.frame}) as chromium draws it, ` +
+        console.log(`${v.manifest}: frame ${c.index} (sequence frame ${c.frame}; shown: ${f.frame}) as chromium draws it, ` +
           `${f.width}x${f.height}: reference panel at (${ref.x}, ${ref.y}) max |grey diff| ` +
           `${ref.diff}, estimate panel at (${est.x}, ${est.y}) max |grey diff| ${est.diff}`);
-        if (!(worst <= maxDiff)) {
-          console.log(`${v.video}: frame ${c.index} differs from the kept frames by ${worst} > ${maxDiff}`);
+        if (!(worst <= maxDiff) || f.frame !== c.frame) {
+          console.log(`${v.manifest}: frame ${c.index} differs from the kept frames by ${worst} > ${maxDiff}`);
           ++failed;
         }
       });

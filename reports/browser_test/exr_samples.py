@@ -32,9 +32,10 @@ def channels(path, names):
 
 
 def record(page_dir, script):
-    # viewer-data/NAME.js names the EXR(s) it came from: "source": [...], one per frame
-    text = open(os.path.join(page_dir, script)).read()
-    return json.loads(text[text.index("]=") + 2:].rstrip().rstrip(";"))
+    # viewer-data/NAME.js names the EXR(s) it came from: "source": [...], one per frame. Its record
+    # is line 2 (compact data's byte string, line 3, is not UTF-8: read as latin-1).
+    line2 = open(os.path.join(page_dir, script), encoding="latin-1").read().split("\n")[1]
+    return json.loads(line2[line2.index("]=") + 2:].rstrip().rstrip(";"))
 
 
 def source(page_dir, script):

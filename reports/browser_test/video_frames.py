@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 # The browser test's ground truth for the sequence videos (CONTRACT §10: "the video of the
-# estimate beside the reference's"): for every sequence point under a report folder whose
-# video.png exists, the 8-bit greys its first and last kept frames must show, computed from the
+# estimate beside the reference's"): for every sequence point under a report folder with two kept
+# frames, the 8-bit greys its first and last kept frames must show, computed from the
 # kept EXRs with OpenImageIO (Debian's python3-openimageio, independent of aoeval's C++ drawing):
 # grey = round(255 * sRGB(clamp(AO, 0, 1))) at pixels covered in both images (drawing/
 # error_maps.cpp grey_panel's rule; other pixels are painted as "not compared" and not checked).
@@ -36,14 +36,11 @@ def main():
     out_dir, out = sys.argv[1], sys.argv[2]
     videos = []
     for manifest in sorted(glob.glob(os.path.join(out_dir, "**", "sequence.json"), recursive=True)):
-        video = os.path.join(os.path.dirname(manifest), "video.png")
-        if not os.path.exists(video):
-            continue
         kept = [k for k in json.load(open(manifest)).get("kept", []) if "reference" in k]
         if len(kept) < 2:
             continue
         frames = []
-        for index in (0, len(kept) - 1):  # the GIF holds every kept frame, in order
+        for index in (0, len(kept) - 1):  # the video holds every kept frame, in order
             ref, ref_a = ao_and_cover(os.path.join(out_dir, kept[index]["reference"]))
             est, est_a = ao_and_cover(os.path.join(out_dir, kept[index]["estimate"]))
             mask = ((ref_a == 1.0) & (est_a == 1.0)).astype(np.uint8)
@@ -51,7 +48,9 @@ def main():
                            "width": int(ref.shape[1]), "height": int(ref.shape[0]),
                            "reference": b64(grey(ref)), "estimate": b64(grey(est)),
                            "mask": b64(mask)})
-        videos.append({"video": os.path.abspath(video), "frames": len(kept), "check": frames})
+        # The page's video element names its point's manifest (relative to the report folder).
+        videos.append({"manifest": os.path.relpath(manifest, out_dir), "frames": len(kept),
+                       "check": frames})
     if not videos:
         sys.exit(f"video_frames.py: {out_dir}: no sequence video with two kept frames")
     json.dump(videos, open(out, "w"))

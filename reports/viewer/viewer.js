@@ -10,9 +10,14 @@
 // a viewer loads its scripts only when it is opened, so the page paints as fast as without it.
 // The default data is compact (reports/viewer.h, ViewerData; issue 42): encoding
 // "shuffled-deflate", every plane and mask zlib-deflated, each plane's bytes shuffled (all first
-// bytes, then all second bytes, ...) and, as kinds: {CH: ["h" or "f" per frame]} says, float16
-// (values within 1e-3 of the EXR's) or float32 (exact). load() inflates them all with the
-// browser's DecompressionStream when the viewer opens; `--viewer-exact` writes the plain form.
+// bytes, then all second bytes, ...) and, as kinds: {CH: ["h", "q" or "f" per frame]} says,
+// float16 or int16 fixed point in steps of 1/4096 (values within 1e-3 of the EXR's) or float32
+// (exact); a number in place of a frame's plane or mask: it repeats that earlier frame. The
+// deflated planes and masks lie in one string, rec.bin, each named by [offset, length]: the
+// script is loaded with charset x-user-defined, so each of its bytes is one character whose
+// code & 255 is the byte (about 1.02 bytes of file per byte of data; base64 took 1.33). load()
+// inflates them all with the browser's DecompressionStream when the viewer opens;
+// `--viewer-exact` writes the plain form.
 //
 // Markup (reports/viewer.cpp writes it): <div class="aoeval-viewer" data-kind="compare|gbuffer|maps"
 // data-a="viewer-data/REF.js" data-b="viewer-data/EST.js" data-labels="reference,estimate">
@@ -30,6 +35,7 @@
     if (!pending[name])
       pending[name] = (DATA[name] ? Promise.resolve(DATA[name]) : new Promise(function (resolve, reject) {
         const s = document.createElement('script');
+        s.charset = 'x-user-defined';  // compact data: one byte, one character (see the top)
         s.src = src;
         s.onload = function () {
           if (DATA[name]) resolve(DATA[name]);
@@ -43,8 +49,8 @@
 
   // Compact data (see the top): inflate, unshuffle and widen every plane to a Float32Array and
   // every mask to a Uint8Array, in place, once.
-  async function inflate(b64) {
-    const stream = new Blob([bytes(b64)]).stream().pipeThrough(new DecompressionStream('deflate'));
+  async function inflate(u) {
+    const stream = new Blob([u]).stream().pipeThrough(new DecompressionStream('deflate'));
     return new Uint8Array(await new Response(stream).arrayBuffer());
   }
   let HALF = null;  // float16 bits -> value, all 65536 of them
@@ -59,10 +65,12 @@
     return HALF;
   }
   function unpack(u, kind) {
-    const size = kind === 'h' ? 2 : 4, n = u.length / size, out = new Float32Array(n);
-    if (size === 2) {
+    const size = kind === 'f' ? 4 : 2, n = u.length / size, out = new Float32Array(n);
+    if (kind === 'h') {
       const t = halfTable();
       for (let i = 0; i < n; ++i) out[i] = t[u[i] | (u[n + i] << 8)];
+    } else if (kind === 'q') {  // int16 fixed point, steps of 1/FIXED
+      for (let i = 0; i < n; ++i) out[i] = (((u[i] | (u[n + i] << 8)) << 16) >> 16) / FIXED;
     } else {
       const v = new DataView(new ArrayBuffer(4));
       for (let i = 0; i < n; ++i) {
@@ -72,17 +80,25 @@
     }
     return out;
   }
+  const FIXED = 4096;  // kViewerFixedScale
   async function decodeRecord(rec) {
     if (rec.encoding !== 'shuffled-deflate' || rec._decoded) return rec;
     const jobs = [];
+    // A number in a frame's place: that frame repeats the earlier frame it names (decoded once).
+    const bin = rec.bin || '';
+    const decode = function (list, f, as) {
+      if (!Array.isArray(list[f])) return;
+      const off = list[f][0], u = new Uint8Array(list[f][1]);
+      for (let i = 0; i < u.length; ++i) u[i] = bin.charCodeAt(off + i) & 255;
+      jobs.push(inflate(u).then(function (v) { list[f] = as(v); }));
+    };
     for (const ch of Object.keys(rec.channels))
-      rec.channels[ch].forEach(function (b64, f) {
-        jobs.push(inflate(b64).then(function (u) { rec.channels[ch][f] = unpack(u, rec.kinds[ch][f]); }));
-      });
-    rec.mask.forEach(function (b64, f) {
-      jobs.push(inflate(b64).then(function (u) { rec.mask[f] = u; }));
-    });
+      rec.channels[ch].forEach(function (_, f) { decode(rec.channels[ch], f, (u) => unpack(u, rec.kinds[ch][f])); });
+    rec.mask.forEach(function (_, f) { decode(rec.mask, f, (u) => u); });
     await Promise.all(jobs);
+    delete rec.bin;
+    for (const list of Object.values(rec.channels).concat([rec.mask]))
+      list.forEach(function (v, f) { if (typeof v === 'number') list[f] = list[v]; });
     rec._decoded = true;
     return rec;
   }
@@ -441,8 +457,79 @@
     return el._aoevalOpening;
   }
 
+  // A sequence's video (CONTRACT §10: the estimate beside the reference, every kept frame at the
+  // sequence's fps), drawn on a canvas from the viewer's own data (issue 42: an animated PNG held
+  // the same frames a second time, 35 MB of the default report). Markup (reports/viewer.cpp
+  // video_html): <div class="aoeval-video" data-a="REF.js" data-b="EST.js" data-fps="30">. It
+  // loads its data when it first scrolls into view (a folded section's never does until unfolded,
+  // so the page paints as fast), then loops while in view. Grey = sRGB(clamp(AO)), the mosaics'
+  // panels; pixels either image leaves uncovered in the "not compared" grey.
+  // element.aoevalOpen() loads it; element.aoevalVideoFrame(i) shows kept frame i and returns
+  // {width, height, frame} (for tests: the canvas's pixels are then that frame's).
+  const VIDEO_GAP = 4;
+  function Video(el, recs) {
+    const a = recs[0], b = recs[1], w = a.w, h = a.h, frames = a.frames || 1;
+    const numbers = a.frame_numbers || Array.from({ length: frames }, (_, i) => i);
+    const fps = Number(el.dataset.fps) || a.fps || 10;
+    const bar = tag('div', 'av-bar', el), canvas = tag('canvas', 'av-video', el);
+    canvas.width = 2 * w + VIDEO_GAP; canvas.height = h;
+    const ctx = canvas.getContext('2d'), img = ctx.createImageData(canvas.width, h);
+    img.data.fill(31);  // the mosaics' dark canvas (0.12)
+    const playButton = tag('button', 'av-button', bar, 'pause'), label = tag('span', '', bar);
+    playButton.type = 'button';
+    let at = 0, timer = null;
+    function show(i) {
+      const shown = i, d = img.data, ma = plane(a, 'mask', shown), mb = plane(b, 'mask', shown);
+      [plane(a, 'AO', shown), plane(b, 'AO', shown)].forEach(function (v, panel) {
+        for (let y = 0; y < h; ++y)
+          for (let x = 0; x < w; ++x) {
+            const k = y * w + x, o = 4 * (y * canvas.width + x + panel * (w + VIDEO_GAP));
+            const g = ma[k] && mb[k] ? Math.round(srgb(v[k])) : GREY;
+            d[o] = d[o + 1] = d[o + 2] = g; d[o + 3] = 255;
+          }
+      });
+      ctx.putImageData(img, 0, 0);
+      label.textContent = ' reference | estimate, frame ' + numbers[shown] + ' (' + fps + ' frames per second)';
+      return { width: canvas.width, height: h, frame: numbers[shown] };
+    }
+    function play(on) {
+      if (timer) { clearInterval(timer); timer = null; }
+      if (on) timer = setInterval(function () { at = (at + 1) % frames; show(at); }, 1000 / fps);
+      playButton.textContent = on ? 'pause' : 'play';
+    }
+    playButton.addEventListener('click', function () { play(!timer); });
+    show(0);
+    el.aoevalVideoFrame = function (i) { play(false); at = i; return show(i); };
+    el.aoevalVideoFrameCount = frames;
+    return { play: play };
+  }
+  function openVideo(el) {
+    if (!el._aoevalVideo)
+      el._aoevalVideo = Promise.all([el.dataset.a, el.dataset.b].map(load)).then(function (recs) {
+        el.aoevalVideo = Video(el, recs);
+        return el;
+      }, function (err) {
+        tag('p', 'av-error', el, 'video: ' + err.message);
+        throw err;
+      });
+    return el._aoevalVideo;
+  }
+  function initVideos() {
+    const seen = 'IntersectionObserver' in window ? new IntersectionObserver(function (entries) {
+      entries.forEach(function (e) {
+        if (e.isIntersecting) openVideo(e.target).then(function (el) { el.aoevalVideo.play(true); }).catch(function () {});
+        else if (e.target.aoevalVideo) e.target.aoevalVideo.play(false);
+      });
+    }) : null;
+    document.querySelectorAll('.aoeval-video').forEach(function (el) {
+      el.aoevalOpen = function () { return openVideo(el); };
+      if (seen) seen.observe(el);
+    });
+  }
+
   // Every .aoeval-viewer gets an "open viewer" button; a click on its static image opens it too.
   function init() {
+    initVideos();
     document.querySelectorAll('.aoeval-viewer').forEach(function (el) {
       el.aoevalOpen = function () { return open(el); };
       const b = document.createElement('button');
