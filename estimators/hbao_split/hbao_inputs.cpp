@@ -27,21 +27,31 @@ const char* const kHbaoDefinitionDoc =
     "distance r < R counts 1 - r/R, §3.5), none when off; only what the depth buffer shows within "
     "R of P' can occlude";
 
-// The temporal stage's defaults for hbao-split (temporal_stage.h): its per-frame noise is the
-// random texture's rotation after the 5x5 blur, small beside gtao's one slice, so a history of 16
-// frames averages it; no clamp (like gtao's, a 3x3 clamp of a blurred frame holds the noise in).
-// `temporal` stays off by default, as `aoeval tune harness/tune/specs/tune-hbao-split-motion.json`
-// found (lag_rmse_excess + steady_rmse_excess over rolling-ball/roll, dragon/walk and bunny/orbit,
-// 128x96, 64 evaluations, temporal, clamp and the anti-lag free): no history scores 0.1035, the
-// best temporal point (clamp, antilag 3.15, antilag_min 0, antilag_radius 2) 0.1226; so the
-// anti-lag stays off here too.
+// The temporal stage's defaults for hbao-split (temporal_stage.h), which apply when `temporal` is
+// turned on: its per-frame noise is the random texture's rotation after the 5x5 blur, small beside
+// gtao's one slice, so a history of 16 frames averages it. `temporal` itself stays off by default:
+// `aoeval tune harness/tune/specs/tune-hbao-split-motion.json` (lag_rmse_excess +
+// steady_rmse_excess over rolling-ball/roll, dragon/walk and bunny/orbit, 128x96) scored no
+// history 0.1035 (its run with `temporal` free, 64 evaluations; no history runs no stage) and
+// the best temporal point 0.1238. The clamp and the anti-lag are that tune's best (issue 43,
+// h43i: `temporal` fixed on, 32 evaluations over clamp, antilag, antilag_min, antilag_radius and
+// antilag_frames, with the anti-lag's test that takes in the history's noise): clamp on, antilag
+// 3.15, antilag_min 0, a 5x5 window, a 2-frame fast history (clamp off: 0.1259; the defaults
+// before, no clamp and no anti-lag: 0.1622).
+// At 320x240 (harness/specs/temporal-lag-table-320.json, 64-spp references) they take
+// lag_rmse_excess from 0.1753 to 0.0638 on roll and 0.2009 to 0.0935 on walk, and steady
+// rmse_excess on bunny/still 0.01942 -> 0.01966 and tree-ground/still 0.07658 -> 0.07497.
 TemporalDefaults hbao_temporal_defaults() {
   return {.history_limit = 16,
           .alpha_min = 0.0,
-          .clamp = false,
+          .clamp = true,
           .gamma = 1.0,
           .clamp_sigma_min = 0.1,
-          .clamp_radius = 1};
+          .clamp_radius = 1,
+          .antilag = 3.15,
+          .antilag_min = 0.0,
+          .antilag_radius = 2,
+          .antilag_frames = 2};
 }
 
 std::vector<ParamSpec> hbao_param_specs() {
@@ -114,7 +124,8 @@ std::vector<ParamSpec> hbao_param_specs() {
            .meaning =
                "accumulate the frames of a sequence (each with the random texture of seed + k) "
                "with the shared temporal stage (estimators/temporal/): reprojection, "
-               "disocclusion reset, exponential history; false = each frame its own estimate. "
+               "disocclusion reset, exponential history, clamp, anti-lag; false = each frame its "
+               "own estimate. "
                "A still view is frame 0 either way"}),
   };
   // The stage's own parameters, read only when temporal is on (temporal_stage.h).
