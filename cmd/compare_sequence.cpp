@@ -8,9 +8,16 @@
 // whose motion.X/Y and disoccluded say where each pixel was in frame K - 1. A run's kept frames
 // have this layout (harness/sweep/kept_sequence.h). --static instead says that nothing moves:
 // zero motion, nothing disoccluded.
+//
+// A reference frame whose AO and AO_stderr are frame K - 1's bit for bit is taken as the same
+// trace (issue 42: a frame that poses what frame K - 1 did reuses its reference, and a run keeps
+// it as a hard link), so its noise is shared and the temporal keys remove none of it, as the
+// session's scoring does (TemporalFrame::ref_repeats_previous). Two independent traces of a
+// reference with any noise never agree in every pixel.
 #include "cmd/compare_sequence.h"
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <regex>
@@ -27,6 +34,10 @@ namespace aoeval {
 namespace fs = std::filesystem;
 
 namespace {
+
+bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
 
 std::string size_text(int w, int h) {
   return std::to_string(w) + "x" + std::to_string(h);
@@ -101,8 +112,10 @@ nlohmann::json compare_sequence(const SequenceCompareInput& in) {
   nlohmann::json by_frame = nlohmann::json::array();
   int w0 = 0, h0 = 0;
   GBuffer prev_g;
+  AoExr prev_ref;
   for (size_t k = 0; k < refs.size(); ++k) {
-    const AoExr ref = read_ao_exr(refs[k]), est = read_ao_exr(ests[k]);
+    AoExr ref = read_ao_exr(refs[k]);
+    const AoExr est = read_ao_exr(ests[k]);
     if (k == 0) {
       w0 = ref.width;
       h0 = ref.height;
@@ -121,11 +134,15 @@ nlohmann::json compare_sequence(const SequenceCompareInput& in) {
     }
     std::vector<uint8_t> mask(ref.ao.size());
     for (size_t p = 0; p < mask.size(); ++p) mask[p] = ref.covered(p) && est.covered(p);
-    const double excess =
-        scorer.add_frame(temporal_frame(w0, h0, est.ao.data(), ref.ao.data(), ref.stderr_ao, mask,
-                                        &g, k > 0 ? prev_g.camera.jitter : glm::vec2(0.0f)));
+    const bool repeats = k > 0 && same_bits(ref.ao, prev_ref.ao) &&
+                         same_bits(ref.stderr_ao, prev_ref.stderr_ao) &&
+                         same_bits(ref.coverage, prev_ref.coverage);
+    const double excess = scorer.add_frame(
+        temporal_frame(w0, h0, est.ao.data(), ref.ao.data(), ref.stderr_ao, mask, &g,
+                       k > 0 ? prev_g.camera.jitter : glm::vec2(0.0f), repeats));
     by_frame.push_back(std::isfinite(excess) ? nlohmann::json(excess) : nlohmann::json());
     prev_g = std::move(g);
+    prev_ref = std::move(ref);
   }
   nlohmann::json out = scorer.scores();
   out["rmse_excess_by_frame"] = by_frame;

@@ -53,17 +53,18 @@ void write_frame(const fs::path& path, int w, int h, float ao,
   aoeval::write_exr(path.string(), image, {});
 }
 
-// Three static frames: ref 0.5 with stderr 0.01 everywhere, est 0.5 + (+0.1, -0.1, +0.1). Each
-// frame's rmse is 0.1, its rmse_excess sqrt(0.1^2 - 0.01^2); the frame-to-frame differences
-// d = e_k - e_{k-1} are -0.2, +0.2, so temporal_rmse = 0.2 and temporal_rmse_excess =
-// sqrt(0.2^2 - 2 * 0.01^2); the error is the same every frame, so converge_frames = 0; nothing is
-// disoccluded, so settle_frames and disocclusion_rmse_excess are null.
+// Three static frames: ref 0.5 + 0.001 k (independent traces: their bits differ) with stderr
+// 0.01 everywhere, est = ref + (+0.1, -0.1, +0.1). Each frame's rmse is 0.1, its rmse_excess
+// sqrt(0.1^2 - 0.01^2); the frame-to-frame differences d = e_k - e_{k-1} are -0.2, +0.2, so
+// temporal_rmse = 0.2 and temporal_rmse_excess = sqrt(0.2^2 - 2 * 0.01^2); the error is the same
+// every frame, so converge_frames = 0; nothing is disoccluded, so settle_frames and
+// disocclusion_rmse_excess are null.
 TEST(CompareSequence, StaticFramesGiveTheWorkedOutKeys) {
   const fs::path d = aoeval::testutil::test_temp_dir("compare_sequence");
   const float offsets[3] = {0.1f, -0.1f, 0.1f};
   for (int k = 0; k < 3; ++k) {
-    write_frame(d / "ref" / frame_name(k), 4, 3, 0.5f, 0.01f);
-    write_frame(d / "est" / frame_name(k), 4, 3, 0.5f + offsets[k]);
+    write_frame(d / "ref" / frame_name(k), 4, 3, 0.5f + 0.001f * k, 0.01f);
+    write_frame(d / "est" / frame_name(k), 4, 3, 0.5f + 0.001f * k + offsets[k]);
   }
   std::ofstream(d / "ref" / "notes.txt") << "other files are ignored";
   const Result r = run("compare --sequence " + (d / "ref").string() + " " + (d / "est").string() +
@@ -88,6 +89,27 @@ TEST(CompareSequence, StaticFramesGiveTheWorkedOutKeys) {
       "compare --sequence " + (d / "ref").string() + " " + (d / "est").string() + " --static", d);
   ASSERT_EQ(printed.code, 0) << printed.err;
   EXPECT_EQ(nlohmann::json::parse(printed.out), keys);
+}
+
+// A reference repeated bit for bit (a static frame's reference reused, issue 42; a run keeps it
+// as a hard link) is one trace: its noise is shared, so the temporal keys remove none of it, as
+// the session's scoring does (TemporalScores.RepeatedReferenceRemovesNoNoise). The frames above
+// with one reference, 0.5, for all three: temporal_rmse_excess is the whole 0.2, while each
+// frame's own rmse_excess still removes its stderr.
+TEST(CompareSequence, ARepeatedReferenceRemovesNoNoiseFromTheTemporalKeys) {
+  const fs::path d = aoeval::testutil::test_temp_dir("compare_sequence_repeated");
+  const float offsets[3] = {0.1f, -0.1f, 0.1f};
+  for (int k = 0; k < 3; ++k) {
+    write_frame(d / "ref" / frame_name(k), 4, 3, 0.5f, 0.01f);
+    write_frame(d / "est" / frame_name(k), 4, 3, 0.5f + offsets[k]);
+  }
+  const Result r = run(
+      "compare --sequence " + (d / "ref").string() + " " + (d / "est").string() + " --static", d);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto keys = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(keys["temporal_rmse"].get<double>(), 0.2, 1e-6);
+  EXPECT_NEAR(keys["temporal_rmse_excess"].get<double>(), 0.2, 1e-6);
+  EXPECT_NEAR(keys["seq_rmse_excess"].get<double>(), std::sqrt(0.01 - 1e-4), 1e-6);
 }
 
 TEST(CompareSequence, BadFoldersExitTwoNamingTheFile) {
