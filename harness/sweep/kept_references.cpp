@@ -104,26 +104,10 @@ bool pxr24_keeps_bits(const OIIO::ImageBuf& image) {
   return true;
 }
 
-bool dwab_keeps_bits(const std::vector<std::string>& names) {
-  for (const std::string& name : names) {
-    std::string last = name.substr(name.rfind('.') == std::string::npos ? 0 : name.rfind('.') + 1);
-    std::transform(last.begin(), last.end(), last.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
-    for (const char* lossy : {"R", "G", "B", "Y", "BY", "RY"})
-      if (last == lossy) return false;
-  }
-  return true;
-}
-
-const char* lossless_compression(const OIIO::ImageBuf& image, const char* otherwise) {
-  return dwab_keeps_bits(image.spec().channelnames) ? "dwab" : otherwise;
-}
-
 void write_half_precision_exr(const std::string& path, const OIIO::ImageBuf& image,
                               const Attributes& attributes) {
   const OIIO::ImageBuf rounded = at_kept_precision(image);
-  write_exr(path, rounded, attributes,
-            lossless_compression(rounded, pxr24_keeps_bits(rounded) ? "pxr24" : "zip"));
+  write_exr(path, rounded, attributes, pxr24_keeps_bits(rounded) ? "pxr24" : "zip");
 }
 
 float at_pxr24_precision(float v) {

@@ -61,7 +61,7 @@ TEST(KeptReferences, HalfPrecisionIsWithinFloat16sStepAndIdempotent) {
 // one value beyond float16's range: zip, and that value kept exactly too.
 TEST(KeptReferences, CompactFilesReadBackBitForBit) {
   OIIO::ImageSpec spec(97, 31, 3, OIIO::TypeDesc::FLOAT);
-  spec.channelnames = {"A", "AO", "bent.Y"};  // a ".Y": not DWAB (its own test below)
+  spec.channelnames = {"A", "AO", "bent.Y"};
   OIIO::ImageBuf image(spec);
   uint32_t state = 12345;
   for (int y = 0; y < 31; ++y)
@@ -173,67 +173,6 @@ TEST(KeptReferences, KeptPrecisionIsFixedPointForStderrAndBentFloat16Otherwise) 
   EXPECT_GT(worst[1], 0.25 / 4096);  // coarser than float16 on [0, 0.06]: it did round
   EXPECT_TRUE(pxr24_keeps_bits(kept));
   EXPECT_EQ(kept_fixed_step("AO"), 0);
-}
-
-// Random float32s (not float16-rounded: DWAB must keep any value), in every channel set a run
-// writes with DWAB: a kept sequence frame's reference (A, AO, AO_stderr) and estimate (A, AO),
-// and maps.exr (flicker, lag, A); each read back bit for bit. A channel set with a ".Y" (a still
-// reference's bent.Y) is not written with it: DWAB codes such a channel lossily, as shown here.
-TEST(KeptReferences, DwabReadsBackBitForBitForEveryChannelSetWeWriteWithIt) {
-  const std::string dir = testutil::test_temp_dir("kept_dwab").string();
-  uint32_t state = 99;
-  const auto next = [&] {
-    state = state * 1664525u + 1013904223u;
-    return static_cast<float>(state >> 8) / 16777216.0f;
-  };
-  const auto noisy = [&](const std::vector<std::string>& names) {
-    OIIO::ImageSpec spec(83, 300, static_cast<int>(names.size()), OIIO::TypeDesc::FLOAT);
-    spec.channelnames = names;
-    OIIO::ImageBuf image(spec);
-    for (OIIO::ImageBuf::Iterator<float> it(image); !it.done(); ++it)
-      for (int c = 0; c < image.nchannels(); ++c)
-        it[c] = names[c] == "A" ? (next() < 0.8f ? 1.0f : 0.0f) : next() * (c == 2 ? 0.05f : 1.0f);
-    return image;
-  };
-  // Values that differ from `a`'s, channel by channel by name (OpenEXR stores channels sorted by
-  // name), and the file's compression.
-  const auto differing = [](const OIIO::ImageBuf& a, const std::string& path) {
-    OIIO::ImageBuf back(path);
-    EXPECT_TRUE(back.read(0, 0, true, OIIO::TypeDesc::FLOAT));
-    int n = 0;
-    for (int c = 0; c < a.nchannels(); ++c) {
-      const int b = channel_index(back, a.spec().channelnames[c], path);
-      for (int y = 0; y < a.spec().height; ++y)
-        for (int x = 0; x < a.spec().width; ++x) {
-          const float u = a.getchannel(x, y, 0, c), v = back.getchannel(x, y, 0, b);
-          n += std::memcmp(&u, &v, sizeof u) != 0;
-        }
-    }
-    return std::make_pair(n, compression_of(path));
-  };
-  int set = 0;
-  for (const std::vector<std::string>& names :
-       {std::vector<std::string>{"A", "AO", "AO_stderr"}, {"A", "AO"}, {"flicker", "lag", "A"}}) {
-    const OIIO::ImageBuf image = noisy(names);
-    ASSERT_TRUE(dwab_keeps_bits(names));
-    const std::string path = dir + "/set" + std::to_string(set++);
-    write_exr(path + ".exr", image, {}, lossless_compression(image, "zip"));
-    EXPECT_EQ(differing(image, path + ".exr"), std::make_pair(0, std::string("dwab"))) << names[1];
-    // The kept frames' writer, on float16-rounded values, chooses it too.
-    write_half_precision_exr(path + "-half.exr", image, {});
-    EXPECT_EQ(differing(at_kept_precision(image), path + "-half.exr"),
-              std::make_pair(0, std::string("dwab")));
-  }
-  const std::vector<std::string> with_y = {"A", "AO", "AO_stderr", "bent.X", "bent.Y", "bent.Z"};
-  EXPECT_FALSE(dwab_keeps_bits(with_y));
-  EXPECT_FALSE(dwab_keeps_bits({"N.y"}));
-  EXPECT_FALSE(dwab_keeps_bits({"obscurance.R"}));
-  const OIIO::ImageBuf image = noisy(with_y);
-  write_half_precision_exr(dir + "/y.exr", image, {});
-  EXPECT_EQ(differing(at_kept_precision(image), dir + "/y.exr"),
-            std::make_pair(0, std::string("pxr24")));
-  write_exr(dir + "/y-dwab.exr", image, {}, "dwab");  // what the rule keeps us from
-  EXPECT_GT(differing(image, dir + "/y-dwab.exr").first, 0);
 }
 
 TEST(KeptReferences, AdaptiveTimingKeysParse) {

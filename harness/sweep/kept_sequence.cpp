@@ -73,8 +73,7 @@ std::vector<KeptImage> keep_sequence(const std::string& out, const std::string& 
   if (keep_frames && !m.flicker_map.empty()) {
     const std::string maps = (dir_rel / "maps.exr").string();
     const OIIO::ImageBuf image = maps_image(m);
-    write_exr((fs::path(out) / maps).string(), image, {{"aoeval:run_name", p.name}},
-              lossless_compression(image, "zip"));
+    write_exr((fs::path(out) / maps).string(), image, {{"aoeval:run_name", p.name}}, "zip");
     manifest["maps"] = maps;
     images.push_back({"maps", maps});
   }
