@@ -133,7 +133,10 @@ TEST(VulkanLayer, PipelinesOfTheSameCodeShareOneCompile) {
   EXPECT_EQ(raster_a.render_pass(), raster_b.render_pass());
   EXPECT_NE(raster_a.handle(), raster_other.handle());
   first.reset();  // the shared pipeline stays the context's
-  for (const auto& [pipeline, offset] : {std::pair{second.get(), 0.5f}, {other.get(), 3.25f}}) {
+  // Not a structured binding: a lambda may not capture one before C++20 as clang 14 reads it.
+  for (const auto& use : {std::pair{second.get(), 0.5f}, {other.get(), 3.25f}}) {
+    ComputePipeline* const pipeline = use.first;
+    const float offset = use.second;
     VkDescriptorSet set = pipeline->make_set({input, output, image});
     const RoundtripPush push{0.25f, count};
     vk->submit([&](VkCommandBuffer cmd) {
