@@ -78,7 +78,11 @@ void EvaluationSession::write_estimate(const Measurement& m, const std::string& 
   Attributes a = estimate_attributes(s.scene, s.content_hash, view, g.camera, *m.estimator,
                                      m.params, m.derived);
   if (view.sequence) a.emplace_back("aoeval:frame", std::to_string(still_frame(view)));
-  write_exr(path, estimate_to_image(g, m.result), a);
+  const OIIO::ImageBuf image = estimate_to_image(g, m.result);
+  if (estimate_writer_)
+    estimate_writer_(path, image, a);
+  else
+    write_exr(path, image, a);
 }
 
 ResultRow EvaluationSession::evaluate(const EvaluationRequest& req,

@@ -157,6 +157,13 @@ class EvaluationSession {
     references_.set_writer(std::move(post));
   }
 
+  // How score() writes a still's estimate EXR (`estimate_path`): write_exr, every value as the
+  // estimator gave it, unless set. A suite run sets the compact writer (kept_references.h
+  // write_compact_estimate), so the file is written once, compact.
+  using EstimateWriter = std::function<void(const std::string& path, const OIIO::ImageBuf& image,
+                                            const Attributes& attributes)>;
+  void set_estimate_writer(EstimateWriter writer) { estimate_writer_ = std::move(writer); }
+
   const ReferenceSpec& reference_spec() const { return references_.spec(); }
   // Where this session's time went (scenes, G-buffers, references, the estimators' stages,
   // scoring, estimate EXRs); runners add their own stages to theirs.
@@ -172,6 +179,7 @@ class EvaluationSession {
   TimingSpec timing_;
   std::function<void()> before_timed_frames_, after_timed_frames_;
   std::function<void(std::function<void()>)> background_;
+  EstimateWriter estimate_writer_;
   std::vector<float> last_estimate_;
   void fill_identity(Measurement& m, const EvaluationRequest& request);
   void write_estimate(const Measurement& m, const std::string& path);

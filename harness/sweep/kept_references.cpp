@@ -128,7 +128,11 @@ float at_pxr24_precision(float v) {
 }
 
 void compact_estimate_extras(const std::string& path) {
-  const OIIO::ImageBuf image = read_image(path);
+  write_compact_estimate(path, read_image(path), {});  // the header the image was read with kept
+}
+
+void write_compact_estimate(const std::string& path, const OIIO::ImageBuf& image,
+                            const Attributes& attributes) {
   const auto& names = image.spec().channelnames;
   const auto exact = [](const std::string& n) { return n == "AO" || n == "A" || n == "AO_stderr"; };
   const OIIO::ImageBuf rounded = rounded_by_channel(image, [](const std::string&) { return 2048; });
@@ -139,7 +143,7 @@ void compact_estimate_extras(const std::string& path) {
   for (OIIO::ImageBuf::Iterator<float> it(out); !it.done(); ++it, ++from)
     for (int c = 0; c < channels; ++c)
       if (!exact(names[c])) it[c] = from[c];
-  write_exr(path, out, {}, "pxr24");
+  write_exr(path, out, attributes, "pxr24");
 }
 
 void KeptReferences::copy(const std::string& from, const std::string& rel, bool frame) {

@@ -67,6 +67,11 @@ class KeptReferences {
 // direction moves by at most 0.025 degrees (each component rounded by at most 2.44e-4: sqrt(3) x
 // 2.44e-4 rad); the row's keys are computed before, from the estimator's floats.
 void compact_estimate_extras(const std::string& path);
+// The same for an estimate still in memory, written once at `path` with `attributes`: what a suite
+// run's session writes (EvaluationSession::set_estimate_writer), instead of writing the estimate
+// and then reading it back to rewrite it.
+void write_compact_estimate(const std::string& path, const OIIO::ImageBuf& image,
+                            const Attributes& attributes);
 // What PXR24 makes of `v` (OpenEXR's floatToFloat24, read back): nearest of 15 mantissa bits,
 // ties away from zero; infinities and NaN stay so. For the tests and the README's bound.
 float at_pxr24_precision(float v);

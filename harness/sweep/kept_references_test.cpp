@@ -138,6 +138,22 @@ TEST(KeptReferences, EstimateExtrasRoundedAndAoAtPxr24Precision) {
   EXPECT_EQ(at_pxr24_precision(1.0f), 1.0f);
   EXPECT_EQ(at_pxr24_precision(0.0f), 0.0f);
   EXPECT_TRUE(std::isnan(at_pxr24_precision(std::nanf(""))));
+  // Written once from memory (a suite run's session, write_compact_estimate): the same values
+  // and header as written plain and then compacted.
+  const std::string once = path + ".once.exr";
+  write_compact_estimate(once, image, {{"aoeval:estimator", "gtao"}});
+  OIIO::ImageBuf direct(once);
+  ASSERT_TRUE(direct.read(0, 0, true, OIIO::TypeDesc::FLOAT));
+  EXPECT_EQ(direct.spec().get_string_attribute("aoeval:estimator"), "gtao");
+  EXPECT_EQ(compression_of(once), "pxr24");
+  int differ = 0;
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 64; ++x)
+      for (int c = 0; c < 6; ++c) {
+        const float a = direct.getchannel(x, y, 0, c), b = back.getchannel(x, y, 0, c);
+        differ += std::memcmp(&a, &b, sizeof a) != 0;
+      }
+  EXPECT_EQ(differ, 0);
 }
 
 // The kept precision, channel by channel: AO_stderr in steps of 1/4096, bent.X/Y/Z of 1/2048, AO

@@ -189,11 +189,7 @@ SuiteReportEntry finish_point(const SuitePoint& sp, Measurement& measured,
     const auto timer = stages.time("sequence frames kept");
     sequence_images = images.keep_sequence(session, p, measured, run_dir);
   }
-  row.estimate_file = estimate_rel;
-  if (!images.exact()) {
-    const auto timer = stages.time("estimate EXR extras rounded");
-    compact_estimate_extras((fs::path(out) / estimate_rel).string());
-  }
+  row.estimate_file = estimate_rel;  // written compact by the session unless exact
   const AoDefinition definition = p.estimator->definition(measured.params);
   const View& view = session.scene(p.scene).scene.view(p.view);
   BackgroundLane::checkpoint();
@@ -268,7 +264,10 @@ SuiteRun run_suite(const SuiteRunOptions& o) {
   auto session_for = [&](const SweepSpec& spec) -> EvaluationSession& {
     const std::string key = spec.reference.to_json().dump() + "|" + timing_key(spec.timing);
     auto& s = sessions[key];
-    if (!s) s = std::make_unique<EvaluationSession>(spec.reference, spec.timing);
+    if (!s) {
+      s = std::make_unique<EvaluationSession>(spec.reference, spec.timing);
+      if (!o.exact_kept_files) s->set_estimate_writer(write_compact_estimate);
+    }
     return *s;
   };
 
