@@ -111,7 +111,7 @@ float half_to_float(uint16_t h) {
 }
 
 bool viewer_fixed_point_channel(const std::string& channel) {
-  return channel == "AO_stderr" || channel == "flicker" || channel == "lag";
+  return channel == "flicker" || channel == "lag";
 }
 
 // A plane's bytes, shuffled, as `kind` says: 'f' float32, 'h' float16, 'q' int16 of

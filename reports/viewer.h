@@ -26,10 +26,11 @@ const std::vector<std::string>& gbuffer_viewer_channels();
 // base64 text was 695 MB). compact: each plane byte-shuffled and deflated (zlib), the viewer
 // inflating it with the browser's DecompressionStream; a plane whose values all lie within
 // +-kViewerHalfRange as float16 (AO, normals: probe values within 4.9e-4 of the EXR's floats,
-// 1e-3 promised; relative precision kept, for the exposure control), or, for a plane shown only
-// through a linear colour map (viewer_fixed_point_channel: AO_stderr, flicker, lag), as int16
-// fixed point in steps of 1/kViewerFixedScale (within 1.22e-4: a float16 stderr's low mantissa
-// bits are noise that deflates badly; the default suite's reference stderr planes 1.7x smaller);
+// 1e-3 promised; relative precision kept, for the exposure control; a kept reference's AO_stderr,
+// at 4 significant bits (harness/sweep/kept_references.h), is a float16 whose low mantissa bits
+// are zero, and deflates 1.3x smaller than as fixed point), or, for a plane shown only through a
+// linear colour map (viewer_fixed_point_channel: flicker, lag), as int16 fixed point in steps of
+// 1/kViewerFixedScale (within 1.22e-4; the kept maps.exr holds the same multiples of 1/4096);
 // any other plane (depth, a NaN) as float32, exact; a plane or mask that repeats the frame before
 // (a static camera's references) as that frame's index. The deflated planes and masks lie one
 // after the other in one byte string (js_byte_string), each named by [offset, length]. exact:

@@ -224,38 +224,43 @@ std::vector<unsigned char> inflate(const std::vector<unsigned char>& z, size_t s
 }
 
 // Issue 42: the compact default. A plane within +-2 (AO_stderr, and AO without its NaN) is
-// float16, within 1e-3 of the EXR's floats (4.9e-4 at most); a plane with a NaN or a value beyond
-// 2 (depth) stays float32, exact; masks are deflated bytes. Planes are byte-shuffled.
+// float16, within 1e-3 of the EXR's floats (4.9e-4 at most); a map shown through a colour map
+// (lag) is fixed point in steps of 1/4096; a plane with a NaN or a value beyond 2 (depth) stays
+// float32, exact; masks are deflated bytes. Planes are byte-shuffled.
 TEST(Viewer, CompactDataIsWithinOneThousandthAndSmaller) {
   const fs::path dir = testutil::test_temp_dir("viewer_compact");
   const int w = 64, h = 48, n = w * h;
-  OIIO::ImageSpec spec(w, h, 4, OIIO::TypeDesc::FLOAT);
-  spec.channelnames = {"AO", "AO_stderr", "Z", "A"};
+  OIIO::ImageSpec spec(w, h, 5, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"AO", "AO_stderr", "Z", "A", "lag"};
   OIIO::ImageBuf image(spec);
-  std::vector<float> ao(n), sd(n), z(n);
+  std::vector<float> ao(n), sd(n), z(n), lag(n);
   for (int k = 0; k < n; ++k) {
     ao[k] = 0.5f + 0.5f * std::sin(0.05f * static_cast<float>(k));
     sd[k] = 1e-6f * static_cast<float>(k);
     z[k] = 3.0f + 0.01f * static_cast<float>(k);
+    lag[k] = 0.3f * std::cos(0.01f * static_cast<float>(k));
   }
   ao[7] = 1.9999f;
   ao[8] = -0.0f;
   for (int k = 0; k < n; ++k) {
-    const float px[4] = {ao[k], sd[k], z[k], k % 3 ? 1.0f : 0.0f};
+    const float px[5] = {ao[k], sd[k], z[k], k % 3 ? 1.0f : 0.0f, lag[k]};
     image.setpixel(k % w, k / w, px);
   }
   write_exr((dir / "ref.exr").string(), image, {});
-  const std::string rel = write_viewer_data(dir.string(), {"ref.exr"}, {"AO", "AO_stderr", "Z"});
+  const std::string rel =
+      write_viewer_data(dir.string(), {"ref.exr"}, {"AO", "AO_stderr", "Z", "lag"});
   const std::string js = read_file(dir / rel);
   const CompactScript script = read_compact(js);
   const nlohmann::json& record = script.record;
   EXPECT_EQ(record["encoding"], "shuffled-deflate");
   EXPECT_EQ(record["kinds"]["AO"][0], "h");
-  EXPECT_EQ(record["kinds"]["AO_stderr"][0], "q");
+  EXPECT_EQ(record["kinds"]["AO_stderr"][0], "h");
+  EXPECT_EQ(record["kinds"]["lag"][0], "q");
   EXPECT_EQ(record["kinds"]["Z"][0], "f");
-  for (const auto& [name, want] : {std::pair{"AO", ao}, std::pair{"AO_stderr", sd}}) {
+  for (const auto& [name, want] :
+       {std::pair{"AO", ao}, std::pair{"AO_stderr", sd}, std::pair{"lag", lag}}) {
     const auto u = inflate(script.bytes(record["channels"][name][0]), 2u * n);
-    const bool fixed = std::string(name) == "AO_stderr";
+    const bool fixed = std::string(name) == "lag";
     double worst = 0.0;
     for (int k = 0; k < n; ++k) {
       const auto bits = static_cast<uint16_t>(u[k] | u[n + k] << 8);
@@ -277,7 +282,7 @@ TEST(Viewer, CompactDataIsWithinOneThousandthAndSmaller) {
   // Smaller than the exact form.
   const fs::path exact_dir = testutil::test_temp_dir("viewer_exact");
   fs::copy_file(dir / "ref.exr", exact_dir / "ref.exr");
-  write_viewer_data(exact_dir.string(), {"ref.exr"}, {"AO", "AO_stderr", "Z"}, {}, 0.0,
+  write_viewer_data(exact_dir.string(), {"ref.exr"}, {"AO", "AO_stderr", "Z", "lag"}, {}, 0.0,
                     ViewerData::exact);
   EXPECT_LT(2 * js.size(), read_file(exact_dir / rel).size());
 }

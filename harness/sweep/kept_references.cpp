@@ -60,38 +60,71 @@ OIIO::ImageBuf at_half_precision(const OIIO::ImageBuf& image) {
   return out;
 }
 
-int kept_fixed_step(const std::string& channel) {
-  if (channel == "AO_stderr") return 4096;
-  if (channel == "bent.X" || channel == "bent.Y" || channel == "bent.Z") return 2048;
-  return 0;
+KeptRounding kept_rounding(const std::string& channel) {
+  if (channel == "AO_stderr" || channel == "bent_stderr")
+    return {KeptRounding::significant, kKeptStderrBits};
+  if (channel == "bent.X" || channel == "bent.Y" || channel == "bent.Z")
+    return {KeptRounding::fixed, kKeptBentStep};
+  return {KeptRounding::half, 0};
 }
 
 float at_fixed_step(float v, int step) {
   return static_cast<float>(std::nearbyint(static_cast<double>(v) * step) / step);
 }
 
-// `image` with channel c rounded as `step_of(c's name)` says: to the nearest multiple of 1/step
-// when every value of c is finite and within +-kKeptFixedRange, else (or for step 0) to float16.
-static OIIO::ImageBuf rounded_by_channel(const OIIO::ImageBuf& image,
-                                         const std::function<int(const std::string&)>& step_of) {
+float at_significant_bits(float v, int bits, double u) {
+  if (!std::isfinite(v)) return v;
+  if (std::fabs(v) < 0x1p-14f) return static_cast<float>(half(v));  // float16's normal range
+  const double a = std::fabs(static_cast<double>(v));
+  int exponent = 0;
+  const double below = std::floor(std::ldexp(std::frexp(a, &exponent), bits));  // 2^(bits-1)..
+  const double lo = std::ldexp(below, exponent - bits),
+               hi = std::ldexp(below + 1.0, exponent - bits);
+  // P(hi) so that E[kept^2] = v^2: p hi^2 + (1 - p) lo^2 = a^2.
+  const double p_hi = (a * a - lo * lo) / (hi * hi - lo * lo);
+  return static_cast<float>(std::copysign(u < p_hi ? hi : lo, static_cast<double>(v)));
+}
+
+double kept_dither(uint64_t pixel, int channel) {
+  uint64_t z =
+      pixel * 0x9e3779b97f4a7c15ull + static_cast<uint64_t>(channel) + 0x632be59bd9b4e019ull;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;  // splitmix64's finaliser
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  z ^= z >> 31;
+  return static_cast<double>(z >> 11) * 0x1p-53;
+}
+
+// `image` with channel c rounded as `rounding_of(c's name)` says, when every value of c is finite
+// and within +-kKeptFixedRange; else (or for KeptRounding::half) to float16.
+static OIIO::ImageBuf rounded_by_channel(
+    const OIIO::ImageBuf& image,
+    const std::function<KeptRounding(const std::string&)>& rounding_of) {
   const OIIO::ImageBuf half_rounded = at_half_precision(image);
   OIIO::ImageBuf out;
   out.copy(half_rounded, OIIO::TypeDesc::FLOAT);
   const int channels = out.nchannels();
-  std::vector<int> steps(channels);
-  for (int c = 0; c < channels; ++c) steps[c] = step_of(image.spec().channelnames[c]);
+  std::vector<KeptRounding> rounding(channels);
+  for (int c = 0; c < channels; ++c) rounding[c] = rounding_of(image.spec().channelnames[c]);
   for (OIIO::ImageBuf::ConstIterator<float> it(image); !it.done(); ++it)
     for (int c = 0; c < channels; ++c)
-      if (!(std::fabs(it[c]) <= kKeptFixedRange)) steps[c] = 0;
+      if (!(std::fabs(it[c]) <= kKeptFixedRange)) rounding[c] = {KeptRounding::half, 0};
   OIIO::ImageBuf::ConstIterator<float> from(image);
+  const auto width = static_cast<uint64_t>(image.spec().width);
   for (OIIO::ImageBuf::Iterator<float> it(out); !it.done(); ++it, ++from)
-    for (int c = 0; c < channels; ++c)
-      if (steps[c]) it[c] = at_fixed_step(from[c], steps[c]);
+    for (int c = 0; c < channels; ++c) {
+      if (rounding[c].kind == KeptRounding::fixed)
+        it[c] = at_fixed_step(from[c], rounding[c].value);
+      if (rounding[c].kind == KeptRounding::significant) {
+        const uint64_t pixel =
+            static_cast<uint64_t>(it.y()) * width + static_cast<uint64_t>(it.x());
+        it[c] = at_significant_bits(from[c], rounding[c].value, kept_dither(pixel, c));
+      }
+    }
   return out;
 }
 
 OIIO::ImageBuf at_kept_precision(const OIIO::ImageBuf& image) {
-  return rounded_by_channel(image, kept_fixed_step);
+  return rounded_by_channel(image, kept_rounding);
 }
 
 bool pxr24_keeps_bits(const OIIO::ImageBuf& image) {
@@ -135,7 +168,10 @@ void write_compact_estimate(const std::string& path, const OIIO::ImageBuf& image
                             const Attributes& attributes) {
   const auto& names = image.spec().channelnames;
   const auto exact = [](const std::string& n) { return n == "AO" || n == "A" || n == "AO_stderr"; };
-  const OIIO::ImageBuf rounded = rounded_by_channel(image, [](const std::string&) { return 2048; });
+  const OIIO::ImageBuf rounded = rounded_by_channel(image, [](const std::string& name) {
+    const KeptRounding bent = kept_rounding(name);  // a bent normal as a kept reference's
+    return bent.kind == KeptRounding::fixed ? bent : KeptRounding{KeptRounding::fixed, 2048};
+  });
   OIIO::ImageBuf out;
   out.copy(image, OIIO::TypeDesc::FLOAT);
   const int channels = out.nchannels();
@@ -144,6 +180,14 @@ void write_compact_estimate(const std::string& path, const OIIO::ImageBuf& image
     for (int c = 0; c < channels; ++c)
       if (!exact(names[c])) it[c] = from[c];
   write_exr(path, out, attributes, "pxr24");
+}
+
+void write_compact_maps(const std::string& path, const OIIO::ImageBuf& maps,
+                        const Attributes& attributes) {
+  const OIIO::ImageBuf rounded = rounded_by_channel(maps, [](const std::string&) {
+    return KeptRounding{KeptRounding::fixed, kKeptMapStep};  // A's 0 and 1 stay exact
+  });
+  write_exr(path, rounded, attributes, pxr24_keeps_bits(rounded) ? "pxr24" : "zip");
 }
 
 void KeptReferences::copy(const std::string& from, const std::string& rel, bool frame) {

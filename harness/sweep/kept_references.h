@@ -18,6 +18,7 @@
 
 #include <OpenImageIO/imagebuf.h>
 
+#include <cstdint>
 #include <map>
 #include <set>
 #include <string>
@@ -61,17 +62,26 @@ class KeptReferences {
 // floatToFloat24: A's 0 and 1 stay exact; AO in [0, 1] moves by at most 2^-17 = 7.7e-6, far
 // inside the dashboard's 1e-4 per pixel for deterministic estimators, CONTRACT §12); every other
 // channel (bent.X/Y/Z, obscurance.R/G/B, AO_horizon, ...) is rounded first, which PXR24 keeps bit
-// for bit: to the nearest multiple of 1/2048 (within 2.44e-4) where every value of the channel is
-// finite and within +-kKeptFixedRange, else to float16 (within 4.9e-4 of values in [0, 1]). Still
-// a 32-bit float EXR (CONTRACT §4). Rewritten atomically, header kept. A unit bent normal's
-// direction moves by at most 0.025 degrees (each component rounded by at most 2.44e-4: sqrt(3) x
-// 2.44e-4 rad); the row's keys are computed before, from the estimator's floats.
+// for bit: bent.X/Y/Z as a kept reference's (kept_rounding: 1/512, a direction within 0.097
+// degrees), every other extra to the nearest multiple of 1/2048 (within 2.44e-4), where every
+// value of the channel is finite and within +-kKeptFixedRange, else to float16 (within 4.9e-4 of
+// values in [0, 1]). Still a 32-bit float EXR (CONTRACT §4). Rewritten atomically, header kept.
+// The row's keys are computed before, from the estimator's floats.
 void compact_estimate_extras(const std::string& path);
 // The same for an estimate still in memory, written once at `path` with `attributes`: what a suite
 // run's session writes (EvaluationSession::set_estimate_writer), instead of writing the estimate
 // and then reading it back to rewrite it.
 void write_compact_estimate(const std::string& path, const OIIO::ImageBuf& image,
                             const Attributes& attributes);
+// A sequence point's flicker and lag maps (maps.exr, kept_sequence.h) at `path`: every channel
+// rounded to the nearest multiple of 1/kKeptMapStep (within 1.22e-4; the viewer's fixed-point
+// planes hold the same values) where every value of the channel is finite and within
+// +-kKeptFixedRange, else to float16, PXR24-compressed (the default suite's 28 maps 6.8 -> 2.7 MB
+// against float32 with zip). The maps are rms statistics over frames, shown through a colour map;
+// the rows' keys are computed before, from the floats.
+inline constexpr int kKeptMapStep = 4096;
+void write_compact_maps(const std::string& path, const OIIO::ImageBuf& maps,
+                        const Attributes& attributes);
 // What PXR24 makes of `v` (OpenEXR's floatToFloat24, read back): nearest of 15 mantissa bits,
 // ties away from zero; infinities and NaN stay so. For the tests and the README's bound.
 float at_pxr24_precision(float v);
@@ -83,17 +93,42 @@ OIIO::ImageBuf at_half_precision(const OIIO::ImageBuf& image);
 // `image`'s channels `names`, in that order; InputError naming `path` when one is missing.
 OIIO::ImageBuf only_channels(const OIIO::ImageBuf& image, const std::vector<std::string>& names,
                              const std::string& path);
-// What a compact kept file holds (issue 42): channel AO_stderr rounded to the nearest multiple of
-// 1/4096 (within 1.22e-4: the viewer's fixed-point stderr, reports/viewer.h, then equals the
-// file's), bent.X/Y/Z to the nearest multiple of 1/2048 (within 2.44e-4, float16's worst step on
-// [0.5, 1], without its extra digits near 0), each only when every value of the channel is finite
-// and within +-kKeptFixedRange; every other channel (and such a channel otherwise) at float16
-// precision (at_half_precision). kept_fixed_step: the step of a channel, 0 for none.
+// What a compact kept file holds (issue 42), channel by channel (kept_rounding):
+// - AO_stderr and bent_stderr to kKeptStderrBits significant bits, down or up at random with the
+//   probabilities that keep its square unbiased (at_significant_bits with kept_dither, a hash of
+//   the pixel and channel: the same image, the same bits): within one step of the value (1/4 of
+//   it at most, 1/8 near the top of each octave; about 6.7 % rms on the default suite's
+//   references). What every noise removal reads is mean(stderr^2) (rmse_excess, the temporal
+//   keys), which stays unbiased; rounding to the nearest instead moved it by -1.1 % on the
+//   default suite's references (their stderr takes few distinct values: 8 replicate means of 0/1
+//   visibilities), and `compare --sequence`'s temporal_rmse_excess on the kept files by +2 to
+//   +4 %. A reference's stderr is itself an estimate from 8 replicate means (7 degrees of freedom:
+//   about 27 % relative standard deviation); the rounding adds about 3 % to that spread. Every
+//   such value is a float16, so the viewer's float16 stderr equals the file's.
+// - bent.X/Y/Z to the nearest multiple of 1/kKeptBentStep (within 9.8e-4 per component: a unit
+//   bent normal's direction moves by at most 0.097 degrees, against the default references'
+//   own bent noise of degrees, bent_stderr).
+// Each only when every value of the channel is finite and within +-kKeptFixedRange; every other
+// channel (and such a channel otherwise) at float16 precision (at_half_precision).
 inline constexpr float kKeptFixedRange = 2.0f;
-int kept_fixed_step(const std::string& channel);
+inline constexpr int kKeptStderrBits = 3;
+inline constexpr int kKeptBentStep = 512;
+struct KeptRounding {
+  enum Kind { half, fixed, significant } kind = half;
+  int value = 0;  // fixed: the step is 1/value; significant: the number of significant bits
+};
+KeptRounding kept_rounding(const std::string& channel);
 OIIO::ImageBuf at_kept_precision(const OIIO::ImageBuf& image);
 // `v` at the nearest multiple of 1/step (a float32: exact for |v * step| < 2^24).
 float at_fixed_step(float v, int step);
+// `v` with `bits` significant bits: of the two such values around it, lo <= |v| < hi, hi when
+// `u` (uniform on [0, 1)) is below (v^2 - lo^2) / (hi^2 - lo^2), so that E[result^2] = v^2; `v`
+// itself when it has no more bits. At float16 precision below float16's normal range (2^-14);
+// every result is a float16. NaN and infinities stay.
+float at_significant_bits(float v, int bits, double u);
+// The kept files' uniform on [0, 1) for (pixel, channel): a hash, so a kept file is a function
+// of its image.
+double kept_dither(uint64_t pixel, int channel);
 // True when PXR24 stores every value of `image` bit for bit (each finite and within 15 mantissa
 // bits: float16 values, multiples of 1/4096 within +-2, ...).
 bool pxr24_keeps_bits(const OIIO::ImageBuf& image);

@@ -2,6 +2,7 @@
 // float32, within 2^-11 of it relative (4.9e-4 absolute in [0, 1]), idempotent, and a value
 // beyond float16's range kept as it is; written PXR24 compressed and read back bit for bit (zip
 // when a value is beyond float16's range); and the sweep spec's adaptive timing keys.
+#include <Imath/half.h>
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
@@ -93,10 +94,11 @@ TEST(KeptReferences, CompactFilesReadBackBitForBit) {
 }
 
 // A run's still estimate: AO, A and AO_stderr at PXR24's precision (A exact, AO within 2^-17),
-// the bent normal at float16 precision, the header kept, PXR24, and a smaller file.
+// the bent normal in steps of 1/512, another extra (obscurance.R) of 1/2048, the header kept,
+// PXR24, and a smaller file.
 TEST(KeptReferences, EstimateExtrasRoundedAndAoAtPxr24Precision) {
   OIIO::ImageSpec spec(64, 48, 6, OIIO::TypeDesc::FLOAT);
-  spec.channelnames = {"A", "AO", "AO_stderr", "bent.X", "bent.Y", "bent.Z"};
+  spec.channelnames = {"A", "AO", "AO_stderr", "bent.X", "bent.Y", "obscurance.R"};
   OIIO::ImageBuf image(spec);
   uint32_t state = 777;
   const auto next = [&] {
@@ -124,7 +126,9 @@ TEST(KeptReferences, EstimateExtrasRoundedAndAoAtPxr24Precision) {
       for (int c = 0; c < 6; ++c) {
         const float got = back.getchannel(x, y, 0, c);
         const float original = image.getchannel(x, y, 0, c);
-        const float want = c < 3 ? at_pxr24_precision(original) : at_fixed_step(original, 2048);
+        const float want = c < 3   ? at_pxr24_precision(original)
+                           : c < 5 ? at_fixed_step(original, 512)  // bent.X, bent.Y
+                                   : at_fixed_step(original, 2048);
         (c < 3 ? exact_differ : extras_not_rounded) += std::memcmp(&got, &want, sizeof got) != 0;
         if (c == 1) {
           worst_ao = std::max(worst_ao, std::fabs(double(got) - original));
@@ -156,9 +160,10 @@ TEST(KeptReferences, EstimateExtrasRoundedAndAoAtPxr24Precision) {
   EXPECT_EQ(differ, 0);
 }
 
-// The kept precision, channel by channel: AO_stderr in steps of 1/4096, bent.X/Y/Z of 1/2048, AO
-// at float16; a bent channel with a value beyond +-2 at float16 too.
-TEST(KeptReferences, KeptPrecisionIsFixedPointForStderrAndBentFloat16Otherwise) {
+// The kept precision, channel by channel: AO_stderr at 3 significant bits (a float16: one of the
+// two such values around it), bent.X/Y/Z in steps of 1/512, AO at float16; a bent channel with a
+// value beyond +-2 at float16 too.
+TEST(KeptReferences, KeptPrecisionIsRelativeForStderrFixedForBentFloat16Otherwise) {
   OIIO::ImageSpec spec(50, 20, 4, OIIO::TypeDesc::FLOAT);
   spec.channelnames = {"AO", "AO_stderr", "bent.X", "bent.Y"};
   OIIO::ImageBuf image(spec);
@@ -166,29 +171,121 @@ TEST(KeptReferences, KeptPrecisionIsFixedPointForStderrAndBentFloat16Otherwise) 
   for (OIIO::ImageBuf::Iterator<float> it(image); !it.done(); ++it) {
     for (int c = 0; c < 4; ++c) {
       state = state * 1664525u + 1013904223u;
-      it[c] = static_cast<float>(state >> 8) / 16777216.0f * (c == 1 ? 0.06f : 1.0f);
+      const float u = static_cast<float>(state >> 8) / 16777216.0f;
+      it[c] = c == 1 ? 0.06f * u * u * u : u;  // stderr over 4 decades, 0 to 0.06
     }
   }
   image.setpixel(3, 3, std::vector<float>{0.5f, 0.01f, 0.2f, 3.0f}.data());  // bent.Y beyond 2
-  const OIIO::ImageBuf kept = at_kept_precision(image), half = at_half_precision(image);
-  double worst[4] = {0, 0, 0, 0};
-  int wrong = 0;
+  image.setpixel(4, 3, std::vector<float>{0.5f, 1e-6f, 0.2f, 0.2f}.data());  // below normal half
+  image.setpixel(5, 3, std::vector<float>{0.5f, 0.01171875f, 0.2f, 0.2f}.data());  // 3 bits: kept
+  const OIIO::ImageBuf kept = at_kept_precision(image), half_rounded = at_half_precision(image);
+  double worst[4] = {0, 0, 0, 0}, worst_relative = 0.0;
+  int wrong = 0, not_half = 0, not_a_neighbour = 0;
   for (int y = 0; y < 20; ++y)
     for (int x = 0; x < 50; ++x)
       for (int c = 0; c < 4; ++c) {
         const float v = image.getchannel(x, y, 0, c), got = kept.getchannel(x, y, 0, c);
-        const float want = c == 1   ? at_fixed_step(v, 4096)
-                           : c == 2 ? at_fixed_step(v, 2048)
-                                    : half.getchannel(x, y, 0, c);  // AO; bent.Y (a 3 in it)
+        const uint64_t pixel = static_cast<uint64_t>(y) * 50 + static_cast<uint64_t>(x);
+        const float want = c == 1   ? at_significant_bits(v, 3, kept_dither(pixel, c))
+                           : c == 2 ? at_fixed_step(v, 512)
+                                    : half_rounded.getchannel(x, y, 0, c);  // AO; bent.Y (a 3)
         wrong += std::memcmp(&got, &want, sizeof got) != 0;
         worst[c] = std::max(worst[c], std::fabs(double(got) - v));
+        if (c == 1 && v >= 0x1p-14f) {
+          worst_relative = std::max(worst_relative, std::fabs(got / v - 1.0));
+          // got is the 3-bit value at or below v, or the next one up
+          int e = 0;
+          const double eighths = std::floor(std::ldexp(std::frexp(double(v), &e), 3));
+          const double lo = std::ldexp(eighths, e - 3);
+          not_a_neighbour += got != lo && got != lo + std::ldexp(1.0, e - 3);
+        }
+        not_half += static_cast<float>(half(got)) != got;
       }
   EXPECT_EQ(wrong, 0);
-  EXPECT_LE(worst[1], 0.5 / 4096 + 1e-9);
-  EXPECT_LE(worst[2], 0.5 / 2048 + 1e-9);
-  EXPECT_GT(worst[1], 0.25 / 4096);  // coarser than float16 on [0, 0.06]: it did round
+  EXPECT_EQ(not_half, 0);  // every kept value is a float16: the viewer's equals the file's
+  EXPECT_EQ(not_a_neighbour, 0);
+  EXPECT_LE(worst_relative, 0.25 + 1e-7);
+  EXPECT_GT(worst_relative, 1.0 / 16);                  // coarser than float16: it did round
+  EXPECT_EQ(kept.getchannel(5, 3, 0, 1), 0.01171875f);  // 0.75 x 2^-6: already 3 bits
+  EXPECT_LE(worst[2], 0.5 / 512 + 1e-9);
+  EXPECT_GT(worst[2], 0.25 / 512);
+  EXPECT_EQ(kept.getchannel(4, 3, 0, 1), static_cast<float>(half(1e-6f)));
   EXPECT_TRUE(pxr24_keeps_bits(kept));
-  EXPECT_EQ(kept_fixed_step("AO"), 0);
+  EXPECT_EQ(kept_rounding("AO").kind, KeptRounding::half);
+  EXPECT_EQ(kept_rounding("bent_stderr").kind, KeptRounding::significant);
+  EXPECT_EQ(at_significant_bits(-0.75f, 3, 0.5), -0.75f);
+  EXPECT_EQ(at_significant_bits(0.0f, 3, 0.5), 0.0f);
+  EXPECT_TRUE(std::isnan(at_significant_bits(std::nanf(""), 3, 0.5)));
+}
+
+// What the noise removals read, mean(stderr^2), is unbiased after the kept rounding: an image of
+// one stderr value v between two 3-bit values lo < v < hi keeps lo or hi with P(hi) = p = (v^2 -
+// lo^2) / (hi^2 - lo^2), so the mean of N kept squares has standard deviation sqrt(p (1 - p) / N)
+// (hi^2 - lo^2); it lies within 4 of them of v^2 (rounding to the nearest, hi here, is 19 of them
+// off). Two images of the same values keep the same bits.
+TEST(KeptReferences, KeptStderrKeepsTheMeanSquareUnbiased) {
+  const int w = 50, h = 20;
+  OIIO::ImageSpec spec(w, h, 2, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"AO", "AO_stderr"};
+  for (const float v : {0.0221f, 0.0031f, 0.047f}) {
+    SCOPED_TRACE(v);
+    OIIO::ImageBuf image(spec);
+    for (OIIO::ImageBuf::Iterator<float> it(image); !it.done(); ++it) it[0] = 0.5f, it[1] = v;
+    const OIIO::ImageBuf kept = at_kept_precision(image), again = at_kept_precision(image);
+    int e = 0;
+    const double eighths = std::floor(std::ldexp(std::frexp(double(v), &e), 3));  // 4..7
+    const double lo = std::ldexp(eighths, e - 3);
+    const double hi = lo + std::ldexp(1.0, e - 3);
+    const double p = (double(v) * v - lo * lo) / (hi * hi - lo * lo);
+    double sum = 0.0;
+    int differ = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const double k = kept.getchannel(x, y, 0, 1);
+        sum += k * k;
+        differ += kept.getchannel(x, y, 0, 1) != again.getchannel(x, y, 0, 1);
+      }
+    const double n = w * h, sd = std::sqrt(p * (1.0 - p) / n) * (hi * hi - lo * lo);
+    EXPECT_NEAR(sum / n, double(v) * v, 4.0 * sd);
+    EXPECT_EQ(differ, 0);
+  }
+}
+
+// A sequence point's maps.exr: flicker and lag at multiples of 1/4096 (the viewer's fixed point),
+// A exact, PXR24; a NaN in a channel keeps that channel at float16 and the file zip.
+TEST(KeptReferences, CompactMapsAreFixedPointAndPxr24) {
+  OIIO::ImageSpec spec(40, 30, 3, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"flicker", "lag", "A"};
+  OIIO::ImageBuf image(spec);
+  uint32_t state = 99;
+  for (OIIO::ImageBuf::Iterator<float> it(image); !it.done(); ++it)
+    for (int c = 0; c < 3; ++c) {
+      state = state * 1664525u + 1013904223u;
+      const float u = static_cast<float>(state >> 8) / 16777216.0f;
+      it[c] = c == 2 ? (u < 0.8f ? 1.0f : 0.0f) : 0.3f * u;
+    }
+  const std::string dir = testutil::test_temp_dir("kept_maps").string();
+  write_compact_maps(dir + "/maps.exr", image, {{"aoeval:run_name", "p"}});
+  EXPECT_EQ(compression_of(dir + "/maps.exr"), "pxr24");
+  OIIO::ImageBuf back(dir + "/maps.exr");
+  ASSERT_TRUE(back.read(0, 0, true, OIIO::TypeDesc::FLOAT));
+  EXPECT_EQ(back.spec().get_string_attribute("aoeval:run_name"), "p");
+  int wrong = 0;
+  double worst = 0.0;
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const int in_file = back.spec().channelindex(image.spec().channelnames[c]);  // sorted
+        const float v = image.getchannel(x, y, 0, c), got = back.getchannel(x, y, 0, in_file);
+        const float want = at_fixed_step(v, 4096);
+        wrong += std::memcmp(&got, &want, sizeof got) != 0;
+        worst = std::max(worst, std::fabs(double(got) - v));
+      }
+  EXPECT_EQ(wrong, 0);
+  EXPECT_LE(worst, 0.5 / 4096 + 1e-9);
+  image.setpixel(1, 1, std::vector<float>{std::nanf(""), 0.1f, 1.0f}.data());
+  write_compact_maps(dir + "/nan.exr", image, {});
+  EXPECT_EQ(compression_of(dir + "/nan.exr"), "zip");
 }
 
 TEST(KeptReferences, AdaptiveTimingKeysParse) {

@@ -17,7 +17,7 @@ namespace {
 
 // The point's flicker and lag maps (harness/scoring/temporal.h) as one EXR: channels flicker, lag
 // and A (1 where the flicker map has a value: the pixel was compared in two successive frames);
-// a pixel a map never counted holds 0.
+// a pixel a map never counted holds 0. Written by write_compact_maps.
 OIIO::ImageBuf maps_image(const Measurement& m) {
   OIIO::ImageSpec spec(m.width, m.height, 3, OIIO::TypeDesc::FLOAT);
   spec.channelnames = {"flicker", "lag", "A"};
@@ -73,7 +73,11 @@ std::vector<KeptImage> keep_sequence(const std::string& out, const std::string& 
   if (keep_frames && !m.flicker_map.empty()) {
     const std::string maps = (dir_rel / "maps.exr").string();
     const OIIO::ImageBuf image = maps_image(m);
-    write_exr((fs::path(out) / maps).string(), image, {{"aoeval:run_name", p.name}}, "zip");
+    const Attributes attributes = {{"aoeval:run_name", p.name}};
+    if (references.exact())
+      write_exr((fs::path(out) / maps).string(), image, attributes, "zip");
+    else
+      write_compact_maps((fs::path(out) / maps).string(), image, attributes);
     manifest["maps"] = maps;
     images.push_back({"maps", maps});
   }

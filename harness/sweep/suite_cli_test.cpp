@@ -140,6 +140,10 @@ TEST(SuiteCli, RunWritesAReportThatLinksEveryKeptFile) {
     EXPECT_GT(context["stages_ms"].value("wall", 0.0), 0.0) << context;
   }
   EXPECT_EQ(run_json["rows"].size(), 5u);
+  // A fresh folder's two results.json are the same bytes: one file, hard-linked.
+  EXPECT_TRUE(fs::equivalent(fs::path(out) / "results.json",
+                             fs::path(out) / "runs" / run_id / "results.json"));
+  const std::string first_runs_copy = slurp(fs::path(out) / "runs" / run_id / "results.json");
   const auto runs = store.runs();
   ASSERT_EQ(runs.size(), 1u);
   EXPECT_EQ(runs[0].run_id, run_id);
@@ -149,6 +153,10 @@ TEST(SuiteCli, RunWritesAReportThatLinksEveryKeptFile) {
   const Result again = run(d, "run --suite " + suite + " --out " + out + " --db " + db);
   ASSERT_EQ(again.code, 0) << again.err;
   EXPECT_TRUE(fs::exists(fs::path(out) / "runs" / run_id / "estimates"));
+  // ... and its own results.json as it was, though the folder's was rewritten.
+  EXPECT_FALSE(fs::equivalent(fs::path(out) / "results.json",
+                              fs::path(out) / "runs" / run_id / "results.json"));
+  EXPECT_EQ(slurp(fs::path(out) / "runs" / run_id / "results.json"), first_runs_copy);
   EXPECT_EQ(store.all_rows().size(), 10u);
   EXPECT_EQ(data_lines(fs::path(out) / "results.csv"), 5u) << "the newest run's rows";
 }
