@@ -97,15 +97,14 @@ void EvaluationSession::run_frames(Measurement& m, bool seed_per_frame) {
   const bool true_is_matched = definition.to_json() == true_ao_definition().to_json();
   ResultRow& row = m.row;
   if (sequence) m.sequence = std::make_shared<SequenceScoring>();
-  // Warm-up runs only where the first run pays for what later ones do not: a Vulkan estimator's
-  // first dispatch (pipeline and shader JIT in the driver, first touch of its buffers) and a
-  // plug-in process. A CPU or Embree estimator is timed cold (issue 42): over 7 repetitions
-  // without warm-up (9 estimators x 3 scenes, under load), a CPU or Embree estimator's first run
-  // was 0.88-1.24x the median of the others, inside their own spread, and the median of all moved
-  // by 3 % at most (vertex-baked's 0.05 ms frames aside, whose own spread is 70-180 %); a Vulkan
-  // one's first was up to 1.48x.
-  const int warmup =
-      e.backend == Backend::vulkan || e.backend == Backend::process ? timing_.warmup : 0;
+  // Warm-up runs only where the first run pays for what later ones do not (EstimatorInfo::
+  // warms_up()): a Vulkan estimator's first dispatch (pipeline and shader JIT in the driver, first
+  // touch of its buffers) and a plug-in process, unless it declares its first run warm. A CPU or
+  // Embree estimator is timed cold (issue 42): over 7 repetitions without warm-up (9 estimators x
+  // 3 scenes, under load), a CPU or Embree estimator's first run was 0.88-1.24x the median of the
+  // others, inside their own spread, and the median of all moved by 3 % at most (vertex-baked's
+  // 0.05 ms frames aside, whose own spread is 70-180 %); a Vulkan one's first was up to 1.48x.
+  const int warmup = e.warms_up() ? timing_.warmup : 0;
 
   std::vector<double> times, prepare_times;
   std::map<std::string, std::vector<double>> passes;
