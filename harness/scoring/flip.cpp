@@ -37,11 +37,12 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+
+#include "harness/scoring/side_by_side.h"
 
 namespace aoeval {
 
@@ -357,12 +358,12 @@ std::vector<float> error_map(const ReferenceSide& r, const float* est) {
     if (mask[p]) te[p] = std::clamp(static_cast<double>(est[p]), 0.0, 1.0);
   const std::vector<double> csf = csf_kernel(r.ppd);
   const FeatureKernels fk = feature_kernels(r.ppd);
-  // The colour pipeline and the two directions' features side by side (issue 42: a row-parallel
-  // pass alone is too short for TBB's second thread to join in time); each direction's squared
-  // responses are added as one pass over both would add them, x then y: the same bits.
+  // The colour pipeline and the two directions' features side by side (issue 42, side_by_side.h);
+  // each direction's squared responses are added as one pass over both would add them, x then y:
+  // the same bits.
   std::vector<double> fe;
   std::vector<double> sq[2][2];  // [x, y][edges, points]
-  tbb::parallel_invoke(
+  detail::side_by_side(
       [&] {
         fe = filter_cols(filter_rows(te, width, height, csf, Border::kClamp), width, height, csf,
                          Border::kClamp);

@@ -6,7 +6,6 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <cmath>
@@ -16,6 +15,7 @@
 #include "base/errors.h"
 #include "harness/results/metric_table.h"
 #include "harness/scoring/flip.h"
+#include "harness/scoring/side_by_side.h"
 
 namespace aoeval {
 
@@ -194,13 +194,13 @@ Metrics compare_images(ImageView ref, ImageView est, const std::vector<uint8_t>&
                        const flip::ReferenceSide* flip_reference) {
   const std::vector<uint8_t> m = validate(ref, est, mask, &ref_stderr);
   const int w = ref.width, h = ref.height;
-  // SSIM, FLIP and the error statistics are independent: computed side by side (issue 42: a
-  // row-parallel filter pass is too short for TBB's second thread to join in time, so a scoring
-  // ran on one core while the runner waited for it), each exactly as alone (the same bits).
+  // SSIM, FLIP and the error statistics are independent: computed side by side (issue 42: on the
+  // background lane a scoring ran on one core while the runner waited for it; side_by_side.h),
+  // each exactly as alone (the same bits).
   Metrics out{};
   const bool prepared = flip_reference && flip_reference->width == w &&
                         flip_reference->height == h && flip_reference->mask == m;
-  tbb::parallel_invoke([&] { out.ssim = masked_mean(ssim_map_checked(ref, est, m), m, w, h); },
+  detail::side_by_side([&] { out.ssim = masked_mean(ssim_map_checked(ref, est, m), m, w, h); },
                        [&] {
                          out.flip_mean = masked_mean(
                              prepared ? flip::error_map(*flip_reference, est.data)
