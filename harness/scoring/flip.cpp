@@ -281,17 +281,15 @@ ReferenceSide prepare_reference(int width, int height, const float* ref, const u
     return filter_cols(filter_rows(c, width, height, csf, Border::kClamp), width, height, csf,
                        Border::kClamp);
   };
-  r.wsum = blur(m);
-  r.filtered = blur(tr);
   // Feature pipeline: x-direction filters are lobe(x) gauss(y), y-direction ones gauss(x) lobe(y).
   const FeatureKernels fk = feature_kernels(ppd);
-  for (auto& v : r.squared) v.assign(n, 0.0);
-  std::vector<double> pre_m, pre_r, lobe_r[2];
-  for (int dir = 0; dir < 2; ++dir) {
+  std::vector<double> sq[2][2];  // the reference's squared responses [x, y][edges, points]
+  auto direction = [&](int dir) {
     using Filter = void (*)(const std::vector<double>&, int, int, const std::vector<double>&,
                             Border, std::vector<double>&);
     const Filter first = dir == 0 ? Filter(filter_cols) : Filter(filter_rows);
     const Filter second = dir == 0 ? Filter(filter_rows) : Filter(filter_cols);
+    std::vector<double> pre_m, pre_r, lobe_r[2];
     first(m, width, height, fk.gauss, Border::kClamp, pre_m);
     first(tr, width, height, fk.gauss, Border::kClamp, pre_r);
     for (int type = 0; type < 2; ++type) {
@@ -301,17 +299,26 @@ ReferenceSide prepare_reference(int width, int height, const float* ref, const u
         second(pre_r, width, height, fk.lobes[2 * type + l], Border::kClamp, lobe_r[l]);
       }
       const auto& lobe_m = r.mask_lobes[dir][type];
-      std::vector<double>& sq = r.squared[type];
+      std::vector<double>& out = sq[dir][type];
+      out.assign(n, 0.0);
       tbb::parallel_for(
           tbb::blocked_range<size_t>(0, n), [&](const tbb::blocked_range<size_t>& rg) {
             for (size_t p = rg.begin(); p < rg.end(); ++p) {
               if (!mask[p]) continue;
               const double v =
                   lobe_response(lobe_r[0][p], lobe_m[0][p], lobe_r[1][p], lobe_m[1][p]);
-              sq[p] += v * v;
+              out[p] = v * v;
             }
           });
     }
+  };
+  // The four pieces side by side (issue 42, side_by_side.h); the two directions' squares are added
+  // as one pass over both would add them, x then y: the same bits.
+  detail::side_by_side([&] { r.wsum = blur(m); }, [&] { r.filtered = blur(tr); },
+                       [&] { direction(0); }, [&] { direction(1); });
+  for (int type = 0; type < 2; ++type) {
+    r.squared[type].assign(n, 0.0);
+    for (size_t p = 0; p < n; ++p) r.squared[type][p] = (0.0 + sq[0][type][p]) + sq[1][type][p];
   }
   return r;
 }
