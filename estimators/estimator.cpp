@@ -236,6 +236,10 @@ double EstimatorInfo::open_plane_tolerance() const {
   return backend == Backend::embree ? 1e-6 : 0.05;
 }
 
+bool EstimatorInfo::warms_up() const {
+  return (backend == Backend::vulkan || backend == Backend::process) && !first_run_is_warm;
+}
+
 bool EstimatorInfo::sees_enclosure() const {
   if (conformance.sees_enclosure >= 0) return conformance.sees_enclosure != 0;
   return backend == Backend::embree;

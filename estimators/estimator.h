@@ -207,8 +207,16 @@ struct EstimatorInfo {
   // called at every frame with that frame's scene, and the instance applies the seed rule itself
   // from EstimateContext::frame->seed_offset.
   bool keeps_state = false;
+  // Its first run after prepare() was measured to cost what the later ones do, so the timing's
+  // warm-up (CONTRACT §5 "warmup") is not run for it whatever its backend (warms_up()). Declare it
+  // only with that measurement (shadowmap-ao's, README "The cold run's critical path").
+  bool first_run_is_warm = false;
 
   const ParamSpec* find_param(const std::string& name) const;
+  // Whether the timing's warm-up runs before its timed runs: for a Vulkan estimator (the driver's
+  // pipeline and shader JIT, the first touch of its buffers on the first dispatch) and a plug-in
+  // process, unless first_run_is_warm; a CPU or Embree estimator is timed cold (issue 42).
+  bool warms_up() const;
   // ConformanceSpec with the backend's defaults filled in.
   double open_plane_tolerance() const;
   bool sees_enclosure() const;

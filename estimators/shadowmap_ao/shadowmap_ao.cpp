@@ -456,6 +456,11 @@ EstimatorInfo shadowmap_ao_estimator() {
       "several shadow maps per accumulation pass, bent normal), §17.2/§17.4 for the per-vertex "
       "bake";
   info.backend = Backend::vulkan;
+  // Measured quiet (sweep, warm-up 0, 7 repetitions, bunny, dragon, cornell-box, sphere-uniform):
+  // its first run is 0.98-1.03x the median of the other six (prepare() builds its pipelines and
+  // buffers, and in vertex mode the bake), so a warm-up run bought nothing and cost about 5 s of a
+  // cold default run.
+  info.first_run_is_warm = true;
   info.inputs = {EstimatorInput::gbuffer, EstimatorInput::scene_geometry};
   info.params = {
       int_param({.name = "lights",

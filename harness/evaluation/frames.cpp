@@ -97,15 +97,14 @@ void EvaluationSession::run_frames(Measurement& m, bool seed_per_frame) {
   const bool true_is_matched = definition.to_json() == true_ao_definition().to_json();
   ResultRow& row = m.row;
   if (sequence) m.sequence = std::make_shared<SequenceScoring>();
-  // Warm-up runs only where the first run pays for what later ones do not: a Vulkan estimator's
-  // first dispatch (pipeline and shader JIT in the driver, first touch of its buffers) and a
-  // plug-in process. A CPU or Embree estimator is timed cold (issue 42): over 7 repetitions
-  // without warm-up (9 estimators x 3 scenes, under load), a CPU or Embree estimator's first run
-  // was 0.88-1.24x the median of the others, inside their own spread, and the median of all moved
-  // by 3 % at most (vertex-baked's 0.05 ms frames aside, whose own spread is 70-180 %); a Vulkan
-  // one's first was up to 1.48x.
-  const int warmup =
-      e.backend == Backend::vulkan || e.backend == Backend::process ? timing_.warmup : 0;
+  // Warm-up runs only where the first run pays for what later ones do not (EstimatorInfo::
+  // warms_up()): a Vulkan estimator's first dispatch (pipeline and shader JIT in the driver, first
+  // touch of its buffers) and a plug-in process, unless it declares its first run warm. A CPU or
+  // Embree estimator is timed cold (issue 42): over 7 repetitions without warm-up (9 estimators x
+  // 3 scenes, under load), a CPU or Embree estimator's first run was 0.88-1.24x the median of the
+  // others, inside their own spread, and the median of all moved by 3 % at most (vertex-baked's
+  // 0.05 ms frames aside, whose own spread is 70-180 %); a Vulkan one's first was up to 1.48x.
+  const int warmup = e.warms_up() ? timing_.warmup : 0;
 
   std::vector<double> times, prepare_times;
   std::map<std::string, std::vector<double>> passes;
@@ -115,6 +114,7 @@ void EvaluationSession::run_frames(Measurement& m, bool seed_per_frame) {
   // A sequence frame's references (truth: when it is not the matched one), shared with the frames'
   // scoring, and the frame they were traced for.
   std::shared_ptr<const ReferenceImage> matched, truth_owned;
+  std::string matched_key, truth_key;  // their cache keys
   int prev_ref_frame = -1;
   size_t next_kept = 0;
   EstimateResult result;
@@ -174,13 +174,18 @@ void EvaluationSession::run_frames(Measurement& m, bool seed_per_frame) {
     } else if (!repeats) {
       const std::vector<AoDefinition> companions =
           references_.planned_definitions(m.scene, view, w, h);
-      matched = std::make_shared<const ReferenceImage>(references_.frame_reference(
-          s, view, camera, g, frame_settings(m.scene, view, k, definition), companions));
+      const ReferenceSettings matched_settings = frame_settings(m.scene, view, k, definition);
+      matched = std::make_shared<const ReferenceImage>(
+          references_.frame_reference(s, view, camera, g, matched_settings, companions));
+      matched_key = truth_key = reference_cache_key(s.content_hash, camera, matched_settings);
       truth_owned.reset();
-      if (!true_is_matched)
-        truth_owned = std::make_shared<const ReferenceImage>(references_.frame_reference(
-            s, view, camera, g, frame_settings(m.scene, view, k, true_ao_definition()),
-            companions));
+      if (!true_is_matched) {
+        const ReferenceSettings true_settings =
+            frame_settings(m.scene, view, k, true_ao_definition());
+        truth_owned = std::make_shared<const ReferenceImage>(
+            references_.frame_reference(s, view, camera, g, true_settings, companions));
+        truth_key = reference_cache_key(s.content_hash, camera, true_settings);
+      }
     }
     prev_ref_frame = ref_frame;
 
@@ -219,6 +224,8 @@ void EvaluationSession::run_frames(Measurement& m, bool seed_per_frame) {
     FrameToScore frame{.index = k,
                        .gbuffer = &g,
                        .estimate = &result,
+                       .matched_key = matched_key,
+                       .truth_key = truth_key,
                        .time_ms = times.back(),
                        .ref_repeats_previous = repeats,
                        .prev_jitter = k > 0 ? prev_frame->gbuffer->camera.jitter : glm::vec2(0.0f),
@@ -268,8 +275,9 @@ void EvaluationSession::score_frame(SequenceScoring* sequence, ResultRow* row,
   const GBuffer& g = *f.gbuffer;
   const EstimateResult& result = *f.estimate;
   const int w = g.width, h = g.height;
-  // A still scores with FLIP's reference side the store keeps for its reference, and with bent
-  // vectors when the estimate has them; a sequence frame's references are not kept.
+  // A still scores with FLIP's reference side the store keeps for its reference, a sequence frame
+  // with the one the store keeps for its reference's cache key (shared by the view's points), and
+  // a still with bent vectors when the estimate has them.
   const auto bent = sequence
                         ? std::nullopt
                         : bent_of_channels(channel(result, "bent.X"), channel(result, "bent.Y"),
@@ -279,11 +287,16 @@ void EvaluationSession::score_frame(SequenceScoring* sequence, ResultRow* row,
   // steps (FLIP's reference side, then the metrics), so that a pause waits for one step, not a
   // whole scoring (issue 16: the runner's waits for the lane).
   // `temporal`: the sequence's scorers this reference feeds (both when it is matched and true).
-  auto against = [&](const ReferenceImage& ref, std::vector<TemporalScorer*> temporal) {
+  auto against = [&](const ReferenceImage& ref, const std::string& key,
+                     std::vector<TemporalScorer*> temporal) {
     const flip::ReferenceSide* flip_side = nullptr;
-    if (!sequence) {
+    std::shared_ptr<const flip::ReferenceSide> frame_side;
+    {
       const auto timer = stages_.time("scoring");
-      flip_side = &references_.flip_reference(g, ref);
+      if (!sequence)
+        flip_side = &references_.flip_reference(g, ref);
+      else if (!key.empty())
+        flip_side = (frame_side = references_.flip_frame_reference(key, g, ref)).get();
     }
     BackgroundLane::checkpoint();
     std::vector<uint8_t> mask;
@@ -318,12 +331,12 @@ void EvaluationSession::score_frame(SequenceScoring* sequence, ResultRow* row,
     matched_scorers.push_back(&sequence->matched_scores);
     if (one_reference) matched_scorers.push_back(&sequence->true_scores);
   }
-  const nlohmann::json matched = against(*f.matched, matched_scorers);
+  const nlohmann::json matched = against(*f.matched, f.matched_key, matched_scorers);
   BackgroundLane::checkpoint();
   const nlohmann::json truth =
-      one_reference
-          ? matched
-          : against(*f.truth, sequence ? std::vector<TemporalScorer*>{&sequence->true_scores}
+      one_reference ? matched
+                    : against(*f.truth, f.truth_key,
+                              sequence ? std::vector<TemporalScorer*>{&sequence->true_scores}
                                        : std::vector<TemporalScorer*>{});
   BackgroundLane::checkpoint();
   if (sequence) {

@@ -15,9 +15,12 @@ struct EvaluationSession::FrameToScore {
   const EstimateResult* estimate = nullptr;
   const ReferenceImage* matched = nullptr;
   const ReferenceImage* truth = nullptr;  // the matched one itself when its definition is true AO
-  double time_ms = 0.0;                   // a sequence frame's timed run
-  bool ref_repeats_previous = false;      // TemporalFrame's
-  glm::vec2 prev_jitter{0.0f};            // frame k - 1's camera jitter
+  // A sequence frame's references' cache keys (the same key, the same image): the other points of
+  // the view share FLIP's reference side by them (ReferenceStore::flip_frame_reference).
+  std::string matched_key = {}, truth_key = {};
+  double time_ms = 0.0;               // a sequence frame's timed run
+  bool ref_repeats_previous = false;  // TemporalFrame's
+  glm::vec2 prev_jitter{0.0f};        // frame k - 1's camera jitter
   bool last = true;  // the row's plain metrics are the last frame's (still_frame())
 };
 

@@ -309,4 +309,32 @@ const flip::ReferenceSide& ReferenceStore::flip_reference(const GBuffer& g,
              flip::prepare_reference(g.width, g.height, reference.ao.data(), mask.data());
 }
 
+std::shared_ptr<const flip::ReferenceSide> ReferenceStore::flip_frame_reference(
+    const std::string& key, const GBuffer& g, const ReferenceImage& reference) {
+  {
+    std::lock_guard<std::recursive_mutex> lock(mutex_);
+    const auto it = recent_flip_.find(key);
+    if (it != recent_flip_.end()) {
+      it->second.used = ++recent_tick_;
+      return it->second.side;
+    }
+  }
+  // Prepared without the lock (the runner's thread may ask the store for references meanwhile).
+  const std::vector<uint8_t> mask = compared_pixels(g, reference);
+  auto side = std::make_shared<const flip::ReferenceSide>(
+      flip::prepare_reference(g.width, g.height, reference.ao.data(), mask.data()));
+  const size_t bytes = g.pixel_count() * (12 * sizeof(double) + 1);
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
+  if (!recent_flip_.emplace(key, RecentFlip{side, bytes, ++recent_tick_}).second) return side;
+  recent_flip_bytes_ += bytes;
+  while (recent_flip_bytes_ > kFlipFramesBytes && recent_flip_.size() > 1) {
+    auto oldest = recent_flip_.begin();
+    for (auto it = recent_flip_.begin(); it != recent_flip_.end(); ++it)
+      if (it->second.used < oldest->second.used) oldest = it;
+    recent_flip_bytes_ -= oldest->second.bytes;
+    recent_flip_.erase(oldest);
+  }
+  return side;
+}
+
 }  // namespace aoeval

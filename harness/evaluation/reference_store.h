@@ -85,6 +85,16 @@ class ReferenceStore {
                        const AoDefinition& definition);
   // FLIP's reference side of a reference() against `g` (flip::prepare_reference), cached.
   const flip::ReferenceSide& flip_reference(const GBuffer& g, const ReferenceImage& reference);
+  // FLIP's reference side of a sequence frame's reference `reference` (cache key `key`: the same
+  // key is the same image, from memory, the disk cache or a trace) against the frame's `g`, kept
+  // for the other points of the view: they score against the same frames (issue 42: prepared once
+  // per frame and definition instead of once per point and frame; the same bits, flip.h). Least
+  // recently used out past kFlipFramesBytes; compare_images() checks its mask before using it.
+  std::shared_ptr<const flip::ReferenceSide> flip_frame_reference(const std::string& key,
+                                                                  const GBuffer& g,
+                                                                  const ReferenceImage& reference);
+  // About 7.4 MB a 320x240 frame (12 double planes): the true-AO side of a 48-frame view fits.
+  static constexpr size_t kFlipFramesBytes = size_t{512} << 20;
 
  private:
   ReferenceSpec spec_;
@@ -100,6 +110,14 @@ class ReferenceStore {
   // (with a disk cache too: a cold run does not read what it has just traced).
   std::map<std::string, ReferenceImage> untaken_;
   std::map<const ReferenceImage*, flip::ReferenceSide> flip_references_;
+  // flip_frame_reference()'s memory, by cache key.
+  struct RecentFlip {
+    std::shared_ptr<const flip::ReferenceSide> side;
+    size_t bytes = 0;
+    uint64_t used = 0;
+  };
+  std::map<std::string, RecentFlip> recent_flip_;
+  size_t recent_flip_bytes_ = 0;
   std::function<void(std::function<void()>)> writer_;
   // Companions handed to writer_ and not on disk yet, as traced, by cache key.
   std::map<std::string, std::shared_ptr<const ReferenceImage>> pending_;

@@ -12,6 +12,7 @@
 #include "estimators/registry.h"
 #include "harness/evaluation/background_lane.h"
 #include "harness/evaluation/evaluation.h"
+#include "harness/scoring/metrics.h"
 
 namespace aoeval {
 namespace {
@@ -233,6 +234,46 @@ TEST(SequenceEvaluation, ALaneScoresAndWritesWhatTheRunnersThreadDoes) {
     EXPECT_EQ(row.metrics.dump() + row.true_metrics.dump(), on_lane.rows.at(i)) << i;
   }
   unsetenv("AOEVAL_CACHE");
+}
+
+// The points of a sequence view share FLIP's reference side of each frame's references (prepared
+// by the first point that scores against it, ReferenceStore::flip_frame_reference): a frame of a
+// one-frame sequence is scored, by two points one after the other, exactly as the same view's still
+// is, where nothing is shared between definitions (it fails when a point's true-AO scoring takes
+// the side of its matched reference).
+TEST(SequenceEvaluation, PointsOfAViewShareFlipsReferenceSideAndScoreAsAStill) {
+  const auto dir = testutil::test_temp_dir("sequence_eval_flip_side");
+  const std::string scene = (dir / "two_views.json").string();
+  const std::string camera = R"("eye": [0.9, 1.4, 1.3], "target": [0, 0.1, 0], "fov_y_deg": 50,
+      "width": 64, "height": 48)";
+  std::ofstream(scene) << R"({"objects": [
+      {"name": "floor", "generator": "plane", "params": {"size": [4, 4]}},
+      {"name": "box", "generator": "box", "params": {"size": [0.6, 0.6, 0.6]},
+       "transform": {"translate": [0, 0.3, 0]}}],
+    "views": [{"name": "still", )"
+                       << camera << R"(}, {"name": "one", )" << camera
+                       << R"(, "sequence": {"frames": 1}}]})";
+  EvaluationSession session(ReferenceSpec{}, TimingSpec{0, 1}, false);
+  const nlohmann::json bounded = {{"rays", 4}, {"dmax", 0.5}, {"falloff", "linear"}};
+  auto row = [&](const std::string& view, const std::string& estimator,
+                 const nlohmann::json& overrides) {
+    EvaluationRequest req;
+    req.estimator = &find_estimator(estimator);
+    req.overrides = overrides;
+    req.scene = scene;
+    req.view = view;
+    return session.evaluate(req);
+  };
+  const ResultRow seq_bounded = row("one", "raytraced", bounded);
+  const ResultRow seq_constant = row("one", "constant", nlohmann::json::object());
+  const ResultRow still_bounded = row("still", "raytraced", bounded);
+  const ResultRow still_constant = row("still", "constant", nlohmann::json::object());
+  for (const std::string& key : metric_keys()) {
+    EXPECT_EQ(seq_bounded.metrics.at(key), still_bounded.metrics.at(key)) << key;
+    EXPECT_EQ(seq_bounded.true_metrics.at(key), still_bounded.true_metrics.at(key)) << key;
+    EXPECT_EQ(seq_constant.true_metrics.at(key), still_constant.true_metrics.at(key)) << key;
+  }
+  EXPECT_NE(still_bounded.metrics.at("flip_mean"), still_bounded.true_metrics.at("flip_mean"));
 }
 
 }  // namespace

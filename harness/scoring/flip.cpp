@@ -42,6 +42,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "harness/scoring/side_by_side.h"
+
 namespace aoeval {
 
 namespace detail {
@@ -279,17 +281,15 @@ ReferenceSide prepare_reference(int width, int height, const float* ref, const u
     return filter_cols(filter_rows(c, width, height, csf, Border::kClamp), width, height, csf,
                        Border::kClamp);
   };
-  r.wsum = blur(m);
-  r.filtered = blur(tr);
   // Feature pipeline: x-direction filters are lobe(x) gauss(y), y-direction ones gauss(x) lobe(y).
   const FeatureKernels fk = feature_kernels(ppd);
-  for (auto& v : r.squared) v.assign(n, 0.0);
-  std::vector<double> pre_m, pre_r, lobe_r[2];
-  for (int dir = 0; dir < 2; ++dir) {
+  std::vector<double> sq[2][2];  // the reference's squared responses [x, y][edges, points]
+  auto direction = [&](int dir) {
     using Filter = void (*)(const std::vector<double>&, int, int, const std::vector<double>&,
                             Border, std::vector<double>&);
     const Filter first = dir == 0 ? Filter(filter_cols) : Filter(filter_rows);
     const Filter second = dir == 0 ? Filter(filter_rows) : Filter(filter_cols);
+    std::vector<double> pre_m, pre_r, lobe_r[2];
     first(m, width, height, fk.gauss, Border::kClamp, pre_m);
     first(tr, width, height, fk.gauss, Border::kClamp, pre_r);
     for (int type = 0; type < 2; ++type) {
@@ -299,20 +299,62 @@ ReferenceSide prepare_reference(int width, int height, const float* ref, const u
         second(pre_r, width, height, fk.lobes[2 * type + l], Border::kClamp, lobe_r[l]);
       }
       const auto& lobe_m = r.mask_lobes[dir][type];
-      std::vector<double>& sq = r.squared[type];
+      std::vector<double>& out = sq[dir][type];
+      out.assign(n, 0.0);
       tbb::parallel_for(
           tbb::blocked_range<size_t>(0, n), [&](const tbb::blocked_range<size_t>& rg) {
             for (size_t p = rg.begin(); p < rg.end(); ++p) {
               if (!mask[p]) continue;
               const double v =
                   lobe_response(lobe_r[0][p], lobe_m[0][p], lobe_r[1][p], lobe_m[1][p]);
-              sq[p] += v * v;
+              out[p] = v * v;
             }
           });
     }
+  };
+  // The four pieces side by side (issue 42, side_by_side.h); the two directions' squares are added
+  // as one pass over both would add them, x then y: the same bits.
+  detail::side_by_side([&] { r.wsum = blur(m); }, [&] { r.filtered = blur(tr); },
+                       [&] { direction(0); }, [&] { direction(1); });
+  for (int type = 0; type < 2; ++type) {
+    r.squared[type].assign(n, 0.0);
+    for (size_t p = 0; p < n; ++p) r.squared[type][p] = (0.0 + sq[0][type][p]) + sq[1][type][p];
   }
   return r;
 }
+
+namespace {
+
+// The estimate's squared edge and point responses ([edges, points]) in one direction (0: x, 1: y)
+// at the compared pixels, 0 elsewhere.
+void feature_squares(const ReferenceSide& r, const std::vector<double>& te,
+                     const FeatureKernels& fk, int dir, std::vector<double> (&out)[2]) {
+  const int width = r.width, height = r.height;
+  const size_t n = r.mask.size();
+  const uint8_t* mask = r.mask.data();
+  using Filter = void (*)(const std::vector<double>&, int, int, const std::vector<double>&, Border,
+                          std::vector<double>&);
+  const Filter first = dir == 0 ? Filter(filter_cols) : Filter(filter_rows);
+  const Filter second = dir == 0 ? Filter(filter_rows) : Filter(filter_cols);
+  std::vector<double> pre, lobe[2];
+  first(te, width, height, fk.gauss, Border::kClamp, pre);
+  for (int type = 0; type < 2; ++type) {
+    for (int l = 0; l < 2; ++l)
+      second(pre, width, height, fk.lobes[2 * type + l], Border::kClamp, lobe[l]);
+    const auto& lobe_m = r.mask_lobes[dir][type];
+    std::vector<double>& sq = out[type];
+    sq.assign(n, 0.0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n), [&](const tbb::blocked_range<size_t>& rg) {
+      for (size_t p = rg.begin(); p < rg.end(); ++p) {
+        if (!mask[p]) continue;
+        const double v = lobe_response(lobe[0][p], lobe_m[0][p], lobe[1][p], lobe_m[1][p]);
+        sq[p] = v * v;
+      }
+    });
+  }
+}
+
+}  // namespace
 
 std::vector<float> error_map(const ReferenceSide& r, const float* est) {
   const int width = r.width, height = r.height;
@@ -322,37 +364,21 @@ std::vector<float> error_map(const ReferenceSide& r, const float* est) {
   for (size_t p = 0; p < n; ++p)
     if (mask[p]) te[p] = std::clamp(static_cast<double>(est[p]), 0.0, 1.0);
   const std::vector<double> csf = csf_kernel(r.ppd);
-  const std::vector<double> fe = filter_cols(filter_rows(te, width, height, csf, Border::kClamp),
-                                             width, height, csf, Border::kClamp);
+  const FeatureKernels fk = feature_kernels(r.ppd);
+  // The colour pipeline and the two directions' features side by side (issue 42, side_by_side.h);
+  // each direction's squared responses are added as one pass over both would add them, x then y:
+  // the same bits.
+  std::vector<double> fe;
+  std::vector<double> sq[2][2];  // [x, y][edges, points]
+  detail::side_by_side(
+      [&] {
+        fe = filter_cols(filter_rows(te, width, height, csf, Border::kClamp), width, height, csf,
+                         Border::kClamp);
+      },
+      [&] { feature_squares(r, te, fk, 0, sq[0]); }, [&] { feature_squares(r, te, fk, 1, sq[1]); });
 
   const double cmax = std::pow(hyab(hunt_lab(0, 1, 0), hunt_lab(0, 0, 1)), kQc);
   const double pccmax = kPc * cmax;
-
-  const FeatureKernels fk = feature_kernels(r.ppd);
-  std::vector<double> sq[2];  // the estimate's squared x and y responses, [edges, points]
-  for (auto& v : sq) v.assign(n, 0.0);
-  std::vector<double> pre, lobe[2];
-  for (int dir = 0; dir < 2; ++dir) {
-    using Filter = void (*)(const std::vector<double>&, int, int, const std::vector<double>&,
-                            Border, std::vector<double>&);
-    const Filter first = dir == 0 ? Filter(filter_cols) : Filter(filter_rows);
-    const Filter second = dir == 0 ? Filter(filter_rows) : Filter(filter_cols);
-    first(te, width, height, fk.gauss, Border::kClamp, pre);
-    for (int type = 0; type < 2; ++type) {
-      for (int l = 0; l < 2; ++l)
-        second(pre, width, height, fk.lobes[2 * type + l], Border::kClamp, lobe[l]);
-      const auto& lobe_m = r.mask_lobes[dir][type];
-      tbb::parallel_for(
-          tbb::blocked_range<size_t>(0, n), [&](const tbb::blocked_range<size_t>& rg) {
-            for (size_t p = rg.begin(); p < rg.end(); ++p) {
-              if (!mask[p]) continue;
-              const double v = lobe_response(lobe[0][p], lobe_m[0][p], lobe[1][p], lobe_m[1][p]);
-              sq[type][p] += v * v;
-            }
-          });
-    }
-  }
-
   std::vector<float> out(n, 0.0f);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n), [&](const tbb::blocked_range<size_t>& rg) {
     for (size_t p = rg.begin(); p < rg.end(); ++p) {
@@ -364,8 +390,10 @@ std::vector<float> error_map(const ReferenceSide& r, const float* est) {
       const double dec =
           e < pccmax ? (kPt / pccmax) * e : kPt + ((e - pccmax) / (cmax - pccmax)) * (1.0 - kPt);
       // Features: norms of the (x, y) responses of edges and points.
-      const double edge = std::abs(std::sqrt(r.squared[0][p]) - std::sqrt(sq[0][p]));
-      const double point = std::abs(std::sqrt(r.squared[1][p]) - std::sqrt(sq[1][p]));
+      const double edges = (0.0 + sq[0][0][p]) + sq[1][0][p];
+      const double points = (0.0 + sq[0][1][p]) + sq[1][1][p];
+      const double edge = std::abs(std::sqrt(r.squared[0][p]) - std::sqrt(edges));
+      const double point = std::abs(std::sqrt(r.squared[1][p]) - std::sqrt(points));
       const double feature = std::max(edge, point);
       const double def = std::pow(feature / std::numbers::sqrt2, kQf);
       out[p] = static_cast<float>(std::pow(dec, 1.0 - def));

@@ -15,6 +15,7 @@
 #include "base/errors.h"
 #include "harness/results/metric_table.h"
 #include "harness/scoring/flip.h"
+#include "harness/scoring/side_by_side.h"
 
 namespace aoeval {
 
@@ -181,13 +182,41 @@ std::vector<float> flip_map(ImageView ref, ImageView est, const std::vector<uint
   return flip::error_map(ref.width, ref.height, ref.data, est.data, m.data());
 }
 
+namespace {
+// n, rmse, mae, bias, max_abs, p95_abs, median_abs, psnr, ref_stderr_rms and rmse_excess into
+// `out`.
+void error_statistics(ImageView ref, ImageView est, const std::vector<uint8_t>& m,
+                      const std::vector<float>& ref_stderr, Metrics& out);
+}  // namespace
+
 Metrics compare_images(ImageView ref, ImageView est, const std::vector<uint8_t>& mask,
                        const std::vector<float>& ref_stderr,
                        const flip::ReferenceSide* flip_reference) {
   const std::vector<uint8_t> m = validate(ref, est, mask, &ref_stderr);
   const int w = ref.width, h = ref.height;
-  const bool has_stderr = !ref_stderr.empty();
+  // SSIM, FLIP and the error statistics are independent: computed side by side (issue 42: on the
+  // background lane a scoring ran on one core while the runner waited for it; side_by_side.h),
+  // each exactly as alone (the same bits).
+  Metrics out{};
+  const bool prepared = flip_reference && flip_reference->width == w &&
+                        flip_reference->height == h && flip_reference->mask == m;
+  detail::side_by_side([&] { out.ssim = masked_mean(ssim_map_checked(ref, est, m), m, w, h); },
+                       [&] {
+                         out.flip_mean = masked_mean(
+                             prepared ? flip::error_map(*flip_reference, est.data)
+                                      : flip::error_map(w, h, ref.data, est.data, m.data()),
+                             m, w, h);
+                       },
+                       [&] { error_statistics(ref, est, m, ref_stderr, out); });
+  return out;
+}
 
+namespace {
+
+void error_statistics(ImageView ref, ImageView est, const std::vector<uint8_t>& m,
+                      const std::vector<float>& ref_stderr, Metrics& out) {
+  const int w = ref.width, h = ref.height;
+  const bool has_stderr = !ref_stderr.empty();
   struct Row {
     size_t n = 0;
     double sum = 0, sum_abs = 0, sum_sq = 0, max_abs = 0, sum_var = 0;
@@ -238,7 +267,6 @@ Metrics compare_images(ImageView ref, ImageView est, const std::vector<uint8_t>&
   const double count = static_cast<double>(total.n);
   const double mse = total.sum_sq / count;
   const double mean_var = total.sum_var / count;
-  Metrics out{};
   out.pixels = total.n;
   out.rmse = std::sqrt(mse);
   out.mae = total.sum_abs / count;
@@ -247,15 +275,10 @@ Metrics compare_images(ImageView ref, ImageView est, const std::vector<uint8_t>&
   out.p95_abs = p95_abs;
   out.median_abs = abs_d[median_rank - 1];
   out.psnr = mse > 0 ? 10.0 * std::log10(1.0 / mse) : std::numeric_limits<double>::infinity();
-  out.ssim = masked_mean(ssim_map_checked(ref, est, m), m, w, h);
-  const bool prepared = flip_reference && flip_reference->width == w &&
-                        flip_reference->height == h && flip_reference->mask == m;
-  out.flip_mean = masked_mean(prepared ? flip::error_map(*flip_reference, est.data)
-                                       : flip::error_map(w, h, ref.data, est.data, m.data()),
-                              m, w, h);
   out.ref_stderr_rms = std::sqrt(mean_var);
   out.rmse_excess = std::sqrt(std::max(0.0, mse - mean_var));
-  return out;
 }
+
+}  // namespace
 
 }  // namespace aoeval

@@ -48,16 +48,38 @@ OIIO::ImageBuf only_channels(const OIIO::ImageBuf& image, const std::vector<std:
   return out;
 }
 
-OIIO::ImageBuf at_half_precision(const OIIO::ImageBuf& image) {
-  OIIO::ImageBuf out;
-  out.copy(image, OIIO::TypeDesc::FLOAT);
-  const int channels = out.nchannels();
-  for (OIIO::ImageBuf::Iterator<float> it(out); !it.done(); ++it)
-    for (int c = 0; c < channels; ++c) {
-      const float v = it[c];
-      if (std::isfinite(v) && std::fabs(v) <= HALF_MAX) it[c] = static_cast<float>(half(v));
-    }
+namespace {
+
+// `image`'s values as float32, interleaved (channels innermost), and an image of `like`'s spec
+// (its metadata included) holding `values`: the rounding below runs over plain arrays instead of
+// OIIO's pixel iterators (issue 42: the kept sequence frames' rounding and checks cost several
+// times their values' arithmetic through the iterators).
+std::vector<float> values_of(const OIIO::ImageBuf& image) {
+  std::vector<float> values(image.spec().image_pixels() * image.nchannels());
+  if (!image.get_pixels(image.roi(), OIIO::TypeDesc::FLOAT, values.data()))
+    throw std::runtime_error("reading pixels: " + image.geterror());
+  return values;
+}
+
+OIIO::ImageBuf image_of(const OIIO::ImageBuf& like, const std::vector<float>& values) {
+  OIIO::ImageSpec spec = like.spec();
+  spec.set_format(OIIO::TypeDesc::FLOAT);
+  OIIO::ImageBuf out(spec);
+  if (!out.set_pixels(out.roi(), OIIO::TypeDesc::FLOAT, values.data()))
+    throw std::runtime_error("writing pixels: " + out.geterror());
   return out;
+}
+
+float at_half(float v) {
+  return std::isfinite(v) && std::fabs(v) <= HALF_MAX ? static_cast<float>(half(v)) : v;
+}
+
+}  // namespace
+
+OIIO::ImageBuf at_half_precision(const OIIO::ImageBuf& image) {
+  std::vector<float> values = values_of(image);
+  for (float& v : values) v = at_half(v);
+  return image_of(image, values);
 }
 
 KeptRounding kept_rounding(const std::string& channel) {
@@ -99,28 +121,29 @@ double kept_dither(uint64_t pixel, int channel) {
 static OIIO::ImageBuf rounded_by_channel(
     const OIIO::ImageBuf& image,
     const std::function<KeptRounding(const std::string&)>& rounding_of) {
-  const OIIO::ImageBuf half_rounded = at_half_precision(image);
-  OIIO::ImageBuf out;
-  out.copy(half_rounded, OIIO::TypeDesc::FLOAT);
-  const int channels = out.nchannels();
+  std::vector<float> values = values_of(image);
+  const size_t channels = static_cast<size_t>(image.nchannels());
   std::vector<KeptRounding> rounding(channels);
-  for (int c = 0; c < channels; ++c) rounding[c] = rounding_of(image.spec().channelnames[c]);
-  for (OIIO::ImageBuf::ConstIterator<float> it(image); !it.done(); ++it)
-    for (int c = 0; c < channels; ++c)
-      if (!(std::fabs(it[c]) <= kKeptFixedRange)) rounding[c] = {KeptRounding::half, 0};
-  OIIO::ImageBuf::ConstIterator<float> from(image);
-  const auto width = static_cast<uint64_t>(image.spec().width);
-  for (OIIO::ImageBuf::Iterator<float> it(out); !it.done(); ++it, ++from)
-    for (int c = 0; c < channels; ++c) {
-      if (rounding[c].kind == KeptRounding::fixed)
-        it[c] = at_fixed_step(from[c], rounding[c].value);
-      if (rounding[c].kind == KeptRounding::significant) {
-        const uint64_t pixel =
-            static_cast<uint64_t>(it.y()) * width + static_cast<uint64_t>(it.x());
-        it[c] = at_significant_bits(from[c], rounding[c].value, kept_dither(pixel, c));
-      }
+  for (size_t c = 0; c < channels; ++c) rounding[c] = rounding_of(image.spec().channelnames[c]);
+  for (size_t i = 0; i < values.size(); ++i)
+    if (!(std::fabs(values[i]) <= kKeptFixedRange))
+      rounding[i % channels] = {KeptRounding::half, 0};
+  for (size_t i = 0; i < values.size(); ++i) {
+    const size_t c = i % channels;
+    switch (rounding[c].kind) {
+      case KeptRounding::fixed:
+        values[i] = at_fixed_step(values[i], rounding[c].value);
+        break;
+      case KeptRounding::significant:  // the pixel's index, y * width + x, as the dither's key
+        values[i] = at_significant_bits(values[i], rounding[c].value,
+                                        kept_dither(i / channels, static_cast<int>(c)));
+        break;
+      case KeptRounding::half:
+        values[i] = at_half(values[i]);
+        break;
     }
-  return out;
+  }
+  return image_of(image, values);
 }
 
 OIIO::ImageBuf at_kept_precision(const OIIO::ImageBuf& image) {
@@ -128,12 +151,10 @@ OIIO::ImageBuf at_kept_precision(const OIIO::ImageBuf& image) {
 }
 
 bool pxr24_keeps_bits(const OIIO::ImageBuf& image) {
-  const int channels = image.nchannels();
-  for (OIIO::ImageBuf::ConstIterator<float> it(image); !it.done(); ++it)
-    for (int c = 0; c < channels; ++c) {
-      const float v = it[c], back = at_pxr24_precision(v);
-      if (!std::isfinite(v) || std::memcmp(&v, &back, sizeof v) != 0) return false;
-    }
+  for (const float v : values_of(image)) {
+    const float back = at_pxr24_precision(v);
+    if (!std::isfinite(v) || std::memcmp(&v, &back, sizeof v) != 0) return false;
+  }
   return true;
 }
 
@@ -168,18 +189,16 @@ void write_compact_estimate(const std::string& path, const OIIO::ImageBuf& image
                             const Attributes& attributes) {
   const auto& names = image.spec().channelnames;
   const auto exact = [](const std::string& n) { return n == "AO" || n == "A" || n == "AO_stderr"; };
-  const OIIO::ImageBuf rounded = rounded_by_channel(image, [](const std::string& name) {
-    const KeptRounding bent = kept_rounding(name);  // a bent normal as a kept reference's
-    return bent.kind == KeptRounding::fixed ? bent : KeptRounding{KeptRounding::fixed, 2048};
-  });
-  OIIO::ImageBuf out;
-  out.copy(image, OIIO::TypeDesc::FLOAT);
-  const int channels = out.nchannels();
-  OIIO::ImageBuf::ConstIterator<float> from(rounded);
-  for (OIIO::ImageBuf::Iterator<float> it(out); !it.done(); ++it, ++from)
-    for (int c = 0; c < channels; ++c)
-      if (!exact(names[c])) it[c] = from[c];
-  write_exr(path, out, attributes, "pxr24");
+  const std::vector<float> rounded =
+      values_of(rounded_by_channel(image, [](const std::string& name) {
+        const KeptRounding bent = kept_rounding(name);  // a bent normal as a kept reference's
+        return bent.kind == KeptRounding::fixed ? bent : KeptRounding{KeptRounding::fixed, 2048};
+      }));
+  std::vector<float> values = values_of(image);
+  const size_t channels = names.size();
+  for (size_t i = 0; i < values.size(); ++i)
+    if (!exact(names[i % channels])) values[i] = rounded[i];
+  write_exr(path, image_of(image, values), attributes, "pxr24");
 }
 
 void write_compact_maps(const std::string& path, const OIIO::ImageBuf& maps,
