@@ -54,6 +54,14 @@ TemporalSettings with_antilag(double antilag, double antilag_min, int frames) {
   return s;
 }
 
+// |mean of value() - truth| over every pixel (a flat, fully covered G-buffer): how far a history
+// lags behind a truth that stepped.
+double mean_bias(const TemporalAccumulator& stage, double truth) {
+  double bias = 0.0;
+  for (float v : stage.value()) bias += v - truth;
+  return std::abs(bias / static_cast<double>(stage.value().size()));
+}
+
 // Frame 0 shows v, every later frame c: the error value - c after frame k is (v - c) times the
 // product of (1 - alpha_j), j = 1..k. Three regimes of alpha_j = max(alpha_min, 1/(L_j + 1)):
 // the running mean (alpha_min = 0, long limit): error (v - c) / (k + 1); the fixed-alpha regime
@@ -359,9 +367,7 @@ TEST(TemporalStage, TheObservedSpreadKeepsCorrelatedNoiseFromTrippingTheAntiLag)
       before = stage.history_length();
     }
     *trips = tripped / counted;
-    double bias = 0.0;
-    for (float v : stage.value()) bias += v - truth;
-    return std::abs(bias / g.pixel_count());
+    return mean_bias(stage, truth);
   };
   double trips_model = 0.0, trips_observed = 0.0, unused = 0.0;
   const double lag_model = run(0, 2.0, &trips_model);
@@ -405,9 +411,7 @@ TEST(TemporalStage, AFastHistoryDetectsASmallerChangeThanOneFrame) {
         v = static_cast<float>(truth + 0.2 * std::sqrt(3.0) * (2.0 * rng.uniform_float() - 1.0));
       stage.accumulate(g, x);
     }
-    double bias = 0.0;
-    for (float v : stage.value()) bias += v - truth;
-    return std::abs(bias / g.pixel_count());
+    return mean_bias(stage, truth);
   };
   double still_none = 0.0, still_one = 0.0, still_fast = 0.0;
   const double lag_none = run(0.0, 1, &still_none);
