@@ -452,6 +452,7 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
       // frames, alpha / (2 - alpha) at a fixed blend factor).
       const double d = std::abs(f - hbar);
       double noise = fvar + one_frame * read(prev_spread_);
+      bool test = true;
       if (observe) {
         // The observed spread (step 5c): the noise is at least the variance this pixel's
         // difference D = f - hbar has shown over about antilag_spread_frames frames (a running
@@ -471,9 +472,10 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
         observed[p] = static_cast<float>((1.0 - b) * seen + b * d2);
         observed_length[p] =
             static_cast<float>(std::min(seen_length + 1.0, double(s.antilag_spread_frames)));
+        test = seen_length >= s.antilag_spread_frames - 0.5;  // the spread is full (step 5c)
       }
       const double tau = s.antilag * std::sqrt(noise) + s.antilag_min;
-      if (d > tau) {
+      if (test && d > tau) {
         len *= (tau / d) * (tau / d);
         // The shift moves the history by the window mean's change, which a pixel at an edge of
         // that window need not share: a history at 1 beside neighbours that brightened would

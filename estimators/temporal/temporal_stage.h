@@ -68,7 +68,10 @@
 //     a shadow moving on, or the camera's own drift of a screen-space estimate, cancels in it and
 //     so keeps tripping the test; the first frame after a reset takes D^2 itself). Once the
 //     running mean is full, a frame's term is capped at 9 times the noise (3 standard errors).
-//     The test's noise is then max(Var f + s sigma^2 / n, that spread).
+//     The test's noise is then max(Var f + s sigma^2 / n, that spread), and the test waits until
+//     the spread holds antilag_spread_frames frames after a reset (a history that young follows
+//     a change anyway; testing it against the independent-pixel noise tripped gtao's still views
+//     at frames 3-5, and the gtao-temporal figure settled at frame 6 instead of 2).
 //  6. Moments for SVGF (Schied et al. 2017 §4.2): the first two moments of the raw input,
 //     m1 = E[x] and m2 = E[x^2], accumulated with the same alpha but never clamped (they describe
 //     the samples, not the history's value); variance = max(0, m2 - m1^2).
