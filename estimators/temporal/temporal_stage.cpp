@@ -117,6 +117,19 @@ std::vector<ParamSpec> temporal_params(const TemporalDefaults& d) {
                "temporal stage: anti-lag compares the slow history with a fast history of the "
                "window mean at most this long (NRD REBLUR's fast history), whose noise is "
                "sqrt(antilag_frames) times smaller than one frame's; 1 = this frame's window"}),
+      int_param(
+          {.name = "antilag_spread_frames",
+           .def = d.antilag_spread_frames,
+           .min = 0,
+           .max = 64,
+           .spacing = Spacing::linear,
+           .unit = "frames",
+           .meaning =
+               "temporal stage: anti-lag's noise is at least the spread its own difference has "
+               "shown from frame to frame over about this many frames (per pixel, reprojected; "
+               "A-SVGF normalises its temporal gradient by the signal's own spread), for inputs "
+               "whose pixels are not independent (a spatial denoise, a noise pattern that turns "
+               "every frame); 0 = the independent-pixel noise alone"}),
   };
 }
 
@@ -134,6 +147,7 @@ TemporalSettings temporal_settings(const ParamSet& p) {
   s.antilag_min = p.real("antilag_min");
   s.antilag_radius = static_cast<int>(p.integer("antilag_radius"));
   s.antilag_frames = static_cast<int>(p.integer("antilag_frames"));
+  s.antilag_spread_frames = static_cast<int>(p.integer("antilag_spread_frames"));
   return s;
 }
 
@@ -152,6 +166,9 @@ void TemporalAccumulator::reset() {
   prev_fast_var_.clear();
   prev_fast_length_.clear();
   prev_spread_.clear();
+  prev_observed_.clear();
+  prev_observed_length_.clear();
+  prev_difference_.clear();
 }
 
 void TemporalAccumulator::replace_history(const std::vector<float>& history) {
@@ -344,6 +361,14 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
     fast_var.assign(n, 0.0f);
     fast_length.assign(n, 0.0f);
   }
+  // The observed spread of the difference (antilag_spread_frames > 0).
+  const bool observe = s.antilag > 0.0 && s.antilag_spread_frames > 0;
+  std::vector<float> observed, observed_length, difference;
+  if (observe) {
+    observed.assign(n, 0.0f);
+    observed_length.assign(n, 0.0f);
+    difference.assign(n, 0.0f);
+  }
   for_each_pixel(g.width, g.height, [&](int i, int j) {
     const size_t p = g.index(i, j);
     if (!covered[p]) {
@@ -365,6 +390,10 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
         fast[p] = box.mean[p];
         fast_var[p] = box.var[p] / box.n[p];
         fast_length[p] = 1.0f;
+      }
+      if (observe) {  // one sample of what independent pixels would give, until frames are seen
+        observed[p] = 2.0f * box.var[p] / box.n[p];
+        observed_length[p] = 1.0f;
       }
     };
     if (!history || (disocclusion && g.disoccluded[p] > 0.5f)) return start_afresh();
@@ -422,9 +451,31 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
       // variance is one frame's times their spread read at q (1 / L for a running mean of L
       // frames, alpha / (2 - alpha) at a fixed blend factor).
       const double d = std::abs(f - hbar);
-      const double tau =
-          s.antilag * std::sqrt(fvar + one_frame * read(prev_spread_)) + s.antilag_min;
-      if (d > tau) {
+      double noise = fvar + one_frame * read(prev_spread_);
+      bool test = true;
+      if (observe) {
+        // The observed spread (step 5c): the noise is at least the variance this pixel's
+        // difference D = f - hbar has shown over about antilag_spread_frames frames (a running
+        // mean at first), each frame's term the halved square of D's change since the frame
+        // before (Rice 1984; a change of the truth that persists cancels in it), D^2 itself at
+        // the first frame after a reset. Once the mean is full, the term is capped at 9 times
+        // the noise (3 standard errors: 99.7 % of a normal difference's mass; a real change
+        // raises the estimate by at most (1 - b) + 9 b a frame).
+        const double seen = read(prev_observed_), seen_length = read(prev_observed_length_);
+        noise = std::max(noise, seen);
+        const double b = std::max(1.0 / (seen_length + 1.0), 1.0 / s.antilag_spread_frames);
+        const double signed_d = f - hbar;
+        difference[p] = static_cast<float>(signed_d);
+        const double change = signed_d - read(prev_difference_);
+        double d2 = seen_length > 1.5 ? 0.5 * change * change : d * d;
+        if (seen_length >= s.antilag_spread_frames - 0.5) d2 = std::min(d2, 9.0 * noise);
+        observed[p] = static_cast<float>((1.0 - b) * seen + b * d2);
+        observed_length[p] =
+            static_cast<float>(std::min(seen_length + 1.0, double(s.antilag_spread_frames)));
+        test = seen_length >= s.antilag_spread_frames - 0.5;  // the spread is full (step 5c)
+      }
+      const double tau = s.antilag * std::sqrt(noise) + s.antilag_min;
+      if (test && d > tau) {
         len *= (tau / d) * (tau / d);
         // The shift moves the history by the window mean's change, which a pixel at an edge of
         // that window need not share: a history at 1 beside neighbours that brightened would
@@ -460,6 +511,9 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
   prev_fast_var_ = std::move(fast_var);
   prev_fast_length_ = std::move(fast_length);
   prev_spread_.swap(spread_);
+  prev_observed_ = std::move(observed);
+  prev_observed_length_ = std::move(observed_length);
+  prev_difference_ = std::move(difference);
 }
 
 }  // namespace aoeval

@@ -56,6 +56,22 @@
 //     hbar)(1 - tau / d), so hbar moves to f +- tau while h keeps its detail, and scales the
 //     history length read at q by (tau / d)^2 (the rest fades faster): the history follows within
 //     a few frames instead of lagging for history_limit frames. antilag = 0 turns it off.
+//  5c. The observed spread (antilag_spread_frames > 0; A-SVGF normalises its temporal gradient by
+//     the signal's own spread): sigma^2 / n counts the window's pixels as independent, which an
+//     input that has been denoised spatially or whose noise pattern turns every frame (gtao's 4x4
+//     denoise and `rotations`) is not: there the window mean moves from frame to frame by 2.5-4
+//     times more, and the test trips on a still view. The stage keeps per pixel, reprojected like
+//     the fast history, the spread the difference D = f - hbar has shown: a running mean, then an
+//     exponential one over antilag_spread_frames frames, of the squared change of D from the frame
+//     before halved, (D_k - D_k-1)^2 / 2 (the first-difference variance estimator of Rice 1984:
+//     noise independent from frame to frame gives Var D, and a change of the truth that persists,
+//     a shadow moving on, or the camera's own drift of a screen-space estimate, cancels in it and
+//     so keeps tripping the test; the first frame after a reset takes D^2 itself). Once the
+//     running mean is full, a frame's term is capped at 9 times the noise (3 standard errors).
+//     The test's noise is then max(Var f + s sigma^2 / n, that spread), and the test waits until
+//     the spread holds antilag_spread_frames frames after a reset (a history that young follows
+//     a change anyway; testing it against the independent-pixel noise tripped gtao's still views
+//     at frames 3-5, and the gtao-temporal figure settled at frame 6 instead of 2).
 //  6. Moments for SVGF (Schied et al. 2017 §4.2): the first two moments of the raw input,
 //     m1 = E[x] and m2 = E[x^2], accumulated with the same alpha but never clamped (they describe
 //     the samples, not the history's value); variance = max(0, m2 - m1^2).
@@ -88,6 +104,8 @@ struct TemporalSettings {
   double antilag_min = 0.0;      // the smallest anti-lag threshold, AO units
   int antilag_radius = 0;        // the anti-lag window is (2 antilag_radius + 1)^2 pixels
   int antilag_frames = 1;        // the fast history's length, frames (1: this frame's window alone)
+  int antilag_spread_frames =
+      0;  // the observed spread of the test over about this many frames (0: off)
 };
 
 // The defaults an estimator gives the fragment's parameters. The reference design's own are
@@ -105,10 +123,12 @@ struct TemporalDefaults {
   double antilag_min = 0.02;
   int antilag_radius = 2;
   int antilag_frames = 1;
+  int antilag_spread_frames = 0;
 };
 
 // The stage's parameters, in this order: history_read, history_limit, alpha_min, clamp, gamma,
-// clamp_sigma_min, clamp_radius, antilag, antilag_min, antilag_radius, antilag_frames (names,
+// clamp_sigma_min, clamp_radius, antilag, antilag_min, antilag_radius, antilag_frames,
+// antilag_spread_frames (names,
 // ranges, units and meanings written here once).
 std::vector<ParamSpec> temporal_params(const TemporalDefaults& defaults = {});
 // Reads the fragment's parameters from an estimator's resolved set.
@@ -160,6 +180,9 @@ class TemporalAccumulator {
   std::vector<float> prev_fast_, prev_fast_var_, prev_fast_length_;
   // The spread of the first moment, Var m1 / Var x (anti-lag): this frame's and frame k - 1's.
   std::vector<float> spread_, prev_spread_;
+  // The observed spread of the anti-lag's difference, E[(f - hbar)^2], and its length (frame k -
+  // 1).
+  std::vector<float> prev_observed_, prev_observed_length_, prev_difference_;
 };
 
 }  // namespace aoeval

@@ -54,6 +54,14 @@ TemporalSettings with_antilag(double antilag, double antilag_min, int frames) {
   return s;
 }
 
+// |mean of value() - truth| over every pixel (a flat, fully covered G-buffer): how far a history
+// lags behind a truth that stepped.
+double mean_bias(const TemporalAccumulator& stage, double truth) {
+  double bias = 0.0;
+  for (float v : stage.value()) bias += v - truth;
+  return std::abs(bias / static_cast<double>(stage.value().size()));
+}
+
 // Frame 0 shows v, every later frame c: the error value - c after frame k is (v - c) times the
 // product of (1 - alpha_j), j = 1..k. Three regimes of alpha_j = max(alpha_min, 1/(L_j + 1)):
 // the running mean (alpha_min = 0, long limit): error (v - c) / (k + 1); the fixed-alpha regime
@@ -321,6 +329,60 @@ TEST(TemporalStage, AntiLagTripsOnNoiseAtTheRateItsThresholdSays) {
   EXPECT_LT(share, 0.09);
 }
 
+// The observed spread (antilag_spread_frames) on noise the window's own spread cannot see: a still
+// truth 0.5 whose noise (uniform, sigma 0.05) is one value per 4 x 4 block and frame, as after
+// gtao's 4 x 4 denoise. A 3 x 3 window holds 1 to 4 blocks, so its mean's standard error is 0.025
+// to 0.05, while sigma / sqrt(n) of its pixels is at most 0.05 / 3 (0 inside a block): the
+// independent-pixel noise trips the threshold antilag = 2 on most pixels (measured 69.7 %). The
+// spread the difference has shown over the last 8 frames is its own variance, so the trips fall to
+// at most the normal tail's 2 (1 - Phi(2)) = 4.6 % (a uniform's window mean has shorter tails;
+// measured 4.3 %). A frame's trips are the pixels whose history length grew by less than 1
+// (static camera, history_limit 64), counted over frames 16-23 of 768 blocks: the share's
+// standard error is under 0.01 even counting whole blocks. A change still shows: a step of 0.2 at
+// frame 24 lags 8 frames later by less than half of what it does without the anti-lag (measured
+// 0.0048 against 0.1504).
+TEST(TemporalStage, TheObservedSpreadKeepsCorrelatedNoiseFromTrippingTheAntiLag) {
+  const GBuffer g = flat(128, 96);
+  auto run = [&](int spread_frames, double antilag, double* trips) {
+    TemporalSettings s = with_antilag(antilag, 0.0, 1);
+    s.history_limit = 64;
+    s.antilag_radius = 1;
+    s.antilag_spread_frames = spread_frames;
+    TemporalAccumulator stage(s);
+    SplitMix64 rng(3);
+    double tripped = 0.0, counted = 0.0, truth = 0.5;
+    std::vector<float> before;
+    for (int k = 0; k < 32; ++k) {
+      if (k == 24) truth = 0.7;
+      std::vector<float> block(32 * 24), x(g.pixel_count());
+      for (float& b : block)
+        b = static_cast<float>(0.05 * std::sqrt(3.0) * (2.0 * rng.uniform_float() - 1.0));
+      for (int j = 0; j < g.height; ++j)
+        for (int i = 0; i < g.width; ++i)
+          x[g.index(i, j)] = static_cast<float>(truth + block[(j / 4) * 32 + i / 4]);
+      stage.accumulate(g, x);
+      if (k >= 16 && k < 24)
+        for (size_t p = 0; p < g.pixel_count(); ++p, counted += 1.0)
+          tripped += stage.history_length()[p] < before[p] + 0.999f ? 1.0 : 0.0;
+      before = stage.history_length();
+    }
+    *trips = tripped / counted;
+    return mean_bias(stage, truth);
+  };
+  double trips_model = 0.0, trips_observed = 0.0, unused = 0.0;
+  const double lag_model = run(0, 2.0, &trips_model);
+  const double lag_observed = run(8, 2.0, &trips_observed);
+  const double lag_none = run(0, 0.0, &unused);
+  std::printf(
+      "correlated noise, still frames 16-23: anti-lag tripped on %.2f %% (independent-pixel "
+      "noise), %.2f %% (observed spread); lag 8 frames after a 0.2 step: %.4f, %.4f (none %.4f)\n",
+      100.0 * trips_model, 100.0 * trips_observed, lag_model, lag_observed, lag_none);
+  EXPECT_GT(trips_model, 0.3);
+  EXPECT_GT(trips_observed, 0.01);  // it is a test, not off
+  EXPECT_LT(trips_observed, 0.09);
+  EXPECT_LT(lag_observed, 0.5 * lag_none);
+}
+
 // Anti-lag's fast history (antilag_frames): a still, noisy view (uniform noise of sigma 0.2 a
 // pixel around the truth, 5x5 windows, so one frame's window mean has a standard error of 0.04)
 // whose truth steps from 0.5 to 0.4 after 24 frames. Without anti-lag the 32-frame running mean
@@ -349,9 +411,7 @@ TEST(TemporalStage, AFastHistoryDetectsASmallerChangeThanOneFrame) {
         v = static_cast<float>(truth + 0.2 * std::sqrt(3.0) * (2.0 * rng.uniform_float() - 1.0));
       stage.accumulate(g, x);
     }
-    double bias = 0.0;
-    for (float v : stage.value()) bias += v - truth;
-    return std::abs(bias / g.pixel_count());
+    return mean_bias(stage, truth);
   };
   double still_none = 0.0, still_one = 0.0, still_fast = 0.0;
   const double lag_none = run(0.0, 1, &still_none);
@@ -418,7 +478,7 @@ TEST(TemporalStage, SameBitsWhateverTheThreadCount) {
 // The fragment declares every setting once; temporal_settings() reads them all back.
 TEST(TemporalStage, TheParameterFragmentRoundTrips) {
   const std::vector<ParamSpec> specs = temporal_params();
-  ASSERT_EQ(specs.size(), 11u);
+  ASSERT_EQ(specs.size(), 12u);
   const ParamSet p = resolve_params("test", specs,
                                     {{"history_read", "bilinear"},
                                      {"history_limit", 8},
@@ -430,7 +490,8 @@ TEST(TemporalStage, TheParameterFragmentRoundTrips) {
                                      {"antilag", 2.5},
                                      {"antilag_min", 0.03},
                                      {"antilag_radius", 4},
-                                     {"antilag_frames", 6}},
+                                     {"antilag_frames", 6},
+                                     {"antilag_spread_frames", 5}},
                                     "test");
   const TemporalSettings s = temporal_settings(p);
   EXPECT_EQ(s.history_read, HistoryRead::bilinear);
@@ -444,6 +505,7 @@ TEST(TemporalStage, TheParameterFragmentRoundTrips) {
   EXPECT_EQ(s.antilag_min, 0.03);
   EXPECT_EQ(s.antilag_radius, 4);
   EXPECT_EQ(s.antilag_frames, 6);
+  EXPECT_EQ(s.antilag_spread_frames, 5);
   EXPECT_EQ(temporal_params({.history_limit = 12})[1].default_value, 12);
   EXPECT_EQ(temporal_params().front().default_value, "catmull-rom");
 }
