@@ -309,13 +309,23 @@ const flip::ReferenceSide& ReferenceStore::flip_reference(const GBuffer& g,
              flip::prepare_reference(g.width, g.height, reference.ao.data(), mask.data());
 }
 
+namespace {
+// Added to a FLIP frame side's tick once another scoring reused it, so that the sides never reused
+// go first (least recently used first among them), then the reused ones. A view's points run one
+// after another, each over every frame: its true-AO sides are reused by every point, a matched
+// definition's often by one point only. With plain LRU a 48-frame view's hbao-split point (48
+// true-AO sides kept, 48 of its own added) pushed out the true-AO sides the next point needs,
+// and from there every side was prepared again.
+constexpr uint64_t kReused = uint64_t{1} << 62;
+}  // namespace
+
 std::shared_ptr<const flip::ReferenceSide> ReferenceStore::flip_frame_reference(
     const std::string& key, const GBuffer& g, const ReferenceImage& reference) {
   {
     std::lock_guard<std::recursive_mutex> lock(mutex_);
     const auto it = recent_flip_.find(key);
     if (it != recent_flip_.end()) {
-      it->second.used = ++recent_tick_;
+      it->second.used = kReused + ++recent_tick_;
       return it->second.side;
     }
   }
