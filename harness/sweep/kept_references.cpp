@@ -158,10 +158,16 @@ bool pxr24_keeps_bits(const OIIO::ImageBuf& image) {
   return true;
 }
 
+// `rounded` (already at the precision it is kept at) as a 32-bit float EXR: PXR24 where it keeps
+// every value bit for bit, zip otherwise.
+static void write_rounded_exr(const std::string& path, const OIIO::ImageBuf& rounded,
+                              const Attributes& attributes) {
+  write_exr(path, rounded, attributes, pxr24_keeps_bits(rounded) ? "pxr24" : "zip");
+}
+
 void write_half_precision_exr(const std::string& path, const OIIO::ImageBuf& image,
                               const Attributes& attributes) {
-  const OIIO::ImageBuf rounded = at_kept_precision(image);
-  write_exr(path, rounded, attributes, pxr24_keeps_bits(rounded) ? "pxr24" : "zip");
+  write_rounded_exr(path, at_kept_precision(image), attributes);
 }
 
 float at_pxr24_precision(float v) {
@@ -206,7 +212,7 @@ void write_compact_maps(const std::string& path, const OIIO::ImageBuf& maps,
   const OIIO::ImageBuf rounded = rounded_by_channel(maps, [](const std::string&) {
     return KeptRounding{KeptRounding::fixed, kKeptMapStep};  // A's 0 and 1 stay exact
   });
-  write_exr(path, rounded, attributes, pxr24_keeps_bits(rounded) ? "pxr24" : "zip");
+  write_rounded_exr(path, rounded, attributes);
 }
 
 void KeptReferences::copy(const std::string& from, const std::string& rel, bool frame) {
@@ -231,7 +237,7 @@ void KeptReferences::copy(const std::string& from, const std::string& rel, bool 
       if (fewer_channels) image = only_channels(image, {"A", "AO", "AO_stderr"}, from);
       // aoeval:checksum, copied from the cache entry, must describe the written pixels.
       const OIIO::ImageBuf rounded = at_kept_precision(image);
-      write_half_precision_exr(temp, rounded, {{"aoeval:checksum", image_checksum(rounded)}});
+      write_rounded_exr(temp, rounded, {{"aoeval:checksum", image_checksum(rounded)}});
     }
   }
   commit_temporary(temp, target.string());
