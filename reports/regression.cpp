@@ -41,7 +41,8 @@
 // mean(stderr_k^2 + stderr_{k-1}^2) ~= 2 s^2 from temporal_rmse^2 over the F - 1 frame pairs: the
 // formula with s -> sqrt(2) s and N -> N (F - 1) (neighbouring pairs share a frame, so this is
 // optimistic by up to sqrt(2), which the relative threshold covers). N is the last frame's
-// `pixels`, F is `seq_frames`. disocclusion_rmse_excess pools a pixel count the row does not
+// `pixels`, F is `seq_reference_frames` (the frames with a reference of their own: 1 for a static
+// camera over a static scene, whose frames share one; `seq_frames` in rows written before it). disocclusion_rmse_excess pools a pixel count the row does not
 // carry, and frame counts are integers: they have no sigma, only their relative and absolute
 // floors.
 #include "reports/regression.h"
@@ -130,17 +131,23 @@ double metric_noise_sigma(const std::string& key, const ResultRow& row) {
   const double value = metric(row.metrics, key.c_str(), &ok);
   const double frames = metric(row.metrics, "seq_frames", &ok);
   if (!sample || !ok || frames < 1.0) return 0.0;
+  // The independent reference images the key pools: a frame that repeats frame k - 1's reference
+  // (a static camera over a static scene, traced once) adds no noise of its own. Rows written
+  // before seq_reference_frames existed traced every frame.
+  bool counted = true;
+  const double traced = metric(row.metrics, "seq_reference_frames", &counted);
+  const double references = counted && traced >= 1.0 ? std::min(traced, frames) : frames;
   AccuracySample s = *sample;
   s.rmse_excess = value;
   if (key == "seq_rmse_excess") {
-    s.pixels *= frames;
+    s.pixels *= references;
   } else if (key == "steady_rmse_excess") {
-    s.pixels *= std::max(1.0, std::floor(frames / 2.0));
-  } else if (key == "temporal_rmse_excess" && frames >= 2.0) {
-    s.pixels *= frames - 1.0;
+    s.pixels *= std::max(1.0, std::floor(references / 2.0));
+  } else if (key == "temporal_rmse_excess" && references >= 2.0) {
+    s.pixels *= references - 1.0;
     s.ref_stderr_rms *= std::sqrt(2.0);
   } else {
-    return 0.0;
+    return 0.0;  // temporal_rmse_excess over one reference: frame differences hold no ref noise
   }
   return rmse_excess_sigma(s);
 }

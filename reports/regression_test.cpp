@@ -344,6 +344,51 @@ TEST(AccuracyNoise, SequenceSigmaMatchesSimulation) {
   EXPECT_NEAR(std::sqrt(var), sigma, 4.0 * sigma / std::sqrt(2.0 * draws)) << "mean " << mean;
 }
 
+// A static camera over a static scene: the F frames share one reference (traced once, issue 42),
+// so its noise is the same in every frame and pooling frames does not average it away. With an
+// estimate that repeats itself (constant, a deterministic estimator on a still view) the spread of
+// seq_rmse_excess over 1500 draws of that one reference matches metric_noise_sigma with
+// seq_reference_frames = 1 (N pixels; N F would make it sqrt(8) too small), within four standard
+// errors of a standard deviation (8 %).
+TEST(AccuracyNoise, SharedReferenceSigmaMatchesSimulation) {
+  const int pixels = 500, frames = 8, draws = 1500;
+  const double s = 0.02;
+  std::mt19937_64 rng{12};
+  std::normal_distribution<double> noise(0.0, s);
+  std::vector<double> d(pixels);
+  for (int i = 0; i < pixels; ++i) d[i] = 0.03 * std::sin(0.37 * i);
+  std::vector<double> values, ref(pixels);
+  for (int k = 0; k < draws; ++k) {
+    for (double& r : ref) r = noise(rng);  // the one reference of every frame
+    double sum = 0.0;
+    for (int f = 0; f < frames; ++f) {
+      double sq = 0.0;
+      for (int i = 0; i < pixels; ++i) {
+        const double e = d[i] - ref[i];
+        sq += e * e;
+      }
+      sum += std::max(0.0, sq / pixels - s * s);
+    }
+    values.push_back(std::sqrt(sum / frames));
+  }
+  double mean = 0.0, var = 0.0;
+  for (double v : values) mean += v / draws;
+  for (double v : values) var += (v - mean) * (v - mean) / (draws - 1);
+  ResultRow r = row(0.0, 0.0, kTimes);
+  r.metrics = {{"rmse_excess", mean},     {"ref_stderr_rms", s},        {"bias", 0.0},
+               {"pixels", pixels},        {"seq_rmse_excess", mean},    {"seq_frames", frames},
+               {"seq_reference_frames", 1}};
+  const double sigma = metric_noise_sigma("seq_rmse_excess", r);
+  EXPECT_NEAR(std::sqrt(var), sigma, 4.0 * sigma / std::sqrt(2.0 * draws)) << "mean " << mean;
+  // Without the key (a row from before it) the frames count as independent references.
+  r.metrics.erase("seq_reference_frames");
+  EXPECT_NEAR(metric_noise_sigma("seq_rmse_excess", r) * std::sqrt(frames), sigma, 1e-3 * sigma);
+  // One reference for every frame: frame differences hold none of its noise.
+  r.metrics["seq_reference_frames"] = 1;
+  r.metrics["temporal_rmse_excess"] = 0.01;
+  EXPECT_EQ(metric_noise_sigma("temporal_rmse_excess", r), 0.0);
+}
+
 TEST(CompareRows, NoiseWidensTheThreshold) {
   // Independent references (different spp), s = 0.01 over only N = 100 pixels:
   // sigma(D) = s sqrt(D^2 + s^2/2) / (D sqrt(N)) = 0.00106 at D = 0.02 and 0.00104 at D = 0.024,

@@ -9,8 +9,10 @@ scrambled directions), the dashboard's rule (reports/regression.cpp, rmse_excess
 
 A sequence's keys pool frames (reports/regression.cpp, metric_noise_sigma): seq_rmse_excess over
 N x F pixels, steady_rmse_excess over N x floor(F/2), temporal_rmse_excess over N x (F - 1)
-pixel pairs with s -> sqrt(2) s (zero noise when frame k's reference is frame k-1's: an
-overestimate there). N and s are the row's own (its last frame's for a sequence).
+pixel pairs with s -> sqrt(2) s, where F counts the independent references, the row's
+seq_reference_frames (1 for a static camera over a static scene, whose frames share one;
+seq_frames in rows written before that key); with one reference temporal_rmse_excess holds none
+of its noise (SD 0). N and s are the row's own (its last frame's for a sequence).
 
 usage: tools/reference_precision.py ROWS.json                  the SD of each row's keys
        tools/reference_precision.py BEFORE.json AFTER.json     the largest |after - before| in
@@ -50,6 +52,11 @@ def precision(row, key):
     base = key[len(p):]
     n, s = num(row.get(p + "pixels")), num(row.get(p + "ref_stderr_rms"))
     frames = num(row.get(p + "seq_frames")) or num(row.get("seq_frames")) or 1
+    # The independent reference images pooled: a frame that repeats frame k-1's reference (a
+    # static camera over a static scene, traced once) adds none. Rows from before the key: F.
+    traced = num(row.get(p + "seq_reference_frames")) or num(row.get("seq_reference_frames"))
+    if traced is not None and traced >= 1:
+        frames = min(frames, traced)
     if n is None or s is None:
         return None
     if base == "rmse_excess":
@@ -59,7 +66,9 @@ def precision(row, key):
     if base == "steady_rmse_excess":
         return sd_of(num(row.get(key)), s, n * max(1, frames // 2))
     if base == "temporal_rmse_excess":
-        return sd_of(num(row.get(key)), s * math.sqrt(2), n * max(1, frames - 1))
+        if frames < 2:  # one reference for every frame: the differences hold none of its noise
+            return 0.0
+        return sd_of(num(row.get(key)), s * math.sqrt(2), n * (frames - 1))
     return None
 
 

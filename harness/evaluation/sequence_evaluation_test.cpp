@@ -129,6 +129,11 @@ TEST(SequenceEvaluation, StaticSequenceTracesOneReference) {
   EXPECT_EQ(row.metrics["temporal_rmse"].get<double>(), 0.0);
   EXPECT_EQ(row.metrics["temporal_rmse_excess"].get<double>(), 0.0);
   EXPECT_EQ(row.true_metrics["temporal_rmse_excess"].get<double>(), 0.0);
+  // The row says so: one reference image for its 8 frames, which the precision rule pools as one
+  // (reports/regression.cpp metric_noise_sigma, tools/reference_precision.py).
+  EXPECT_EQ(row.metrics["seq_frames"], 8);
+  EXPECT_EQ(row.metrics["seq_reference_frames"], 1);
+  EXPECT_EQ(row.true_metrics["seq_reference_frames"], 1);
   const View& view = session.scene(scene).scene.view("still");
   for (int k = 0; k < 8; ++k) EXPECT_EQ(session.reference_frame(scene, view, k), 0) << k;
 
@@ -232,6 +237,7 @@ TEST(SequenceEvaluation, ALaneScoresAndWritesWhatTheRunnersThreadDoes) {
     const ResultRow row = warm.evaluate(points[i]);
     EXPECT_EQ(warm.reference_counts().traces, 0u);
     EXPECT_EQ(row.metrics.dump() + row.true_metrics.dump(), on_lane.rows.at(i)) << i;
+    EXPECT_EQ(row.metrics["seq_reference_frames"], 6) << "the camera moves: one a frame";
   }
   unsetenv("AOEVAL_CACHE");
 }

@@ -102,6 +102,12 @@ std::vector<MetricDef> build_table() {
        .family = F::sequence,
        .better = B::none,
        .meaning = "frames in the sequence"},
+      {.key = "seq_reference_frames",
+       .family = F::sequence,
+       .better = B::none,
+       .meaning = "frames with a reference traced for them (the others repeat frame k - 1's: "
+                  "a static camera over a static scene is traced once); the sequence keys' "
+                  "precision depends on it"},
       {.key = "seq_rmse_excess",
        .family = F::sequence,
        .better = B::lower,

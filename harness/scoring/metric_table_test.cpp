@@ -100,7 +100,8 @@ TEST(MetricTable, EveryRowIsAColumnTwiceAndDefined) {
 TEST(MetricTable, ObjectivesAreTheErrorMeasures) {
   const auto objectives = objective_metric_keys();
   for (const char* k :
-       {"pixels", "bias", "ref_stderr_rms", "bent_pixels", "bent_ref_stderr", "seq_frames"})
+       {"pixels", "bias", "ref_stderr_rms", "bent_pixels", "bent_ref_stderr", "seq_frames",
+        "seq_reference_frames"})
     EXPECT_EQ(std::count(objectives.begin(), objectives.end(), k), 0) << k;
   for (const char* k : {"rmse", "rmse_excess", "ssim", "psnr", "steady_rmse_excess"})
     EXPECT_EQ(std::count(objectives.begin(), objectives.end(), k), 1) << k;

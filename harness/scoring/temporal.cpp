@@ -118,6 +118,7 @@ double TemporalScorer::add_frame(const TemporalFrame& f) {
   if (static_cast<int>(kept_.size()) > kSettleAge + 1) kept_.erase(kept_.begin());
   follow_trajectories(age, run);
   frame_excess_.push_back(frame.excess());
+  reference_frames_ += k == 0 || !f.ref_repeats_previous;
   prev_est_.assign(f.est, f.est + n);
   prev_ref_.assign(f.ref, f.ref + n);
   prev_var_.assign(n, 0.0f);
@@ -215,6 +216,7 @@ nlohmann::json TemporalScorer::scores(const std::string& prefix) const {
   };
   const double steady = rms(frames / 2);
   out[prefix + "seq_frames"] = frames;
+  out[prefix + "seq_reference_frames"] = reference_frames_;
   out[prefix + "seq_rmse_excess"] = rms(0);
   out[prefix + "steady_rmse_excess"] = steady;
   out[prefix + "temporal_rmse"] =

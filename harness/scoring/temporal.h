@@ -1,6 +1,11 @@
 // The scores of a sequence (CONTRACT §10), over compared pixels, estimate and reference of the same
 // frame, frames added in order. With r_k the rmse_excess of frame k (metrics.h's definition):
 //   seq_frames                F
+//   seq_reference_frames      the frames whose reference was traced for them: F less those whose
+//                             reference is frame k - 1's (a static camera over a static scene is
+//                             traced once: 1); how many independent reference images the keys
+//                             below pool, which their precision depends on (README, "How precise
+//                             a reference must be")
 //   seq_rmse_excess           sqrt(mean_k r_k^2)
 //   steady_rmse_excess        the same over the last half of the frames, k >= floor(F / 2)
 //   temporal_rmse             sqrt(mean d^2) over frames k >= 1 and pixels p not disoccluded, with
@@ -104,6 +109,7 @@ class TemporalScorer {
   void follow_trajectories(const std::vector<int>& age, const std::vector<int>& run);
   int width_ = 0, height_ = 0;
   std::vector<double> frame_excess_;
+  int reference_frames_ = 0;  // frames with a reference of their own (seq_reference_frames)
   Sums temporal_;
   std::map<int, Sums> by_age_;
   Sums settle_[kSettleAge + 1];  // by age, over the qualifying trajectories
