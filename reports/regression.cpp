@@ -7,9 +7,14 @@
 // an unbiased estimate of D^2 = (1/N) sum d_i^2. Taking n_i Gaussian (E n^4 = 3 sigma^4):
 //   Var(rmse_excess^2) = (1/N^2) sum Var((d_i - n_i)^2) = (1/N^2) sum (4 d_i^2 sigma_i^2 + 2
 //   sigma_i^4)
-//                      ~= (4 D^2 s^2 + 2 s^4) / N,     s = ref_stderr_rms, N = pixels,
-// (replacing sigma_i by their rms assumes the error does not concentrate where the reference is
-// noisiest). The delta method, sigma(D) = sigma(D^2) / (2 D), gives
+//                      ~= (4 D^2 s^2 + 2 s^4) / N,     s = ref_stderr_rms, N = pixels.
+// Replacing sigma_i by their rms assumes the error does not concentrate where the reference is
+// noisiest, and it does: in creases both are large, and a bounded definition's open pixels have
+// neither (sum d_i^2 sigma_i^2 measured up to 4.9 x D^2 s^2 N on the default suite's views, so
+// this rule's sigma was up to 2.2 x too small there). A row therefore carries its own
+// rmse_excess_sd, the first line's sum taken per pixel at scoring time (scoring/metrics.h), and
+// the sequence keys theirs (scoring/temporal.h); the rule below is the fallback for rows written
+// before those keys. The delta method, sigma(D) = sigma(D^2) / (2 D), gives
 //   sigma(D) = s sqrt(D^2 + s^2 / 2) / (D sqrt(N)),
 // which diverges as D -> 0; there D^2 itself has sigma s^2 sqrt(2/N), so D is known to within
 // s (2/N)^(1/4). rmse_excess_sigma() takes the smaller of the two. Two runs scored against
@@ -42,9 +47,9 @@
 // formula with s -> sqrt(2) s and N -> N (F - 1) (neighbouring pairs share a frame, so this is
 // optimistic by up to sqrt(2), which the relative threshold covers). N is the last frame's
 // `pixels`, F is `seq_reference_frames` (the frames with a reference of their own: 1 for a static
-// camera over a static scene, whose frames share one; `seq_frames` in rows written before it). disocclusion_rmse_excess pools a pixel count the row does not
-// carry, and frame counts are integers: they have no sigma, only their relative and absolute
-// floors.
+// camera over a static scene, whose frames share one; `seq_frames` in rows written before it).
+// disocclusion_rmse_excess pools a pixel count the row does not carry, and frame counts are
+// integers: they have no sigma, only their relative and absolute floors.
 #include "reports/regression.h"
 
 #include "base/summary.h"
@@ -139,6 +144,11 @@ double metric_noise_sigma(const std::string& key, const ResultRow& row) {
   const double references = counted && traced >= 1.0 ? std::min(traced, frames) : frames;
   AccuracySample s = *sample;
   s.rmse_excess = value;
+  bool measured = true;  // the row's own sd of this key, from every pixel of every frame
+  const double sd = metric(row.metrics, (key + "_sd").c_str(), &measured);
+  if (measured &&
+      (key == "seq_rmse_excess" || key == "steady_rmse_excess" || key == "temporal_rmse_excess"))
+    return std::max(0.0, sd);
   if (key == "seq_rmse_excess") {
     s.pixels *= references;
   } else if (key == "steady_rmse_excess") {
@@ -160,10 +170,14 @@ std::optional<AccuracySample> accuracy_sample(const ResultRow& row) {
   s.bias = metric(row.metrics, "bias", &ok);
   s.pixels = metric(row.metrics, "pixels", &ok);
   if (!ok) return std::nullopt;
+  bool measured = true;
+  const double sd = metric(row.metrics, "rmse_excess_sd", &measured);
+  if (measured) s.rmse_excess_sd = std::max(0.0, sd);
   return s;
 }
 
 double rmse_excess_sigma(const AccuracySample& a) {
+  if (a.rmse_excess_sd >= 0.0) return a.rmse_excess_sd;
   const double s = a.ref_stderr_rms, n = a.pixels, d = a.rmse_excess;
   if (n <= 0.0 || s <= 0.0) return 0.0;
   const double near_zero = s * std::pow(2.0 / n, 0.25);

@@ -79,6 +79,9 @@ struct AccuracySample {
   double ref_stderr_rms = 0.0;  // s: rms of the reference's per-pixel standard error
   double bias = 0.0;
   double pixels = 0.0;  // N: compared pixels
+  // The row's own rmse_excess_sd (scoring/metrics.h: from every pixel's error and stderr), used
+  // instead of the rule from s and N where present; < 0 for rows written before it.
+  double rmse_excess_sd = -1.0;
 };
 std::optional<AccuracySample> accuracy_sample(const ResultRow& row);  // none if a metric is absent
 

@@ -151,6 +151,12 @@ std::vector<float> ssim_map_checked(ImageView ref, ImageView est, const std::vec
 
 }  // namespace
 
+double excess_sd(double excess, double variance) {
+  if (!(variance > 0.0)) return 0.0;
+  const double near_zero = std::pow(variance, 0.25);
+  return excess > 0.0 ? std::min(near_zero, std::sqrt(variance) / (2.0 * excess)) : near_zero;
+}
+
 std::vector<std::string> metric_keys() {
   return metric_keys_of(MetricFamily::image);
 }
@@ -170,7 +176,8 @@ nlohmann::json to_json(const Metrics& m, const std::string& prefix) {
           {prefix + "ssim", num(m.ssim)},
           {prefix + "flip_mean", num(m.flip_mean)},
           {prefix + "ref_stderr_rms", num(m.ref_stderr_rms)},
-          {prefix + "rmse_excess", num(m.rmse_excess)}};
+          {prefix + "rmse_excess", num(m.rmse_excess)},
+          {prefix + "rmse_excess_sd", num(m.rmse_excess_sd)}};
 }
 
 std::vector<float> ssim_map(ImageView ref, ImageView est, const std::vector<uint8_t>& mask) {
@@ -220,6 +227,7 @@ void error_statistics(ImageView ref, ImageView est, const std::vector<uint8_t>& 
   struct Row {
     size_t n = 0;
     double sum = 0, sum_abs = 0, sum_sq = 0, max_abs = 0, sum_var = 0;
+    double sum_cross = 0, sum_var2 = 0;  // rmse_excess_sd's sums of (d^2 - s^2) s^2 and s^4
   };
   std::vector<Row> rows(h);
   for_rows(h, [&](int y) {
@@ -233,7 +241,12 @@ void error_statistics(ImageView ref, ImageView est, const std::vector<uint8_t>& 
       r.sum_abs += std::abs(d);
       r.sum_sq += d * d;
       r.max_abs = std::max(r.max_abs, std::abs(d));
-      if (has_stderr) r.sum_var += static_cast<double>(ref_stderr[p]) * ref_stderr[p];
+      if (has_stderr) {
+        const double var = static_cast<double>(ref_stderr[p]) * ref_stderr[p];
+        r.sum_var += var;
+        r.sum_cross += (d * d - var) * var;
+        r.sum_var2 += var * var;
+      }
     }
   });
   Row total;
@@ -245,6 +258,8 @@ void error_statistics(ImageView ref, ImageView est, const std::vector<uint8_t>& 
     total.sum_sq += rows[y].sum_sq;
     total.max_abs = std::max(total.max_abs, rows[y].max_abs);
     total.sum_var += rows[y].sum_var;
+    total.sum_cross += rows[y].sum_cross;
+    total.sum_var2 += rows[y].sum_var2;
     offset[y + 1] = offset[y] + rows[y].n;
   }
 
@@ -277,6 +292,9 @@ void error_statistics(ImageView ref, ImageView est, const std::vector<uint8_t>& 
   out.psnr = mse > 0 ? 10.0 * std::log10(1.0 / mse) : std::numeric_limits<double>::infinity();
   out.ref_stderr_rms = std::sqrt(mean_var);
   out.rmse_excess = std::sqrt(std::max(0.0, mse - mean_var));
+  out.rmse_excess_sd =
+      excess_sd(out.rmse_excess,
+                (4.0 * std::max(0.0, total.sum_cross) + 2.0 * total.sum_var2) / (count * count));
 }
 
 }  // namespace

@@ -27,6 +27,18 @@
 //   ref_stderr_rms  sqrt(mean ref_stderr^2) (0 when the reference has no stderr channel)
 //   rmse_excess     sqrt(max(0, rmse^2 - mean ref_stderr^2)): the error left once the
 //                   reference's own Monte Carlo noise is accounted for
+//   rmse_excess_sd  the standard deviation of rmse_excess that the reference's noise causes (what
+//                   its spp buys; README "How precise a reference must be"). With d_i = est - ref
+//                   and s_i the stderr at compared pixel i, rmse_excess^2 is an unbiased estimate
+//                   of mean (est - truth)^2 whose variance over the reference's noise (independent
+//                   per pixel, near normal) is V = (4 sum_i t_i s_i^2 + 2 sum_i s_i^4) / N^2,
+//                   t_i = (est - truth)_i^2, estimated without bias by d_i^2 - s_i^2 (the sum of
+//                   those terms clamped at 0). By the delta method rmse_excess_sd = sqrt(V) /
+//                   (2 rmse_excess), and at most V^(1/4), the spread of a root near 0. Where the
+//                   error sits where the reference is noisy (creases; a bounded definition's open
+//                   pixels have none) sum t_i s_i^2 exceeds rmse_excess^2 sum s_i^2, measured up
+//                   to 4.9x on the default suite's views: a rule from the row's rms values alone
+//                   understates the spread there. 0 without a stderr channel.
 // Every sum is accumulated in double per image row, and the rows are added in order, so the
 // results do not depend on thread scheduling.
 #pragma once
@@ -44,11 +56,15 @@ namespace aoeval {
 struct Metrics {
   size_t pixels;
   double rmse, mae, bias, max_abs, p95_abs, median_abs, psnr, ssim, flip_mean, ref_stderr_rms,
-      rmse_excess;
+      rmse_excess, rmse_excess_sd;
 };
 
 // A plain float image, row-major, width * height values; row 0 is the top, pixel (i, j) is column
 // i of row j.
+// rmse_excess_sd's rule: the spread of sqrt(max(0, X)) where X estimates D^2 = `excess`^2 with
+// variance `variance` (0 when `variance` <= 0).
+double excess_sd(double excess, double variance);
+
 struct ImageView {
   int width, height;
   const float* data;

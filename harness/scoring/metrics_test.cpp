@@ -156,6 +156,56 @@ TEST(Metrics, StderrAndExcess) {
   EXPECT_EQ(e.rmse_excess, 0.0);
 }
 
+// rmse_excess_sd (issue 42): the spread of rmse_excess over independent draws of the reference's
+// noise. Half the pixels are open (no error, no noise: a bounded definition's pixels with nothing
+// within dmax), half sit in a crease with error 0.06 and stderr 0.03, so the error concentrates
+// where the reference is noisy. Over 1000 draws the spread of rmse_excess matches each draw's
+// rmse_excess_sd within 4 standard errors of a standard deviation (9 %), while the rule from the
+// row's rms values alone (s = ref_stderr_rms, N = pixels: sigma = s sqrt(D^2 + s^2/2) / (D
+// sqrt(N))) is about 1.4x too small here.
+TEST(Metrics, ExcessSdIsTheSpreadOverReferenceDraws) {
+  const int w = 40, h = 25, draws = 1000;
+  Image truth(w, h), est(w, h);
+  std::vector<float> sd(static_cast<size_t>(w) * h, 0.0f);
+  for (size_t k = 0; k < truth.px.size(); ++k) {
+    truth.px[k] = 0.7f;
+    const bool crease = k % 2 == 0;
+    est.px[k] = crease ? 0.76f : 0.7f;
+    sd[k] = crease ? 0.03f : 0.0f;
+  }
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::vector<double> excess;
+  double mean_sd = 0.0, rule = 0.0;
+  for (int draw = 0; draw < draws; ++draw) {
+    Image ref = truth;
+    for (size_t k = 0; k < ref.px.size(); ++k) ref.px[k] += static_cast<float>(sd[k] * normal(rng));
+    const Metrics m = score(ref, est, {}, sd);
+    excess.push_back(m.rmse_excess);
+    mean_sd += m.rmse_excess_sd / draws;
+    const double s = m.ref_stderr_rms, d = m.rmse_excess, n = static_cast<double>(m.pixels);
+    rule += s * std::sqrt(d * d + 0.5 * s * s) / (d * std::sqrt(n)) / draws;
+  }
+  double mean = 0.0, var = 0.0;
+  for (double v : excess) mean += v / draws;
+  for (double v : excess) var += (v - mean) * (v - mean) / (draws - 1);
+  const double spread = std::sqrt(var);
+  EXPECT_NEAR(mean_sd, spread, 4.0 * spread / std::sqrt(2.0 * draws)) << "mean " << mean;
+  EXPECT_LT(rule, spread / 1.3) << "the rms rule";
+  std::printf("rmse_excess %.5f: spread %.3g, rmse_excess_sd %.3g, rms rule %.3g\n", mean, spread,
+              mean_sd, rule);
+}
+
+TEST(Metrics, ExcessSdIsZeroWithoutStderrAndInTheJson) {
+  const Image ref = ramp(8, 8), est = offset(ramp(8, 8), 0.1f);
+  EXPECT_EQ(score(ref, est).rmse_excess_sd, 0.0);
+  const Metrics m = score(ref, est, {}, std::vector<float>(64, 0.01f));
+  // Uniform error 0.1 and stderr 0.01: V = (4 (0.01 - 1e-4) 1e-4 + 2 1e-8) / 64.
+  const double v = (4.0 * (0.01 - 1e-4) * 1e-4 + 2.0 * 1e-8) / 64.0;
+  EXPECT_NEAR(m.rmse_excess_sd, std::sqrt(v) / (2.0 * m.rmse_excess), 1e-9);
+  EXPECT_NEAR(to_json(m, "true_")["true_rmse_excess_sd"].get<double>(), m.rmse_excess_sd, 1e-15);
+}
+
 TEST(Metrics, SsimOfConstantImagesMatchesClosedForm) {
   const double x = 0.8, y = 0.4, c1 = 1e-4;  // est = ref scaled by 0.5
   const Metrics m = score(Image(32, 24, 0.8f), Image(32, 24, 0.4f));
@@ -416,9 +466,9 @@ TEST(Metrics, JsonKeysAndPrefix) {
   const Image ref = ramp(8, 8);
   const nlohmann::json j = to_json(score(ref, offset(ref, 0.125f)), "true_");
   const auto keys = metric_keys();
-  ASSERT_EQ(keys.size(), 12u);
+  ASSERT_EQ(keys.size(), 13u);
   EXPECT_EQ(keys.front(), "pixels");
-  EXPECT_EQ(keys.back(), "rmse_excess");
+  EXPECT_EQ(keys.back(), "rmse_excess_sd");
   EXPECT_EQ(j.size(), keys.size());
   for (const auto& k : keys) EXPECT_TRUE(j.contains("true_" + k)) << k;
   EXPECT_TRUE(j.at("true_pixels").is_number_integer());

@@ -2,15 +2,50 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "base/errors.h"
 #include "harness/results/metric_table.h"
+#include "harness/scoring/metrics.h"
 #include "scenes/bilinear_taps.h"
 
 namespace aoeval {
 
 double TemporalScorer::Sums::excess() const {
   return n > 0.0 ? std::sqrt(std::max(0.0, (err2 - noise) / n)) : 0.0;
+}
+
+double TemporalScorer::Sums::variance() const {
+  return n > 0.0 ? (4.0 * std::max(0.0, cross) + 2.0 * noise2) / (n * n) : 0.0;
+}
+
+TemporalScorer::SharedRun TemporalScorer::current_run() const {
+  SharedRun run{run_first_, run_frames_, 0.0};
+  double cross = 0.0, noise2 = 0.0, pixels = 0.0;
+  for (size_t p = 0; p < run_count_.size(); ++p) {
+    if (run_count_[p] != run_frames_ || run_frames_ == 0) continue;  // compared in every frame
+    const double mean_err = run_err_[p] / run_frames_, var = run_var_[p];
+    cross += (mean_err * mean_err - var) * var;
+    noise2 += var * var;
+    pixels += 1.0;
+  }
+  if (pixels > 0.0) run.variance = (4.0 * std::max(0.0, cross) + 2.0 * noise2) / (pixels * pixels);
+  return run;
+}
+
+double TemporalScorer::frames_sd(int from, double excess) const {
+  const int frames = static_cast<int>(frame_excess_.size());
+  if (frames <= from) return 0.0;
+  double variance = 0.0;
+  auto add = [&](const SharedRun& r) {
+    const double in_range =
+        std::max(0, std::min(r.first + r.frames, frames) - std::max(r.first, from));
+    variance += in_range * in_range * r.variance;
+  };
+  for (const SharedRun& r : runs_) add(r);
+  add(current_run());
+  const double count = frames - from;
+  return excess_sd(excess, variance / (count * count));
 }
 
 const std::vector<std::string>& TemporalScorer::keys() {
@@ -31,8 +66,20 @@ double TemporalScorer::add_frame(const TemporalFrame& f) {
                      "x" + std::to_string(height_));
   }
   const size_t n = static_cast<size_t>(width_) * height_;
+  if (k == 0 || !f.ref_repeats_previous) {  // a reference of its own: a new run
+    if (run_frames_ > 0) runs_.push_back(current_run());
+    run_err_.assign(n, 0.0);
+    run_var_.assign(n, 0.0f);
+    run_count_.assign(n, 0);
+    run_first_ = k;
+    run_frames_ = 0;
+  }
+  ++run_frames_;
   Sums frame;
   std::vector<int> age(n, -1), run(n, 0);
+  // This frame's pair differences d, for the next frame's covariance term (NaN: none).
+  std::vector<double> pair_d(n, std::numeric_limits<double>::quiet_NaN());
+  if (prev_pair_d_.size() != n) prev_pair_d_ = pair_d;
   // by_age_'s entries by age (ages here are at most k): a map lookup per pixel was a fifth of this
   // function's time; std::map's entries do not move, and each is added to in pixel order as before.
   std::vector<Sums*> of_age(static_cast<size_t>(k) + 1, nullptr);
@@ -53,6 +100,9 @@ double TemporalScorer::add_frame(const TemporalFrame& f) {
       frame.n += 1.0;
       frame.err2 += err * err;
       frame.noise += var;
+      run_err_[p] += err;
+      run_var_[p] = static_cast<float>(var);
+      ++run_count_[p];
       const bool disoccluded = f.disoccluded && f.disoccluded[p] > 0.5f;
       if (k == 0) {
         run[p] = 1;
@@ -99,7 +149,22 @@ double TemporalScorer::add_frame(const TemporalFrame& f) {
           // An unchanged frame's reference is frame k - 1's (traced once): their difference
           // holds no reference noise, so none is removed (CONTRACT §10's terms are for
           // independent references).
-          if (!f.ref_repeats_previous) temporal_.noise += var + var_then;
+          if (!f.ref_repeats_previous) {
+            const double v = var + var_then;
+            temporal_.noise += v;
+            temporal_.cross += (d * d - v) * v;
+            temporal_.noise2 += v * v;
+            pair_d[p] = d;
+            // The pair before this one along the trajectory shares frame k - 1's reference noise
+            // n: Cov(d^2, d_before^2) = -4 delta delta_before se^2 + 2 se^4, and d d_before
+            // estimates delta delta_before - se^2 without bias (d = delta - n + ..., d_before =
+            // delta_before + n - ...): -4 d d_before se^2 - 2 se^4 per pixel.
+            const int q = now.prev[p];
+            if (q >= 0 && std::isfinite(prev_pair_d_[q])) {
+              const double shared = prev_var_[q];
+              temporal_pair_cov_ += -4.0 * d * prev_pair_d_[q] * shared - 2.0 * shared * shared;
+            }
+          }
         }
       }
       if (age[p] >= 0) {
@@ -127,6 +192,7 @@ double TemporalScorer::add_frame(const TemporalFrame& f) {
   prev_compared_.assign(f.compared, f.compared + n);
   prev_age_ = std::move(age);
   prev_run_ = std::move(run);
+  prev_pair_d_ = std::move(pair_d);
   return frame_excess_.back();
 }
 
@@ -218,11 +284,21 @@ nlohmann::json TemporalScorer::scores(const std::string& prefix) const {
   out[prefix + "seq_frames"] = frames;
   out[prefix + "seq_reference_frames"] = reference_frames_;
   out[prefix + "seq_rmse_excess"] = rms(0);
+  out[prefix + "seq_rmse_excess_sd"] = frames_sd(0, rms(0));
   out[prefix + "steady_rmse_excess"] = steady;
+  out[prefix + "steady_rmse_excess_sd"] = frames_sd(frames / 2, steady);
   out[prefix + "temporal_rmse"] =
       temporal_.n > 0.0 ? nlohmann::json(std::sqrt(temporal_.err2 / temporal_.n)) : nullptr;
   out[prefix + "temporal_rmse_excess"] =
       temporal_.n > 0.0 ? nlohmann::json(temporal_.excess()) : nullptr;
+  // Neighbouring pairs share a frame's reference: their covariances enter twice.
+  const double temporal_variance =
+      temporal_.n > 0.0 ? std::max(0.0, temporal_.variance() +
+                                            2.0 * temporal_pair_cov_ / (temporal_.n * temporal_.n))
+                        : 0.0;
+  out[prefix + "temporal_rmse_excess_sd"] =
+      temporal_.n > 0.0 ? nlohmann::json(excess_sd(temporal_.excess(), temporal_variance))
+                        : nullptr;
   int converge = frames;
   for (int k = frames - 1; k >= 0 && frame_excess_[k] <= 1.1 * steady; --k) converge = k;
   out[prefix + "converge_frames"] = converge;

@@ -8,6 +8,16 @@
 //                             a reference must be")
 //   seq_rmse_excess           sqrt(mean_k r_k^2)
 //   steady_rmse_excess        the same over the last half of the frames, k >= floor(F / 2)
+//   seq_rmse_excess_sd, steady_rmse_excess_sd, temporal_rmse_excess_sd
+//                             the standard deviation of the key from the references' noise
+//                             (metrics.h's rmse_excess_sd rule): frame k's r_k^2 has variance V_k;
+//                             the frames' mean, sum over runs of frames sharing one reference of
+//                             (sum of sqrt(V_k))^2, over F^2 (a shared reference's noise is the
+//                             same in each of its frames: fully correlated, an upper bound;
+//                             independent references add); temporal_rmse_excess from its pixel
+//                             pairs' d and noise terms, plus the covariance of neighbouring pairs
+//                             along a trajectory (they share frame k - 1's reference), 0 where
+//                             every reference repeats
 //   temporal_rmse             sqrt(mean d^2) over frames k >= 1 and pixels p not disoccluded, with
 //                             d = (est_k(p) - est_{k-1}(p - m)) - (ref_k(p) - ref_{k-1}(p - m)),
 //                             m = motion_k(p), p the pixel centre; frame k - 1 is read bilinearly
@@ -98,17 +108,41 @@ class TemporalScorer {
  private:
   struct Sums {
     double n = 0.0, err2 = 0.0, noise = 0.0;
+    double cross = 0.0, noise2 = 0.0;  // sums of (err^2 - var) var and var^2 (metrics.h's sd)
     double excess() const;
+    // The variance of excess()^2 over the reference's noise (metrics.h, rmse_excess_sd).
+    double variance() const;
     void add(const Sums& o) {
       n += o.n;
       err2 += o.err2;
       noise += o.noise;
+      cross += o.cross;
+      noise2 += o.noise2;
     }
   };
+  // Frames that share one reference (a run of ref_repeats_previous): the reference's noise n_i is
+  // common to them, so the mean of their excess^2 has variance (4 sum_i dbar_i^2 s_i^2 + 2 sum_i
+  // s_i^4) / N^2 with dbar_i the pixel's error averaged over the run (an error that changes sign
+  // from frame to frame averages the cross term away); estimated from the observed mean error
+  // ebar_i = dbar_i - n_i by ebar_i^2 - s_i^2. Runs are independent of each other.
+  struct SharedRun {
+    int first = 0, frames = 0;
+    double variance = 0.0;  // of the run's mean excess^2 over its frames
+  };
+  SharedRun current_run() const;
+  // The standard deviation of the rms over frames [from, F) of the frames' excess from the
+  // references' noise: each run's variance weighted by its frames in range, squared (a run that
+  // straddles `from` keeps its whole-run mean error: an approximation for the steady key).
+  double frames_sd(int from, double excess) const;
   // Adds this frame's trajectories that reach age kSettleAge or a visible run of kLagFrames + 1.
   void follow_trajectories(const std::vector<int>& age, const std::vector<int>& run);
   int width_ = 0, height_ = 0;
   std::vector<double> frame_excess_;
+  std::vector<SharedRun> runs_;  // the finished runs of frames sharing a reference
+  std::vector<double> run_err_;  // the current run: per pixel, the sum of est - ref
+  std::vector<float> run_var_;   // and its reference's stderr^2
+  std::vector<int> run_count_;   // and how many of the run's frames compared it
+  int run_first_ = 0, run_frames_ = 0;
   int reference_frames_ = 0;  // frames with a reference of their own (seq_reference_frames)
   Sums temporal_;
   std::map<int, Sums> by_age_;
@@ -125,6 +159,8 @@ class TemporalScorer {
   std::vector<int> prev_run_;  // frames the point has stayed visible, not disoccluded, up to k - 1
   // Frame k - 1, kept for the next frame's reads.
   std::vector<float> prev_est_, prev_ref_, prev_var_;
+  std::vector<double> prev_pair_d_;  // frame k - 1's d per pixel (NaN: none), for the covariance
+  double temporal_pair_cov_ = 0.0;   // sum of the neighbouring pairs' covariance estimates
   std::vector<uint8_t> prev_compared_;
   std::vector<int> prev_age_;  // -1: never disoccluded
 };
