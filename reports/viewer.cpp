@@ -166,10 +166,16 @@ std::string js_byte_string(const std::string& bytes) {
   return out;
 }
 
+// zlib level 4 rather than the default 6: the default report's viewer planes (348 MB raw, 2795
+// segments) deflate in 2.1 s of CPU instead of 5.5 s, to 43.4 MB instead of 42.4 (levels 1 and 3:
+// 1.2 s / 46.2 MB and 1.8 s / 44.7 MB); the report stage waits for all of it.
+constexpr int kViewerDeflateLevel = 4;
+
 static std::vector<unsigned char> deflate_bytes(const std::vector<unsigned char>& in) {
   uLongf size = compressBound(static_cast<uLong>(in.size()));
   std::vector<unsigned char> out(size);
-  if (compress2(out.data(), &size, in.data(), static_cast<uLong>(in.size()), 6) != Z_OK)
+  if (compress2(out.data(), &size, in.data(), static_cast<uLong>(in.size()), kViewerDeflateLevel) !=
+      Z_OK)
     throw std::runtime_error("viewer data: zlib compress2 failed");
   out.resize(size);
   return out;

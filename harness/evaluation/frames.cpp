@@ -23,6 +23,7 @@
 #include "harness/evaluation/repetition_policy.h"
 #include "harness/scoring/bent_metrics.h"
 #include "harness/scoring/metrics.h"
+#include "harness/scoring/side_by_side.h"
 #include "references/reference_cache.h"
 
 namespace aoeval {
@@ -283,43 +284,44 @@ void EvaluationSession::score_frame(SequenceScoring* sequence, ResultRow* row,
                         : bent_of_channels(channel(result, "bent.X"), channel(result, "bent.Y"),
                                            channel(result, "bent.Z"));
   // Between the steps a background lane may hold this thread while an estimator's frames are
-  // timed (BackgroundLane::checkpoint; a no-op on the runner's own thread): each scoring in two
-  // steps (FLIP's reference side, then the metrics), so that a pause waits for one step, not a
-  // whole scoring (issue 16: the runner's waits for the lane).
-  // `temporal`: the sequence's scorers this reference feeds (both when it is matched and true).
-  auto against = [&](const ReferenceImage& ref, const std::string& key,
-                     std::vector<TemporalScorer*> temporal) {
+  // timed (BackgroundLane::checkpoint; a no-op on the runner's own thread): each scoring in steps
+  // (FLIP's reference side, then the metrics), so that a pause waits for one step, not a whole
+  // scoring (issue 16: the runner's waits for the lane).
+  struct Scored {
+    nlohmann::json metrics;
+    std::vector<uint8_t> mask;
+  };
+  // The metrics against one reference: no stage timer and no checkpoint inside, so that it may run
+  // on a thread of its own (side_by_side.h). A still scores with FLIP's reference side the store
+  // keeps for its reference, a sequence frame with the one the store keeps for its reference's
+  // cache key (shared by the view's points).
+  auto metrics_against = [&](const ReferenceImage& ref, const std::string& key) {
     const flip::ReferenceSide* flip_side = nullptr;
     std::shared_ptr<const flip::ReferenceSide> frame_side;
-    {
-      const auto timer = stages_.time("scoring");
-      if (!sequence)
-        flip_side = &references_.flip_reference(g, ref);
-      else if (!key.empty())
-        flip_side = (frame_side = references_.flip_frame_reference(key, g, ref)).get();
-    }
-    BackgroundLane::checkpoint();
-    std::vector<uint8_t> mask;
-    nlohmann::json out;
-    {
-      const auto timer = stages_.time("scoring");
-      mask = compared_pixels(g, ref);
-      out = to_json(compare_images({w, h, ref.ao.data()}, {w, h, result.ao.data()}, mask,
-                                   ref.stderr_ao, flip_side),
-                    "");
-    }
-    BackgroundLane::checkpoint();
+    if (!sequence)
+      flip_side = &references_.flip_reference(g, ref);
+    else if (!key.empty())
+      flip_side = (frame_side = references_.flip_frame_reference(key, g, ref)).get();
+    Scored s;
+    s.mask = compared_pixels(g, ref);
+    s.metrics = to_json(compare_images({w, h, ref.ao.data()}, {w, h, result.ao.data()}, s.mask,
+                                       ref.stderr_ao, flip_side),
+                        "");
+    return s;
+  };
+  // Then, in order: a still's bent normals, and the sequence's scorers this reference feeds (both
+  // when it is matched and true).
+  auto finish = [&](const ReferenceImage& ref, Scored& s, std::vector<TemporalScorer*> temporal) {
     const auto timer = stages_.time("scoring");
     if (bent)
-      if (const auto b = compare_bent(w, h, ref.bent, *bent, mask, ref.bent_stderr))
-        add_bent_json(*b, out);
+      if (const auto b = compare_bent(w, h, ref.bent, *bent, s.mask, ref.bent_stderr))
+        add_bent_json(*b, s.metrics);
     if (!temporal.empty()) {
       const TemporalFrame frame =
-          temporal_frame(w, h, result.ao.data(), ref.ao.data(), ref.stderr_ao, mask, &g,
+          temporal_frame(w, h, result.ao.data(), ref.ao.data(), ref.stderr_ao, s.mask, &g,
                          f.prev_jitter, f.ref_repeats_previous);
       for (TemporalScorer* scorer : temporal) scorer->add_frame(frame);
     }
-    return out;
   };
   // An estimator whose declared definition is true AO is scored against one reference twice: the
   // same inputs give the same numbers, so the second scoring is the first's copy, and a
@@ -331,13 +333,36 @@ void EvaluationSession::score_frame(SequenceScoring* sequence, ResultRow* row,
     matched_scorers.push_back(&sequence->matched_scores);
     if (one_reference) matched_scorers.push_back(&sequence->true_scores);
   }
-  const nlohmann::json matched = against(*f.matched, f.matched_key, matched_scorers);
+  Scored matched, truth;
+  if (sequence && !one_reference) {
+    // A sequence frame's two scorings are independent and each mostly one thread (FLIP's
+    // filters): side by side they take the time of one, which is what the runner waits for when
+    // the lane falls behind over a sequence's frames (issue 42). The same bits in any schedule.
+    // Only sequence frames: their FLIP sides are shared_ptrs the store may drop meanwhile.
+    const auto timer = stages_.time("scoring");
+    detail::side_by_side([&] { matched = metrics_against(*f.matched, f.matched_key); },
+                         [&] { truth = metrics_against(*f.truth, f.truth_key); });
+  } else {
+    {
+      const auto timer = stages_.time("scoring");
+      matched = metrics_against(*f.matched, f.matched_key);
+    }
+    if (!one_reference) {
+      BackgroundLane::checkpoint();
+      const auto timer = stages_.time("scoring");
+      truth = metrics_against(*f.truth, f.truth_key);
+    }
+  }
   BackgroundLane::checkpoint();
-  const nlohmann::json truth =
-      one_reference ? matched
-                    : against(*f.truth, f.truth_key,
-                              sequence ? std::vector<TemporalScorer*>{&sequence->true_scores}
-                                       : std::vector<TemporalScorer*>{});
+  finish(*f.matched, matched, matched_scorers);
+  if (!one_reference)
+    finish(*f.truth, truth,
+           sequence ? std::vector<TemporalScorer*>{&sequence->true_scores}
+                    : std::vector<TemporalScorer*>{});
+  else
+    truth = matched;
+  const nlohmann::json& matched_json = matched.metrics;
+  const nlohmann::json& truth_json = truth.metrics;
   BackgroundLane::checkpoint();
   if (sequence) {
     nlohmann::json frame_row = {{"frame", f.index}, {"time_ms", f.time_ms}};
@@ -345,13 +370,13 @@ void EvaluationSession::score_frame(SequenceScoring* sequence, ResultRow* row,
     for (size_t p = 0; p < g.pixel_count(); ++p)
       disoccluded += g.covered(p) && g.disoccluded[p] > 0.5f;
     frame_row["disoccluded_pixels"] = disoccluded;
-    frame_row.update(matched);
-    for (const auto& [key, value] : truth.items()) frame_row["true_" + key] = value;
+    frame_row.update(matched_json);
+    for (const auto& [key, value] : truth_json.items()) frame_row["true_" + key] = value;
     sequence->frames.push_back(frame_row);
   }
   if (!f.last) return;
-  row->metrics = matched;
-  row->true_metrics = truth;
+  row->metrics = matched_json;
+  row->true_metrics = truth_json;
 }
 
 }  // namespace aoeval
