@@ -54,7 +54,7 @@ def precision(row, key):
     # (the rule below assumes the error does not concentrate where the reference is noisy; it
     # does, and the rule understates the spread up to 2.2x there). The rule for older rows.
     own = num(row.get(key + "_sd"))
-    if own is not None:
+    if own is not None and own > 0:  # 0: no stderr (or no noise at all), as the rule says below
         return own
     true = key.startswith("true_")
     p = "true_" if true else ""
