@@ -219,6 +219,20 @@ const Check& check(const std::vector<Check>& checks, const std::string& figure) 
 
 const std::vector<double> kTimes = {10.0, 10.2, 9.9, 10.1, 10.05};
 
+// The mean and the sample standard deviation of simulated draws.
+struct Spread {
+  double mean = 0.0, sd = 0.0;
+};
+Spread spread_of(const std::vector<double>& values) {
+  const double n = static_cast<double>(values.size());
+  Spread s;
+  for (double v : values) s.mean += v / n;
+  double var = 0.0;
+  for (double v : values) var += (v - s.mean) * (v - s.mean) / (n - 1.0);
+  s.sd = std::sqrt(var);
+  return s;
+}
+
 TEST(CompareRows, AccuracyBelowThresholdPassesAndClearRegressionFails) {
   const Thresholds t;
   // Same reference, unchanged estimate: identical numbers.
@@ -334,14 +348,13 @@ TEST(AccuracyNoise, SequenceSigmaMatchesSimulation) {
     }
     values.push_back(std::sqrt(sum / frames));
   }
-  double mean = 0.0, var = 0.0;
-  for (double v : values) mean += v / draws;
-  for (double v : values) var += (v - mean) * (v - mean) / (draws - 1);
+  const Spread drawn = spread_of(values);
   ResultRow r = row(0.0, 0.0, kTimes);
-  r.metrics = {{"rmse_excess", mean}, {"ref_stderr_rms", s},     {"bias", 0.0},
-               {"pixels", pixels},    {"seq_rmse_excess", mean}, {"seq_frames", frames}};
+  r.metrics = {
+      {"rmse_excess", drawn.mean}, {"ref_stderr_rms", s},           {"bias", 0.0},
+      {"pixels", pixels},          {"seq_rmse_excess", drawn.mean}, {"seq_frames", frames}};
   const double sigma = metric_noise_sigma("seq_rmse_excess", r);
-  EXPECT_NEAR(std::sqrt(var), sigma, 4.0 * sigma / std::sqrt(2.0 * draws)) << "mean " << mean;
+  EXPECT_NEAR(drawn.sd, sigma, 4.0 * sigma / std::sqrt(2.0 * draws)) << "mean " << drawn.mean;
 }
 
 // A static camera over a static scene: the F frames share one reference (traced once, issue 42),
@@ -371,15 +384,13 @@ TEST(AccuracyNoise, SharedReferenceSigmaMatchesSimulation) {
     }
     values.push_back(std::sqrt(sum / frames));
   }
-  double mean = 0.0, var = 0.0;
-  for (double v : values) mean += v / draws;
-  for (double v : values) var += (v - mean) * (v - mean) / (draws - 1);
+  const Spread drawn = spread_of(values);
   ResultRow r = row(0.0, 0.0, kTimes);
-  r.metrics = {{"rmse_excess", mean},     {"ref_stderr_rms", s},        {"bias", 0.0},
-               {"pixels", pixels},        {"seq_rmse_excess", mean},    {"seq_frames", frames},
+  r.metrics = {{"rmse_excess", drawn.mean}, {"ref_stderr_rms", s},           {"bias", 0.0},
+               {"pixels", pixels},          {"seq_rmse_excess", drawn.mean}, {"seq_frames", frames},
                {"seq_reference_frames", 1}};
   const double sigma = metric_noise_sigma("seq_rmse_excess", r);
-  EXPECT_NEAR(std::sqrt(var), sigma, 4.0 * sigma / std::sqrt(2.0 * draws)) << "mean " << mean;
+  EXPECT_NEAR(drawn.sd, sigma, 4.0 * sigma / std::sqrt(2.0 * draws)) << "mean " << drawn.mean;
   // Without the key (a row from before it) the frames count as independent references.
   r.metrics.erase("seq_reference_frames");
   EXPECT_NEAR(metric_noise_sigma("seq_rmse_excess", r) * std::sqrt(frames), sigma, 1e-3 * sigma);

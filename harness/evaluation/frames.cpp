@@ -276,17 +276,15 @@ void EvaluationSession::score_frame(SequenceScoring* sequence, ResultRow* row,
   const GBuffer& g = *f.gbuffer;
   const EstimateResult& result = *f.estimate;
   const int w = g.width, h = g.height;
-  // A still scores with FLIP's reference side the store keeps for its reference, a sequence frame
-  // with the one the store keeps for its reference's cache key (shared by the view's points), and
-  // a still with bent vectors when the estimate has them.
+  // A still is also scored with bent vectors when the estimate has them.
   const auto bent = sequence
                         ? std::nullopt
                         : bent_of_channels(channel(result, "bent.X"), channel(result, "bent.Y"),
                                            channel(result, "bent.Z"));
   // Between the steps a background lane may hold this thread while an estimator's frames are
-  // timed (BackgroundLane::checkpoint; a no-op on the runner's own thread): each scoring in steps
-  // (FLIP's reference side, then the metrics), so that a pause waits for one step, not a whole
-  // scoring (issue 16: the runner's waits for the lane).
+  // timed (BackgroundLane::checkpoint; a no-op on the runner's own thread): the metrics against
+  // each reference, then the bent normals and the sequence's scorers, so that a pause waits for
+  // one step, not a whole scoring (issue 16: the runner's waits for the lane).
   struct Scored {
     nlohmann::json metrics;
     std::vector<uint8_t> mask;
