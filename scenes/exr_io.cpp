@@ -1,10 +1,14 @@
 #include "scenes/exr_io.h"
 
 #include <OpenImageIO/imageio.h>
+#include <zlib.h>
+
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 
 #include "base/errors.h"
+#include "scenes/pxr24_level.h"
 
 namespace aoeval {
 
@@ -66,4 +70,20 @@ std::string string_attribute(const OIIO::ImageBuf& image, const std::string& nam
   return image.spec().get_string_attribute(name);
 }
 
+namespace {
+std::atomic<uint64_t> pxr24_deflates{0};
+}  // namespace
+
+uint64_t pxr24_deflate_count() {
+  return pxr24_deflates.load(std::memory_order_relaxed);
+}
+
 }  // namespace aoeval
+
+// zlib's compress() for OpenEXR's PXR24 writes (scenes/pxr24_level.h): compress2() at
+// kPxr24ZlibLevel, same contract (*dest_len holds the buffer's size on entry, the stream's on
+// return). Here, beside write_exr, so that every binary writing EXRs links it.
+extern "C" int compress(Bytef* dest, uLongf* dest_len, const Bytef* source, uLong source_len) {
+  aoeval::pxr24_deflates.fetch_add(1, std::memory_order_relaxed);
+  return compress2(dest, dest_len, source, source_len, aoeval::kPxr24ZlibLevel);
+}

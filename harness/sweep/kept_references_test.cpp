@@ -15,6 +15,7 @@
 #include "base/testing/test_temp_dir.h"
 #include "harness/sweep/kept_references.h"
 #include "harness/sweep/sweep_spec.h"
+#include "scenes/pxr24_level.h"
 
 namespace aoeval {
 namespace {
@@ -91,6 +92,29 @@ TEST(KeptReferences, CompactFilesReadBackBitForBit) {
         }
     EXPECT_EQ(differing, 0);
   }
+}
+
+// OpenEXR's PXR24 writes deflate through this executable's compress() (scenes/pxr24_level.h), at
+// kPxr24ZlibLevel: each PXR24 file calls it, a ZIP file (compress2) does not, and the file reads
+// back bit for bit (CompactFilesReadBackBitForBit). Fails if the link stops exporting compress():
+// libOpenEXR would then call libz's, at level 6.
+TEST(KeptReferences, Pxr24DeflatesThroughTheExecutablesCompress) {
+  OIIO::ImageSpec spec(64, 40, 2, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"A", "AO"};
+  OIIO::ImageBuf image(spec);
+  for (int y = 0; y < 40; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const float v[2] = {1.0f, static_cast<float>((x * 7 + y * 13) % 29) / 29.0f};
+      image.setpixel(x, y, v);
+    }
+  const std::string dir = testutil::test_temp_dir("kept_pxr24_level").string();
+  const uint64_t before = pxr24_deflate_count();
+  write_half_precision_exr(dir + "/frame.exr", image, {});
+  ASSERT_EQ(compression_of(dir + "/frame.exr"), "pxr24");
+  const uint64_t after_pxr24 = pxr24_deflate_count();
+  EXPECT_GT(after_pxr24, before);
+  write_exr(dir + "/zip.exr", image, {}, "zip");
+  EXPECT_EQ(pxr24_deflate_count(), after_pxr24);
 }
 
 // A run's still estimate: AO, A and AO_stderr at PXR24's precision (A exact, AO within 2^-17),
