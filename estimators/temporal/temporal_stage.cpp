@@ -130,6 +130,30 @@ std::vector<ParamSpec> temporal_params(const TemporalDefaults& d) {
                "A-SVGF normalises its temporal gradient by the signal's own spread), for inputs "
                "whose pixels are not independent (a spatial denoise, a noise pattern that turns "
                "every frame); 0 = the independent-pixel noise alone"}),
+      real_param(
+          {.name = "antilag_shift_power",
+           .def = d.antilag_shift_power,
+           .min = 1.0,
+           .max = 16.0,
+           .spacing = Spacing::linear,
+           .unit = "",
+           .meaning =
+               "temporal stage: where the anti-lag trips (difference d above its threshold tau), "
+               "the history moves by d (1 - (tau/d)^antilag_shift_power): 1 = soft thresholding "
+               "(the history keeps tau of the change), 2 = the non-negative garrote (Breiman "
+               "1995), higher = a difference well above tau is taken nearly whole while one just "
+               "above it (noise) moves the history little"}),
+      real_param(
+          {.name = "antilag_length_power",
+           .def = d.antilag_length_power,
+           .min = 0.0,
+           .max = 8.0,
+           .spacing = Spacing::linear,
+           .unit = "",
+           .meaning =
+               "temporal stage: where the anti-lag trips, the history length read is scaled by "
+               "(tau/d)^antilag_length_power (0 = kept: the shift alone; a larger power fades "
+               "the rest faster at the price of more noise)"}),
   };
 }
 
@@ -148,6 +172,8 @@ TemporalSettings temporal_settings(const ParamSet& p) {
   s.antilag_radius = static_cast<int>(p.integer("antilag_radius"));
   s.antilag_frames = static_cast<int>(p.integer("antilag_frames"));
   s.antilag_spread_frames = static_cast<int>(p.integer("antilag_spread_frames"));
+  s.antilag_shift_power = p.real("antilag_shift_power");
+  s.antilag_length_power = p.real("antilag_length_power");
   return s;
 }
 
@@ -476,12 +502,16 @@ void TemporalAccumulator::accumulate(const GBuffer& g, const std::vector<float>&
       }
       const double tau = s.antilag * std::sqrt(noise) + s.antilag_min;
       if (test && d > tau) {
-        len *= (tau / d) * (tau / d);
+        // The powers 1 (shift) and 2 (length) are computed as products: the bits of the stage
+        // before the powers were parameters.
+        const double r = tau / d;
+        len *= s.antilag_length_power == 2.0 ? r * r : std::pow(r, s.antilag_length_power);
+        const double keep = s.antilag_shift_power == 1.0 ? r : std::pow(r, s.antilag_shift_power);
         // The shift moves the history by the window mean's change, which a pixel at an edge of
         // that window need not share: a history at 1 beside neighbours that brightened would
         // leave [0, 1]. The stage's values are AO (every estimator through it writes [0, 1]), so
         // the shifted history is kept there; it only moves closer to any truth.
-        h = std::clamp(h + (f - hbar) * (1.0 - tau / d), 0.0, 1.0);
+        h = std::clamp(h + (f - hbar) * (1.0 - keep), 0.0, 1.0);
       }
     }
     // Neighbourhood clamp of the history (step 5).

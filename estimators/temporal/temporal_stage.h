@@ -52,10 +52,17 @@
 //     noisy as this frame: without the s term a still view's noise tripped 6.8 % of bunny's
 //     pixels at frame 1). With tau = antilag sqrt(Var f + s sigma^2 / n) + antilag_min, a
 //     difference d = |f - hbar| > tau (a shadow that moved under a
-//     surface still in view) clamps the history's low-pass to the denoised window mean, h += (f -
-//     hbar)(1 - tau / d), so hbar moves to f +- tau while h keeps its detail, and scales the
-//     history length read at q by (tau / d)^2 (the rest fades faster): the history follows within
-//     a few frames instead of lagging for history_limit frames. antilag = 0 turns it off.
+//     surface still in view) moves the history's low-pass towards the denoised window mean, h +=
+//     (f - hbar)(1 - (tau / d)^K) with K = antilag_shift_power, while h keeps its detail, and
+//     scales the history length read at q by (tau / d)^P, P = antilag_length_power (the rest
+//     fades faster): the history follows within a few frames instead of lagging for
+//     history_limit frames. K = 1 is soft thresholding (hbar moves to f +- tau: every change
+//     keeps tau of its lag in the history); K = 2 the non-negative garrote (Breiman 1995, the
+//     wavelet shrinkage of Gao 1998); a larger K takes a change well above tau nearly whole and
+//     one just above it (what noise trips) little. The reference design's K = 1, P = 2; gtao's
+//     and rtao's are their own (issue 43, h43n). The first moment is not shifted, so hbar still
+//     shows the change at the next frame, and the test trips again until the shortened history
+//     has taken it in. antilag = 0 turns it off.
 //  5c. The observed spread (antilag_spread_frames > 0; A-SVGF normalises its temporal gradient by
 //     the signal's own spread): sigma^2 / n counts the window's pixels as independent, which an
 //     input that has been denoised spatially or whose noise pattern turns every frame (gtao's 4x4
@@ -106,6 +113,8 @@ struct TemporalSettings {
   int antilag_frames = 1;        // the fast history's length, frames (1: this frame's window alone)
   int antilag_spread_frames =
       0;  // the observed spread of the test over about this many frames (0: off)
+  double antilag_shift_power = 1.0;   // a tripped history keeps (tau / d)^this of the difference
+  double antilag_length_power = 2.0;  // and (tau / d)^this of its length
 };
 
 // The defaults an estimator gives the fragment's parameters. The reference design's own are
@@ -124,12 +133,14 @@ struct TemporalDefaults {
   int antilag_radius = 2;
   int antilag_frames = 1;
   int antilag_spread_frames = 0;
+  double antilag_shift_power = 1.0;
+  double antilag_length_power = 2.0;
 };
 
 // The stage's parameters, in this order: history_read, history_limit, alpha_min, clamp, gamma,
 // clamp_sigma_min, clamp_radius, antilag, antilag_min, antilag_radius, antilag_frames,
-// antilag_spread_frames (names,
-// ranges, units and meanings written here once).
+// antilag_spread_frames, antilag_shift_power, antilag_length_power (names, ranges, units and
+// meanings written here once).
 std::vector<ParamSpec> temporal_params(const TemporalDefaults& defaults = {});
 // Reads the fragment's parameters from an estimator's resolved set.
 TemporalSettings temporal_settings(const ParamSet& params);

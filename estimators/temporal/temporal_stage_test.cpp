@@ -304,6 +304,30 @@ TEST(TemporalStage, AntiLagShortensAHistoryWhoseTruthMoved) {
   EXPECT_LT(std::sqrt(e_guarded), 1.25 * std::sqrt(e_free));
 }
 
+// The tripped history's shift and length powers (antilag_shift_power K, antilag_length_power P),
+// on the step above: tau / d = 0.02 / 0.5 = 0.04, the history moves by d (1 - 0.04^K), h = 1 -
+// 0.5 (1 - 0.04^K), and its length read, 21, is scaled by 0.04^P. K = 1, P = 2 is the step above
+// (soft thresholding: h = 0.52); K = 3, P = 1 (gtao's) takes the change nearly whole, h = 0.500032,
+// with a longer history, 21 x 0.04 = 0.84 frames; P = 0 keeps the length, 21.
+TEST(TemporalStage, AntiLagShiftAndLengthPowersInClosedForm) {
+  const GBuffer g = flat(12, 10);
+  for (const auto& [K, P] :
+       std::vector<std::pair<double, double>>{{1, 2}, {3, 1}, {4, 2}, {2, 0}}) {
+    TemporalSettings s = with_antilag(3.0, 0.02, 1);
+    s.antilag_shift_power = K;
+    s.antilag_length_power = P;
+    TemporalAccumulator stage(s);
+    for (int k = 0; k < 21; ++k) stage.accumulate(g, std::vector<float>(g.pixel_count(), 1.0f));
+    stage.accumulate(g, std::vector<float>(g.pixel_count(), 0.5f));
+    const double r = 0.02 / 0.5, h = 1.0 - 0.5 * (1.0 - std::pow(r, K));
+    const double len = 21.0 * std::pow(r, P), alpha = 1.0 / (len + 1.0);
+    for (size_t p = 0; p < g.pixel_count(); ++p) {
+      EXPECT_NEAR(stage.value()[p], alpha * 0.5 + (1.0 - alpha) * h, 1e-6) << K << " " << P;
+      EXPECT_NEAR(stage.history_length()[p], len + 1.0, 1e-5) << K << " " << P;
+    }
+  }
+}
+
 // Anti-lag fires on change, not on noise: over a still truth with noise (uniform, sigma 0.2 a
 // pixel, 5x5 windows: a window mean's standard error e = 0.04), the history's window mean hbar
 // after frame 0 is as noisy as this frame's, so f - hbar has a standard error of sqrt(2) e. With
@@ -478,7 +502,7 @@ TEST(TemporalStage, SameBitsWhateverTheThreadCount) {
 // The fragment declares every setting once; temporal_settings() reads them all back.
 TEST(TemporalStage, TheParameterFragmentRoundTrips) {
   const std::vector<ParamSpec> specs = temporal_params();
-  ASSERT_EQ(specs.size(), 12u);
+  ASSERT_EQ(specs.size(), 14u);
   const ParamSet p = resolve_params("test", specs,
                                     {{"history_read", "bilinear"},
                                      {"history_limit", 8},
@@ -491,7 +515,9 @@ TEST(TemporalStage, TheParameterFragmentRoundTrips) {
                                      {"antilag_min", 0.03},
                                      {"antilag_radius", 4},
                                      {"antilag_frames", 6},
-                                     {"antilag_spread_frames", 5}},
+                                     {"antilag_spread_frames", 5},
+                                     {"antilag_shift_power", 3.5},
+                                     {"antilag_length_power", 1.5}},
                                     "test");
   const TemporalSettings s = temporal_settings(p);
   EXPECT_EQ(s.history_read, HistoryRead::bilinear);
@@ -506,6 +532,8 @@ TEST(TemporalStage, TheParameterFragmentRoundTrips) {
   EXPECT_EQ(s.antilag_radius, 4);
   EXPECT_EQ(s.antilag_frames, 6);
   EXPECT_EQ(s.antilag_spread_frames, 5);
+  EXPECT_EQ(s.antilag_shift_power, 3.5);
+  EXPECT_EQ(s.antilag_length_power, 1.5);
   EXPECT_EQ(temporal_params({.history_limit = 12})[1].default_value, 12);
   EXPECT_EQ(temporal_params().front().default_value, "catmull-rom");
 }
