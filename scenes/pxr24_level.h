@@ -1,7 +1,10 @@
 // The zlib level of OpenEXR's PXR24 files (the report folder's kept references, frames and
 // estimates, kept_references.h). OpenEXR 3.1.5's PXR24 compressor deflates with zlib's
 // compress() (ImfPxr24Compressor.cpp), which is level 6, and has no setting for it (its ZIP
-// compressor takes the header's zip level, PXR24 does not; OpenEXR 3.2's Core library does).
+// compressor takes the header's zip level, PXR24 does not). OpenEXR 3.2 and later deflate PXR24
+// through their Core library (libdeflate) at a default level a caller can set; there this
+// override does nothing and KeptReferences.Pxr24DeflatesThroughTheExecutablesCompress fails,
+// which is the cue to set that level instead.
 // scenes/exr_io.cpp defines compress() in the executable, where it comes before libz's in
 // the dynamic linker's search (ELF symbol interposition; the link exports it,
 // --export-dynamic-symbol=compress in CMakeLists.txt), as zlib's compress2() at kPxr24ZlibLevel.
