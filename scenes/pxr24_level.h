@@ -10,7 +10,8 @@
 // --export-dynamic-symbol=compress in CMakeLists.txt), as zlib's compress2() at kPxr24ZlibLevel.
 // aoeval's own deflates call compress2, as do OpenEXR's ZIP and DWA compressors; of the other
 // libraries that import compress() (OIIO's dependencies libavcodec and libspatialite, per
-// LD_DEBUG=bindings) none runs in aoeval's paths, and any would still write a valid zlib stream.
+// LD_DEBUG=bindings, and libOpenEXRCore, whose own PXR24 writer OIIO 2.4 does not use) none
+// runs in aoeval's paths, and any would still write a valid zlib stream.
 // So only PXR24's level changes, and its files read back bit for bit (a deflate stream at any
 // level inflates to the same bytes).
 //

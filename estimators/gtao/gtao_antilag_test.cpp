@@ -73,8 +73,11 @@ TEST(GtaoAntiLag, TheObservedSpreadKeepsAStillViewFromTripping) {
       s.antilag, 100.0 * with_spread, 100.0 * without, 100.0 * normal, 100.0 * with_gtao_powers);
   EXPECT_GT(without, 4.0 * normal);
   EXPECT_LT(with_spread, 2.5 * normal);
-  // With gtao's powers the spread still keeps most of those trips away (12.2 %).
+  // With gtao's powers the spread still keeps most of those trips away (12.2 %), within 3 x a
+  // normal difference's rate (13.7 %; a trip can recur once before the longer history takes
+  // the excursion in).
   EXPECT_LT(with_gtao_powers, 0.5 * without);
+  EXPECT_LT(with_gtao_powers, 3.0 * normal);
 }
 
 }  // namespace

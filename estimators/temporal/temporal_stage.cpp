@@ -85,8 +85,9 @@ std::vector<ParamSpec> temporal_params(const TemporalDefaults& d) {
            .meaning =
                "temporal stage: anti-lag threshold: where this frame's window mean differs "
                "from the history's by more than antilag sigma/sqrt(n) + antilag_min, the "
-               "history is shortened by (threshold/difference)^2 (A-SVGF's temporal gradient, "
-               "Schied et al. 2018; NRD REBLUR anti-lag); 0 = off"}),
+               "history is shortened by (threshold/difference)^antilag_length_power and moved "
+               "towards this frame (antilag_shift_power) (A-SVGF's temporal gradient, Schied et "
+               "al. 2018; NRD REBLUR anti-lag); 0 = off"}),
       real_param({.name = "antilag_min",
                   .def = d.antilag_min,
                   .min = 0.0,
