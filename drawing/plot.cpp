@@ -3,13 +3,16 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 #include "base/text_files.h"
 #include "drawing/plot_workers.h"
@@ -151,6 +154,28 @@ void render_plots(const std::vector<std::pair<PlotSpec, std::string>>& plots) {
   }
   if (done < jobs.size())
     render_in_new_process({jobs.begin() + static_cast<std::ptrdiff_t>(done), jobs.end()});
+}
+
+void render_plots_on_every_core(const std::vector<std::pair<PlotSpec, std::string>>& plots) {
+  const size_t workers =
+      std::min<size_t>(plots.size(), std::max(1u, std::thread::hardware_concurrency()));
+  if (workers <= 1) return render_plots(plots);
+  std::vector<std::vector<std::pair<PlotSpec, std::string>>> batches(workers);
+  for (size_t i = 0; i < plots.size(); ++i) batches[i % workers].push_back(plots[i]);
+  std::mutex mutex;
+  std::string failure;
+  std::vector<std::thread> threads;
+  for (const auto& batch : batches)
+    threads.emplace_back([&] {
+      try {
+        render_plots(batch);
+      } catch (const std::exception& e) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (failure.empty()) failure = e.what();
+      }
+    });
+  for (auto& t : threads) t.join();
+  if (!failure.empty()) throw std::runtime_error(failure);
 }
 
 }  // namespace aoeval

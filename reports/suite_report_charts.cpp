@@ -4,9 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
-#include <mutex>
 #include <stdexcept>
-#include <thread>
 
 #include "base/param_text.h"
 #include "base/summary.h"
@@ -48,30 +46,6 @@ std::string point_label(const ResultRow& row, const std::vector<std::string>& sw
 void append_listed(std::string& list, const char* separator, const std::string& item) {
   if (!list.empty()) list.append(separator);
   list.append(item);
-}
-
-// One plot.py process per core, each drawing an equal share of the charts: starting Python and
-// importing matplotlib costs about as much as drawing a chart, so a process per chart spent half
-// the report's time starting interpreters (issue 16).
-void render_all(const std::vector<std::pair<PlotSpec, std::string>>& plots) {
-  const size_t workers =
-      std::min<size_t>(plots.size(), std::max(1u, std::thread::hardware_concurrency()));
-  std::vector<std::vector<std::pair<PlotSpec, std::string>>> batches(workers);
-  for (size_t i = 0; i < plots.size(); ++i) batches[i % workers].push_back(plots[i]);
-  std::mutex mutex;
-  std::string failure;
-  std::vector<std::thread> threads;
-  for (const auto& batch : batches)
-    threads.emplace_back([&] {
-      try {
-        render_plots(batch);
-      } catch (const std::exception& e) {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (failure.empty()) failure = e.what();
-      }
-    });
-  for (auto& t : threads) t.join();
-  if (!failure.empty()) throw std::runtime_error("suite report charts: " + failure);
 }
 
 }  // namespace
@@ -157,7 +131,11 @@ std::vector<EstimatorChart> write_estimator_charts(const std::string& out_dir,
     plots.emplace_back(std::move(spec), (fs::path(out_dir) / chart.png).string());
   }
   fs::create_directories(fs::path(out_dir) / plots_rel);
-  render_all(plots);
+  try {
+    render_plots_on_every_core(plots);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(std::string("suite report charts: ") + e.what());
+  }
   return charts;
 }
 

@@ -337,7 +337,7 @@ Html sequence_sections(const std::string& out_dir, const SuiteReport& report) {
   const std::string plots_rel = "runs/" + report.context.run_id + "/plots";
   fs::create_directories(out / plots_rel);
   const Html overlay = sequence_overlay_charts(out_dir, plots_rel, points, charts);
-  if (!charts.empty()) render_plots(charts);
+  if (!charts.empty()) render_plots_on_every_core(charts);
   return Html("<section class=\"sequences\" id=\"sequences\"><h2>Sequences (AO over time)</h2>\n")
          << sequence_summary_table(points) << overlay
          << "<p>Each sequence point below (CONTRACT &sect;10; click to unfold): its sequence keys, "
