@@ -53,6 +53,7 @@
 #include "reports/regression.h"
 
 #include "base/summary.h"
+#include "base/welch_log_t.h"
 #include "harness/results/machine_class.h"
 #include "harness/results/metric_table.h"
 
@@ -327,9 +328,26 @@ std::vector<Check> compare_rows(const ResultRow& before, const ResultRow& after,
         r.exact ? "exact" : "normal approximation", xb.size(), xa.size());
     const double floor_p =
         smallest_one_sided_p(static_cast<int>(xb.size()), static_cast<int>(xa.size()));
-    if (floor_p >= t.time_alpha) {
-      // No outcome could reach alpha: say so rather than pass silently (or warn on every row of
-      // a suite timed with 3 repetitions).
+    auto positive = [](const std::vector<double>& x) {
+      return std::all_of(x.begin(), x.end(), [](double v) { return v > 0.0 && std::isfinite(v); });
+    };
+    if (floor_p >= t.time_alpha && xb.size() >= 2 && xa.size() >= 2 && positive(xb) &&
+        positive(xa)) {
+      // No rank outcome could reach alpha (a suite that stops a steady point at 3 repetitions,
+      // harness/evaluation/repetition_policy.h): Welch's t on the log times judges instead, at the
+      // same alpha and the same ratio limit, and the detail says so (base/welch_log_t.h).
+      const LogTTest w = welch_log_t_test(xb, xa);
+      const bool w_slower = w.p_greater < t.time_alpha && ratio > 1.0 + t.time_relative;
+      const bool w_faster = w.p_less < t.time_alpha && ratio < 1.0 / (1.0 + t.time_relative);
+      time.verdict = w_slower   ? Verdict::regressed
+                     : w_faster ? Verdict::improved
+                                : Verdict::unchanged;
+      time.detail += format(
+          "; the rank test cannot reach alpha at these counts (smallest p %.3g), so Welch's t on "
+          "log times judges: t = %.3g, df = %.3g, p(slower) = %.3g, p(faster) = %.3g",
+          floor_p, w.t, w.df, w.p_greater, w.p_less);
+    } else if (floor_p >= t.time_alpha) {
+      // No test can judge (a side with one repetition): say so rather than pass silently.
       time.verdict = Verdict::not_compared;
       time.detail += format("; too few repetitions: the smallest possible p is %.3g", floor_p);
     }

@@ -13,6 +13,7 @@
 
 #include "base/errors.h"
 #include "base/testing/test_temp_dir.h"
+#include "base/welch_log_t.h"
 #include "harness/results/metric_table.h"
 #include "reports/regression_config.h"
 
@@ -81,6 +82,27 @@ TEST(MannWhitney, TabulatedValuesForFiveAgainstFive) {
   EXPECT_EQ(identical.p_two_sided, 1.0);
   EXPECT_EQ(smallest_one_sided_p(5, 5), 1.0 / 252);
   EXPECT_NEAR(smallest_one_sided_p(3, 3), 1.0 / 20, 1e-15);
+}
+
+// Welch's t on log times against scipy.stats.ttest_ind(log a, log b, equal_var=False) (SciPy
+// 1.10): t, the Welch-Satterthwaite df and the one-sided p-values.
+TEST(WelchLogT, MatchesScipy) {
+  const LogTTest twice = welch_log_t_test({10, 10.1, 9.9}, {20, 20.1, 19.9});
+  EXPECT_NEAR(twice.t, 107.38234967941578, 1e-9);
+  EXPECT_NEAR(twice.p_greater, 1.111695388568314e-06, 1e-15);
+  const LogTTest mixed = welch_log_t_test({10, 10.3, 9.7}, {10.4, 10.6, 10.2, 10.5, 10.9});
+  EXPECT_NEAR(mixed.t, 2.475012780277218, 1e-12);
+  EXPECT_NEAR(mixed.df, 3.6322491998002135, 1e-12);
+  EXPECT_NEAR(mixed.p_greater, 0.037472639334881104, 1e-12);
+  EXPECT_NEAR(mixed.p_less, 0.9625273606651189, 1e-12);
+  const LogTTest flat = welch_log_t_test({5, 5}, {6, 6, 6});  // no spread: the difference is known
+  EXPECT_LT(flat.p_greater, 1e-12);  // 0 up to the rounding of the mean of three equal logs
+  EXPECT_GT(flat.p_less, 1.0 - 1e-12);
+  const LogTTest exact = welch_log_t_test({5, 5}, {6, 6});  // means of two: exact, no spread
+  EXPECT_EQ(exact.p_greater, 0.0);
+  EXPECT_EQ(exact.p_less, 1.0);
+  EXPECT_THROW(welch_log_t_test({5}, {6, 6}), std::invalid_argument);
+  EXPECT_THROW(welch_log_t_test({5, 0}, {6, 6}), std::invalid_argument);
 }
 
 TEST(MannWhitney, NormalApproximationIsCloseToExactForTwentyAgainstTwenty) {
@@ -450,12 +472,29 @@ TEST(CompareRows, TimingNeedsARankTestAndTheRelativeThreshold) {
       check(compare_rows(row(0.05, 0, kTimes), row(0.05, 0, scaled(0.7)), t, 0.0), "time_ms_median")
           .verdict,
       Verdict::improved);
-  // Three repetitions cannot reach p < 0.01 (1/20 at best): not compared, and the page says why.
+  // Three repetitions cannot reach p < 0.01 with the rank test (1/20 at best): Welch's t on the
+  // log times judges, and the detail says so. Twice as slow, each side within 1 %: regressed.
   const Check few =
       check(compare_rows(row(0.05, 0, {10, 10.1, 9.9}), row(0.05, 0, {20, 20.1, 19.9}), t, 0.0),
             "time_ms_median");
-  EXPECT_EQ(few.verdict, Verdict::not_compared);
-  EXPECT_NE(few.detail.find("too few repetitions"), std::string::npos);
+  EXPECT_EQ(few.verdict, Verdict::regressed) << few.detail;
+  EXPECT_NE(few.detail.find("Welch"), std::string::npos);
+  // 5 % slower (3 against 5 repetitions, p(slower) 0.037): under alpha's bar and the ratio's.
+  EXPECT_EQ(check(compare_rows(row(0.05, 0, {10, 10.3, 9.7}),
+                               row(0.05, 0, {10.4, 10.6, 10.2, 10.5, 10.9}), t, 0.0),
+                  "time_ms_median")
+                .verdict,
+            Verdict::unchanged);
+  // 40 % slower but spread over +-30 % on one side: p(slower) above 0.01, unchanged.
+  EXPECT_EQ(check(compare_rows(row(0.05, 0, {10, 13, 7}), row(0.05, 0, {14, 14.1, 13.9}), t, 0.0),
+                  "time_ms_median")
+                .verdict,
+            Verdict::unchanged);
+  // One repetition a side: no test can judge; not compared, and the page says why.
+  const Check single =
+      check(compare_rows(row(0.05, 0, {10}), row(0.05, 0, {20}), t, 0.0), "time_ms_median");
+  EXPECT_EQ(single.verdict, Verdict::not_compared);
+  EXPECT_NE(single.detail.find("too few repetitions"), std::string::npos);
   // Another device: not compared.
   ResultRow gpu = row(0.05, 0, scaled(2.0));
   gpu.device = "gpu";

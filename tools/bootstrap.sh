@@ -19,7 +19,7 @@ packages=(
   libassimp-dev assimp-testmodels libcgal-demo
   openarena-081-maps libirrlicht-doc
   nlohmann-json3-dev libcli11-dev libsqlite3-dev sqlite3
-  libgtest-dev libgmock-dev libbenchmark-dev libnlopt-cxx-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libnlopt-cxx-dev libboost-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslang-tools glslang-dev
   spirv-tools python3-matplotlib ccache python3-numpy python3-openimageio zlib1g-dev
 )
