@@ -15,7 +15,7 @@
 // history (gtao 6 slices, the work of the 6-frame cycle; hbao-split without `temporal`). rtao's
 // rays have no bias for a twin to carry, and its bound is 1.05 itself.
 // The test can fail: the stage as it was before issue 43's anti-lag (`antilag` 0) drifts on walk
-// beyond the bound for all three (measured: gtao 1.220 against 1.188, hbao-split 1.109 against
+// beyond the bound for all three (measured: gtao 1.220 against 1.187, hbao-split 1.109 against
 // 1.05, rtao 1.167 against 1.05), and this asserts that too. On roll the anti-lag-free stage
 // passes: its lag inflates frames 6..11 (gtao 0.074 there against 0.056 with the anti-lag).
 #include <gtest/gtest.h>
