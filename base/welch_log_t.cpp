@@ -3,6 +3,7 @@
 #include <boost/math/distributions/students_t.hpp>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace aoeval {
 
@@ -38,10 +39,14 @@ LogTTest welch_log_t_test(const std::vector<double>& before, const std::vector<d
   const double se2 = vb + va;
   LogTTest r;
   const double difference = a.mean - b.mean;
-  if (!(se2 > 0.0)) {  // both sides without spread: the difference is known exactly
-    r.p_greater = difference > 0.0 ? 0.0 : 1.0;
-    r.p_less = difference < 0.0 ? 0.0 : 1.0;
-    r.t = difference > 0.0 ? INFINITY : difference < 0.0 ? -INFINITY : 0.0;
+  // Both sides without spread (up to the rounding of a mean of equal logs): the difference is
+  // known exactly, and one of rounding size is none.
+  if (!(se2 > 1e-24)) {
+    const double known = std::abs(difference) > 1e-12 ? difference : 0.0;
+    r.p_greater = known > 0.0 ? 0.0 : 1.0;
+    r.p_less = known < 0.0 ? 0.0 : 1.0;
+    r.t = known > 0.0 ? INFINITY : known < 0.0 ? -INFINITY : 0.0;
+    r.df = INFINITY;
     return r;
   }
   r.t = difference / std::sqrt(se2);

@@ -347,9 +347,15 @@ std::vector<Check> compare_rows(const ResultRow& before, const ResultRow& after,
           "log times judges: t = %.3g, df = %.3g, p(slower) = %.3g, p(faster) = %.3g",
           floor_p, w.t, w.df, w.p_greater, w.p_less);
     } else if (floor_p >= t.time_alpha) {
-      // No test can judge (a side with one repetition): say so rather than pass silently.
+      // No test can judge (a side with one repetition, or a time that is not positive): say so
+      // rather than pass silently.
       time.verdict = Verdict::not_compared;
-      time.detail += format("; too few repetitions: the smallest possible p is %.3g", floor_p);
+      time.detail += xb.size() < 2 || xa.size() < 2
+                         ? format("; too few repetitions: the smallest possible p is %.3g", floor_p)
+                         : format(
+                               "; a time that is not positive: no log-time test, and the "
+                               "smallest possible rank p is %.3g",
+                               floor_p);
     }
   }
   checks.push_back(time);

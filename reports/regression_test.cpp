@@ -495,6 +495,11 @@ TEST(CompareRows, TimingNeedsARankTestAndTheRelativeThreshold) {
       check(compare_rows(row(0.05, 0, {10}), row(0.05, 0, {20}), t, 0.0), "time_ms_median");
   EXPECT_EQ(single.verdict, Verdict::not_compared);
   EXPECT_NE(single.detail.find("too few repetitions"), std::string::npos);
+  // A time of 0 (a clock too coarse) has no logarithm: not compared, and the detail says that.
+  const Check zero = check(compare_rows(row(0.05, 0, {0, 0, 0}), row(0.05, 0, {1, 1, 1}), t, 0.0),
+                           "time_ms_median");
+  EXPECT_EQ(zero.verdict, Verdict::not_compared);
+  EXPECT_NE(zero.detail.find("not positive"), std::string::npos) << zero.detail;
   // Another device: not compared.
   ResultRow gpu = row(0.05, 0, scaled(2.0));
   gpu.device = "gpu";

@@ -34,6 +34,8 @@ namespace {
 struct Curve {
   std::vector<double> excess;  // rmse_excess per frame
   double cycle_ratio() const {
+    // NaN (every comparison with it fails) when a run gave fewer frames than the two cycles.
+    if (excess.size() < 12) return std::nan("");
     auto rms = [](auto first, auto last) {
       double sum = 0.0;
       for (auto it = first; it != last; ++it) sum += *it * *it;
