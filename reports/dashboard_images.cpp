@@ -5,7 +5,8 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
-#include <thread>
+#include <stdexcept>
+#include <string>
 
 #include "base/errors.h"
 #include "drawing/error_maps.h"
@@ -69,29 +70,6 @@ double figure_of(const ResultRow& r, const std::string& figure, bool* ok) {
   const auto it = r.metrics.find(figure);
   *ok = it != r.metrics.end() && it->is_number();
   return *ok ? it->get<double>() : 0.0;
-}
-
-// Renders every chart: a few python processes (render_plots: matplotlib's import once per
-// process), one per core, each drawing its share; rethrows the first failure after all finished.
-void render_all(const std::vector<std::pair<PlotSpec, std::string>>& charts) {
-  const size_t workers =
-      std::min<size_t>(charts.size(), std::max(1u, std::thread::hardware_concurrency()));
-  std::vector<std::vector<std::pair<PlotSpec, std::string>>> shares(workers);
-  for (size_t i = 0; i < charts.size(); ++i) shares[i % workers].push_back(charts[i]);
-  std::vector<std::string> failures(workers);
-  std::vector<std::thread> threads;
-  for (size_t k = 0; k < workers; ++k) {
-    threads.emplace_back([&, k] {
-      try {
-        render_plots(shares[k]);
-      } catch (const std::exception& e) {
-        failures[k] = e.what();
-      }
-    });
-  }
-  for (auto& t : threads) t.join();
-  for (const auto& f : failures)
-    if (!f.empty()) throw std::runtime_error("dashboard charts: " + f);
 }
 
 }  // namespace
@@ -214,7 +192,11 @@ std::vector<GroupCharts> write_history_charts(
       g.charts.push_back((fs::path("charts") / name).string());
     }
   }
-  render_all(charts);
+  try {
+    render_plots_on_every_core(charts);  // one plot.py process per core, each drawing its share
+  } catch (const std::exception& e) {
+    throw std::runtime_error(std::string("dashboard charts: ") + e.what());
+  }
   return groups;
 }
 
